@@ -1,0 +1,73 @@
+"""Every number the paper does not publish, chosen once, here, with its reasoning.
+
+The paper's rig geometry and raw measurements are unpublished (summary.md, "Known gaps").
+Reference rigs below are consistent with everything the paper does state; anything a
+study plots as "measured" is synthetic, generated from these values plus sensor noise.
+"""
+
+# --- friction law -----------------------------------------------------------------------
+#: Karnopp stick band w0 (rad/s) when a rig gives none. The paper fits it but does not print
+#: it; 1e-3 rad/s is 0.1 % of the pendulum's peak speed (~0.5 rad/s) and is the value the
+#: example rigs state.
+DEFAULT_STICK_VELOCITY = 1e-3
+
+# --- spring models ----------------------------------------------------------------------
+#: Mass model chosen when the diagnosis adds ``spring_mass`` to a massless model: three
+#: lumped masses reproduce the first three fixed-fixed modes (paper Fig. 9(b): two masses
+#: capture the behaviour, three are not much better, so three is the safe choice).
+DEFAULT_SPRING_MASS_MODEL = "lumped-3"
+
+#: Coil geometry for the ANCF spring's bending stiffness when a rig gives none (m, Pa).
+#: Chosen so that k0 = G d^4 / (8 D^3 n_a) = 24230 N/m with d = 8 mm, D = 40 mm
+#: (spring index 5, typical of breaker closing springs), G = 79.3 GPa (spring steel).
+DEFAULT_WIRE_DIAMETER = 0.008
+DEFAULT_COIL_DIAMETER = 0.040
+DEFAULT_SHEAR_MODULUS = 79.3e9
+DEFAULT_YOUNGS_MODULUS = 206e9
+
+# --- integration ------------------------------------------------------------------------
+#: Fixed RK4 step for the pendulum (s): the stick band is entered only if one step changes
+#: the speed by less than 2 w0; at the test's peak acceleration (~8 rad/s^2) h = 1e-4 s gives
+#: 8e-4 rad/s. Step refinement is tested.
+PENDULUM_STEP = 1e-4
+#: Fixed RK4 step for the cam drop (s): 1/50 of the highest lumped-3 mode period for a
+#: 1 kg spring, and 1/40 of the 12 kHz camera period.
+CAM_STEP = 1e-5
+#: Default simulated duration (s) when neither a measurement nor --t-end gives one.
+PENDULUM_T_END = 6.0
+CAM_T_END = 0.035
+
+# --- reference rigs (studies) -----------------------------------------------------------
+#: Pendulum of the paper's section 2: M = 60 kg and I = 2.74 kg m^2 are the paper's; L is
+#: not printed: 0.2137 m makes the small-angle period 2 pi sqrt(I/(M g L)) = 0.93 s;
+#: journal radius 20 mm (a 40 mm cam shaft).
+REFERENCE_PENDULUM = {
+    "format": "vcb-rig/1", "name": "reference pendulum (paper section 2)",
+    "experiment": "pendulum", "gravity": 9.81, "shaft": {"radius": 0.02},
+    "pendulum": {"mass": 60.0, "inertia": 2.74, "com_distance": 0.2137,
+                 "initial_angle": 0.17453292519943295, "initial_velocity": 0.0},
+    "friction": {},
+    "model": {"effects": ["coulomb_friction", "stribeck", "viscous_friction"], "spring_model": "massless"},
+}
+#: The truth used for the synthetic pendulum "measurements" (documented stand-ins).
+REFERENCE_PENDULUM_TRUTH = {"mu_s": 0.20, "mu_k": 0.13, "stick_velocity": 1e-3,
+                            "stribeck_velocity": 0.10, "viscous": 0.6}
+
+#: Cam drop of the paper's section 3: k0 and m0 are the paper's; the anchor, pivot and arm
+#: are chosen so that each spring pulls 5970 N at the start (theta = 10 deg) and 1000 N at
+#: theta = 180 deg, the paper's 6000 -> 1000 N over the closing stroke; cam mass and inertia
+#: are those of a 6 kg steel cam of about 0.13 m radius.
+REFERENCE_CAM = {
+    "format": "vcb-rig/1", "name": "reference cam drop (paper section 3)",
+    "experiment": "cam_drop", "gravity": 9.81, "shaft": {"radius": 0.02},
+    "cam": {"mass": 6.0, "inertia_com": 0.05, "com_distance": 0.02, "com_angle": 0.5,
+            "pivot": [0.4445, 0.0], "arm_length": 0.1032,
+            "initial_angle": 0.17453292519943295, "initial_velocity": 0.0},
+    "closing_spring": {"count": 2, "stiffness": 24230.0, "mass": 0.3364, "free_length": 0.30,
+                       "anchor": [0.0, 0.0]},
+    "friction": {"mu_k": 0.13, "mu_s": 0.20, "stick_velocity": 1e-3, "stribeck_velocity": 0.10},
+    "model": {"effects": ["coulomb_friction", "stribeck", "spring_mass"], "spring_model": "lumped-2",
+              "lumped_convention": "exact"},
+}
+#: The text's "each spring is heavy (about 1 kg)": the variant with the whole coil mass.
+HEAVY_SPRING_MASS = 1.0

@@ -1,0 +1,132 @@
+"""The one runner every study, fit and sweep calls: rig + options in, named channels out."""
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from . import parameters as P
+from .effects import ModelSpec, assemble, parameter_specs
+from .friction import viscous_from_zeta
+from .rig import CHANNEL_OF_EXPERIMENT, Rig, lumped_mass_count
+from .springs import lumped_chain
+
+
+@dataclass
+class SimulationResult:
+    """Channels sampled at ``t`` (s). Angles in rad, velocities in rad/s, torques in N m,
+    positions in m. ``angle`` is the experiment's measured channel (``pendulum_angle`` or
+    ``cam_angle``)."""
+
+    t: np.ndarray
+    channels: dict
+    experiment: str
+    spec: ModelSpec
+    info: dict = field(default_factory=dict)
+
+    @property
+    def angle(self):
+        return self.channels[CHANNEL_OF_EXPERIMENT[self.experiment]]
+
+    def resample(self, t):
+        """The channels linearly interpolated at times ``t`` (s)."""
+        return SimulationResult(np.asarray(t), {k: np.interp(t, self.t, v) for k, v in self.channels.items()},
+                                self.experiment, self.spec, self.info)
+
+
+def rig_values(rig: Rig):
+    """Friction values the rig gives, with ``zeta`` converted to ``viscous`` (pendulum)."""
+    values = dict(rig.friction)
+    if "zeta" in values and "viscous" not in values and rig.pendulum is not None:
+        p = rig.pendulum
+        values["viscous"] = viscous_from_zeta(values["zeta"], p.inertia, p.mass, rig.gravity, p.com_distance)
+    values.pop("zeta", None)
+    return values
+
+
+def model_values(rig: Rig, effects, values=None):
+    """All parameter values the effects need: given > rig > the registry's starting guess."""
+    out = {p.name: p.initial for p in parameter_specs(effects)}
+    out.update(rig_values(rig))
+    out.update(values or {})
+    return out
+
+
+def model_spec(rig: Rig, effects=None, values=None, spring_model=None) -> ModelSpec:
+    effects = tuple(rig.model.effects if effects is None else effects)
+    if spring_model is not None:
+        rig = rig.with_model(spring_model=spring_model)
+    spec = assemble(rig, effects, model_values(rig, effects, values))
+    if spring_model is not None and "spring_mass" not in effects and spring_model != "massless":
+        spec.spring_model = spring_model
+    return spec
+
+
+def default_t_end(rig):
+    return P.PENDULUM_T_END if rig.experiment == "pendulum" else P.CAM_T_END
+
+
+def simulate(rig: Rig, effects=None, values=None, *, spring_model=None, t_end=None, sample_times=None,
+             backend="exudyn", user_function="auto", step=None) -> SimulationResult:
+    """Simulate the rig's experiment.
+
+    Parameters
+    ----------
+    rig : the loaded rig; its ``model`` is used unless overridden.
+    effects : effect names (default: the rig's ``model.effects``).
+    values : friction parameter values (mu_k, mu_s, stick_velocity, stribeck_velocity,
+        viscous), overriding the rig's ``friction``.
+    spring_model : override of the rig's spring model.
+    t_end : simulated duration (s); default the last sample time or 6 s / 35 ms.
+    sample_times : times (s) at which to return the channels (default: every step).
+    backend : ``exudyn`` (the model) or ``reference`` (the independent scipy solve).
+    user_function : ``auto``, ``symbolic``, ``python`` (friction connector implementation).
+    step : integration step (s), default from :mod:`vcbmodel.parameters`.
+    """
+    spec = model_spec(rig, effects, values, spring_model)
+    if t_end is None:
+        t_end = float(sample_times[-1]) if sample_times is not None else default_t_end(rig)
+    law = spec.friction_law(rig.shaft_radius)
+    chain = None
+    if rig.experiment == "cam_drop":
+        n = lumped_mass_count(spec.spring_model)
+        if n > 0:
+            s = rig.closing_spring
+            chain = lumped_chain(n, s.stiffness, s.mass, s.free_length, spec.lumped_convention)
+    step = step or (P.PENDULUM_STEP if rig.experiment == "pendulum" else P.CAM_STEP)
+    if backend == "exudyn":
+        result = _simulate_exudyn(rig, spec, law, chain, t_end, step, user_function)
+    elif backend == "reference":
+        from .reference import simulate_reference
+        result = simulate_reference(rig, spec, law, chain, t_end)
+    else:
+        raise ValueError(f"unknown backend {backend!r}")
+    if sample_times is not None:
+        result = result.resample(sample_times)
+    return result
+
+
+def _simulate_exudyn(rig, spec, law, chain, t_end, step, user_function):
+    from .exudyn_models import build_cam_drop, build_pendulum
+    from .rig import lumped_mass_count
+
+    if rig.experiment == "pendulum":
+        uf = "symbolic" if user_function == "auto" else user_function
+        model = build_pendulum(rig, law, uf)
+    else:
+        if lumped_mass_count(spec.spring_model) < 0:
+            from .ancf import build_cam_drop_ancf
+            model = build_cam_drop_ancf(rig, law, user_function=user_function)
+        else:
+            model = build_cam_drop(rig, law, chain, user_function)
+    data = model.solve(t_end, step)
+    t = data["angle"][:, 0]
+    channels = {CHANNEL_OF_EXPERIMENT[rig.experiment]: data["angle"][:, 1],
+                "shaft_velocity": data["velocity"][:, 1]}
+    if "friction_torque" in data:
+        channels["friction_torque"] = -data["friction_torque"][:, 1]
+    for name, d in data.items():
+        if name.startswith("spring_mass_") or name.startswith("ancf_"):
+            channels[name + "_x"] = d[:, 1]
+            channels[name + "_y"] = d[:, 2]
+    return SimulationResult(t, channels, rig.experiment, spec, {"backend": "exudyn", "step": step})
