@@ -109,6 +109,9 @@ class SpringMass(Effect):
     description = "the closing spring's own inertia (surge, lateral motion) as a mass model"
     parameters = ()
     experiments = ("cam_drop",)
+    #: mass models the diagnosis tries when adding this effect (a discrete choice, no fitted
+    #: parameter); the best by BIC is kept
+    variants = ("lumped-1", "lumped-2", "lumped-3")
 
     def on(self, spec, values, rig):
         chosen = rig.model.spring_model

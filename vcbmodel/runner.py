@@ -1,6 +1,7 @@
 """The one runner every study, fit and sweep calls: rig + options in, named channels out."""
 from __future__ import annotations
 
+import math
 from dataclasses import dataclass, field
 
 import numpy as np
@@ -66,8 +67,20 @@ def default_t_end(rig):
     return P.PENDULUM_T_END if rig.experiment == "pendulum" else P.CAM_T_END
 
 
+def default_step(rig, law):
+    """Fixed Runge-Kutta step (s). Pendulum: at most PENDULUM_STEP and small enough that one
+    step at the release acceleration changes the speed by less than the stick band w0, so the
+    shaft can land in the band (Karnopp). Cam: CAM_STEP."""
+    if rig.experiment == "cam_drop":
+        return P.CAM_STEP
+    p = rig.pendulum
+    acc = p.mass * rig.gravity * p.com_distance * max(abs(math.sin(p.initial_angle)), 1e-3) / p.inertia
+    acc = max(acc, abs(p.initial_velocity) * 2 * math.pi / 1.0)
+    return float(min(P.PENDULUM_STEP, max(law.stick_velocity / acc, 1e-5)))
+
+
 def simulate(rig: Rig, effects=None, values=None, *, spring_model=None, t_end=None, sample_times=None,
-             backend="exudyn", user_function="auto", step=None) -> SimulationResult:
+             backend="exudyn", user_function="auto", step=None, method="DOP853") -> SimulationResult:
     """Simulate the rig's experiment.
 
     Parameters
@@ -82,6 +95,7 @@ def simulate(rig: Rig, effects=None, values=None, *, spring_model=None, t_end=No
     backend : ``exudyn`` (the model) or ``reference`` (the independent scipy solve).
     user_function : ``auto``, ``symbolic``, ``python`` (friction connector implementation).
     step : integration step (s), default from :mod:`vcbmodel.parameters`.
+    method : reference backend only: ``DOP853`` (adaptive; ``step`` caps it) or ``rk4``.
     """
     spec = model_spec(rig, effects, values, spring_model)
     if t_end is None:
@@ -93,12 +107,11 @@ def simulate(rig: Rig, effects=None, values=None, *, spring_model=None, t_end=No
         if n > 0:
             s = rig.closing_spring
             chain = lumped_chain(n, s.stiffness, s.mass, s.free_length, spec.lumped_convention)
-    step = step or (P.PENDULUM_STEP if rig.experiment == "pendulum" else P.CAM_STEP)
     if backend == "exudyn":
-        result = _simulate_exudyn(rig, spec, law, chain, t_end, step, user_function)
+        result = _simulate_exudyn(rig, spec, law, chain, t_end, step or default_step(rig, law), user_function)
     elif backend == "reference":
         from .reference import simulate_reference
-        result = simulate_reference(rig, spec, law, chain, t_end)
+        result = simulate_reference(rig, spec, law, chain, t_end, method, step)
     else:
         raise ValueError(f"unknown backend {backend!r}")
     if sample_times is not None:

@@ -1,0 +1,226 @@
+"""The discrepancy workflow: where do model and measurement disagree, and what is missing?
+
+1. Start from the rig's ``model``; fit its free parameters (those the rig does not give).
+2. Estimate the sensor noise from the data alone (:func:`vcbmodel.signals.noise_estimate`).
+3. Locate the disagreement (the window where the running rms of the residual is largest)
+   and describe its signature (decay shape, growth, dominant frequency, whiteness).
+4. For every registered effect the model lacks (and that applies to the experiment), add
+   it, refit, and score it by BIC = chi^2 + k ln N with the estimated noise; the best is
+   named only if it lowers BIC by more than :data:`BIC_MARGIN`, else ``missing_effect`` is
+   null (the starting model explains the data within the noise).
+5. Report the gap before and after, the fitted parameters and the evidence.
+
+The loop runs over :data:`vcbmodel.effects.EFFECTS`: registering an effect makes it a
+candidate with no change here.
+"""
+from __future__ import annotations
+
+import math
+import multiprocessing
+import sys
+from concurrent.futures import ProcessPoolExecutor
+from dataclasses import dataclass
+
+import numpy as np
+
+from .effects import EFFECTS, applicable
+from .fitting import Dataset, FitResult, fit, make_parameters
+from .signals import (decay_shape, disagreement_window, dominant_frequency, lag1_autocorrelation,
+                      noise_estimate, swing_peaks)
+from .springs import fundamental
+
+#: BIC improvement (in units of chi^2) required to name an effect. Kass & Raftery (1995)
+#: call a BIC difference above 10 "very strong" evidence.
+BIC_MARGIN = 10.0
+
+
+@dataclass
+class Candidate:
+    effect: str
+    fit: FitResult
+    delta_bic: float  # BIC(baseline) - BIC(with effect): positive is better
+
+    def summary(self):
+        r = self.fit
+        return {"effect": self.effect, "delta_bic": round(self.delta_bic, 2), "bic": round(r.bic, 2),
+                "aic": round(r.aic, 2), "rms": r.rms, "reduced_chi2": round(r.reduced_chi2, 4),
+                "lag1_autocorrelation": round(lag1_autocorrelation(r.residuals[0]), 4),
+                "spring_model": r.spring_model, "parameters": _rounded(r.values)}
+
+
+@dataclass
+class Diagnosis:
+    rig: object
+    measurement: object
+    noise: float
+    baseline: FitResult
+    candidates: list
+    missing_effect: str | None
+    final: FitResult
+    window: tuple
+    signature: dict
+    evidence: str
+
+    def to_json(self):
+        b, f = self.baseline, self.final
+        return {
+            "missing_effect": self.missing_effect,
+            "baseline_effects": list(b.effects), "final_effects": list(f.effects),
+            "baseline_spring_model": b.spring_model, "final_spring_model": f.spring_model,
+            "rms_before": b.rms, "rms_after": f.rms,
+            "max_error_before": b.max_error, "max_error_after": f.max_error,
+            "gap_ratio": f.rms / b.rms if b.rms > 0 else None,
+            "noise_estimate": self.noise, "window": list(self.window),
+            "bic_margin": BIC_MARGIN,
+            "candidates": [c.summary() for c in self.candidates],
+            "fitted": _rounded(f.values), "fitted_before": _rounded(b.values),
+            "stderr": {p.name: p.stderr for p in f.parameters.values() if p.vary},
+            "at_bound": [p.name for p in f.parameters.values() if p.at_bound()],
+            "signature": self.signature, "evidence": self.evidence,
+        }
+
+    def report(self):
+        lines = [f"Diagnosis of {self.measurement.path}",
+                 f"  noise estimate {self.noise:.3g} rad; baseline {', '.join(self.baseline.effects) or '(none)'}"
+                 f" [{self.baseline.spring_model}]: rms {self.baseline.rms:.3g} rad",
+                 f"  disagreement largest in t = [{self.window[0]:.4g}, {self.window[1]:.4g}] s",
+                 "  candidates (delta BIC, positive = better):"]
+        for c in self.candidates:
+            lines.append(f"    {c.effect:18s} dBIC {c.delta_bic:12.1f}  rms {c.fit.rms:.3g} rad [{c.fit.spring_model}]")
+        lines.append(f"  missing effect: {self.missing_effect}")
+        lines.append(f"  rms {self.baseline.rms:.3g} -> {self.final.rms:.3g} rad")
+        lines.append("  " + self.evidence)
+        lines.append(self.final.report())
+        return "\n".join(lines)
+
+
+def _rounded(values):
+    return {k: float(f"{v:.6g}") for k, v in values.items()}
+
+
+def _progress(msg):
+    print(msg, file=sys.stderr, flush=True)
+
+
+def data_guesses(rig, measurement):
+    """Starting values from the measured swing (pendulum) or registry defaults (cam).
+
+    A Coulomb torque T_f lowers each half-swing amplitude by 2 T_f / (M g L), with
+    T_f ~ mu_k r M g: mu_k ~ slope (T/2) L / (2 r). A viscous torque gives an envelope
+    exp(-lambda t) with Cv = 2 lambda I.
+    """
+    if rig.experiment != "pendulum":
+        return [{}]
+    p = rig.pendulum
+    y = measurement.channel("pendulum_angle")
+    tp, ap = swing_peaks(measurement.t, y)
+    shape = decay_shape(tp, ap)
+    if shape.get("peaks", 0) < 3:
+        return [{}]
+    half_period = float(np.median(np.diff(tp)))
+    mu_k = abs(shape["linear_slope"]) * half_period * p.com_distance / (2 * rig.shaft_radius)
+    viscous = 2 * max(shape["exponential_rate"], 0.0) * p.inertia
+    return [{"mu_k": mu_k, "viscous": 0.2 * viscous, "mu_s": 1.5 * mu_k},
+            {"mu_k": 0.2 * mu_k, "viscous": viscous, "mu_s": 0.3 * mu_k},
+            {"mu_k": 0.6 * mu_k, "viscous": 0.5 * viscous, "mu_s": 1.2 * mu_k}]
+
+
+def _fit_job(args):
+    rig, measurement, effects, spring_model, initial, starts, sigma, label = args
+    params = make_parameters(rig, effects, initial=initial)
+    return fit([Dataset(rig, measurement)], effects, spring_model, params, starts=starts, sigma=sigma, label=label)
+
+
+def _candidate_jobs(rig, measurement, baseline, guesses, sigma):
+    jobs = []
+    for name, effect in EFFECTS.items():
+        if name in baseline.effects or not applicable(name, rig.experiment):
+            continue
+        effects = tuple(e for e in EFFECTS if e in baseline.effects or e == name)
+        initial = dict(guesses[0])
+        initial.update(baseline.values)
+        variants = getattr(effect, "variants", None) or (baseline.spring_model,)
+        for variant in variants:
+            jobs.append((name, (rig, measurement, effects, variant, initial, guesses, sigma,
+                                f"+{name}" + (f" [{variant}]" if variant != baseline.spring_model else ""))))
+    return jobs
+
+
+def _run_jobs(jobs, processes):
+    if processes > 1 and len(jobs) > 1:
+        ctx = multiprocessing.get_context("fork")
+        with ProcessPoolExecutor(max_workers=processes, mp_context=ctx) as pool:
+            return list(pool.map(_fit_job, [j for _, j in jobs]))
+    return [_fit_job(j) for _, j in jobs]
+
+
+def diagnose(rig, measurement, processes=2, verbose=True) -> Diagnosis:
+    """Run the workflow of the module docstring on one measurement."""
+    dataset = Dataset(rig, measurement)
+    sigma = noise_estimate(dataset.y)
+    guesses = data_guesses(rig, measurement)
+    if verbose:
+        _progress(f"diagnose: noise estimate {sigma:.3g} rad; fitting the starting model "
+                  f"({', '.join(rig.model.effects) or 'no effects'}, {rig.model.spring_model})")
+    baseline = _fit_job((rig, measurement, rig.model.effects, rig.model.spring_model, guesses[0], guesses[1:],
+                         sigma, "starting model"))
+    t0, t1, _ = disagreement_window(measurement.t, baseline.residuals[0], sigma)
+    jobs = _candidate_jobs(rig, measurement, baseline, guesses, sigma)
+    if verbose:
+        _progress(f"diagnose: starting model rms {baseline.rms:.3g} rad ({baseline.rms / sigma:.2f}x noise); "
+                  f"trying {len(jobs)} candidate model(s)")
+    fits = _run_jobs(jobs, processes)
+    best_by_effect = {}
+    for (name, _), f in zip(jobs, fits):
+        if name not in best_by_effect or f.bic < best_by_effect[name].bic:
+            best_by_effect[name] = f
+    candidates = sorted((Candidate(n, f, baseline.bic - f.bic) for n, f in best_by_effect.items()),
+                        key=lambda c: -c.delta_bic)
+    chosen = candidates[0] if candidates and candidates[0].delta_bic > BIC_MARGIN else None
+    final = chosen.fit if chosen else baseline
+    signature = describe_signature(rig, measurement, baseline, sigma)
+    evidence = _evidence(baseline, final, chosen, sigma, (t0, t1), signature)
+    if verbose:
+        _progress(f"diagnose: missing effect {chosen.effect if chosen else None}; rms {baseline.rms:.3g} -> {final.rms:.3g} rad")
+    return Diagnosis(rig, measurement, sigma, baseline, candidates, chosen.effect if chosen else None, final,
+                     (t0, t1), signature, evidence)
+
+
+def describe_signature(rig, measurement, baseline, sigma):
+    """Features of the residual and the measurement that point at an effect."""
+    t = measurement.t
+    r = baseline.residuals[0]
+    half = t.size // 2
+    sig = {"residual_rms_over_noise": baseline.rms / sigma,
+           "residual_growth": float(np.sqrt(np.mean(r[half:] ** 2)) / max(np.sqrt(np.mean(r[:half] ** 2)), 1e-300)),
+           "residual_dominant_frequency_hz": dominant_frequency(t, r),
+           "lag1_autocorrelation": lag1_autocorrelation(r)}
+    if rig.experiment == "pendulum":
+        tp, ap = swing_peaks(t, measurement.channel("pendulum_angle"))
+        sig["amplitude_decay"] = decay_shape(tp, ap)
+    else:
+        s = rig.closing_spring
+        sig["spring_surge_frequency_hz"] = fundamental(s.stiffness, s.mass, "exact") / (2 * math.pi)
+        travel = measurement.channel("cam_angle") - measurement.channel("cam_angle")[0]
+        sig["residual_travel_correlation"] = float(np.corrcoef(travel, r)[0, 1]) if np.std(r) > 0 else 0.0
+    return sig
+
+
+def _evidence(baseline, final, chosen, sigma, window, signature):
+    text = (f"The starting model leaves an rms residual of {baseline.rms:.3g} rad, "
+            f"{baseline.rms / sigma:.2f}x the noise estimate {sigma:.3g} rad, largest in "
+            f"t = [{window[0]:.4g}, {window[1]:.4g}] s (lag-1 autocorrelation {signature['lag1_autocorrelation']:.2f}).")
+    if "amplitude_decay" in signature and signature["amplitude_decay"].get("shape") != "unknown":
+        d = signature["amplitude_decay"]
+        text += f" The measured swing amplitude decays {d['shape']}ly over {d['peaks']} peaks."
+    if "spring_surge_frequency_hz" in signature:
+        text += (f" Residual grows {signature['residual_growth']:.1f}x from the first to the second half; "
+                 f"its dominant frequency is {signature['residual_dominant_frequency_hz']:.0f} Hz "
+                 f"(spring surge {signature['spring_surge_frequency_hz']:.0f} Hz).")
+    if chosen is None:
+        text += f" No candidate lowers BIC by more than {BIC_MARGIN:g}: nothing is missing."
+    else:
+        text += (f" Adding {chosen.effect} lowers BIC by {chosen.delta_bic:.0f} and leaves "
+                 f"{final.rms:.3g} rad ({final.rms / sigma:.2f}x noise, lag-1 autocorrelation "
+                 f"{lag1_autocorrelation(final.residuals[0]):.2f}): the gap shrinks {baseline.rms / final.rms:.1f}x.")
+    return text

@@ -1,0 +1,288 @@
+"""Fitting friction parameters to measurements (paper section 2.2), reported like lmfit.
+
+A fit varies some :class:`Parameter` objects (value, bounds, vary, stderr) so that the
+simulated angle matches one or more measurements in the least-squares sense. Two
+optimisers: ``least_squares`` (scipy trust-region reflective, bounds, finite-difference
+Jacobian: fast, and gives the standard errors) and ``nelder-mead`` (the paper's modified
+simplex, on bounded transformed coordinates), optionally polished by the other. Several
+starts guard against poor local minima.
+"""
+from __future__ import annotations
+
+import math
+import sys
+from dataclasses import dataclass, field, replace
+
+import numpy as np
+from scipy.optimize import least_squares, minimize
+
+from .effects import parameter_specs
+from .errors import SimulationError
+from .rig import CHANNEL_OF_EXPERIMENT
+from .runner import rig_values, simulate
+from .signals import noise_estimate
+
+
+@dataclass
+class Parameter:
+    """A model parameter: value with bounds, whether it is varied, and its standard error."""
+
+    name: str
+    value: float
+    min: float = -math.inf
+    max: float = math.inf
+    vary: bool = True
+    unit: str = ""
+    log: bool = False
+    stderr: float | None = None
+    tied_to: str | None = None  # value follows this parameter (lmfit's expr, for the simplest case)
+
+    def at_bound(self, rel=1e-3):
+        span = (self.max - self.min) if math.isfinite(self.max - self.min) else max(abs(self.value), 1.0)
+        return self.vary and (abs(self.value - self.min) <= rel * span or abs(self.max - self.value) <= rel * span)
+
+    # internal (unbounded-ish) coordinate used by the optimisers
+    def to_internal(self, v):
+        return math.log(v) if self.log else v
+
+    def from_internal(self, x):
+        return math.exp(x) if self.log else x
+
+    def internal_bounds(self):
+        if self.log:
+            return math.log(self.min), math.log(self.max)
+        return self.min, self.max
+
+
+@dataclass
+class Dataset:
+    """One measurement with the rig it was taken on."""
+
+    rig: object
+    measurement: object
+
+    @property
+    def t(self):
+        return self.measurement.t
+
+    @property
+    def y(self):
+        return self.measurement.channel(CHANNEL_OF_EXPERIMENT[self.rig.experiment])
+
+
+@dataclass
+class FitResult:
+    """Outcome of a fit. Residuals and rms in rad; aic/bic from chi^2 with noise ``sigma``."""
+
+    effects: tuple
+    spring_model: str
+    parameters: dict
+    residuals: list  # per dataset: simulated - measured (rad)
+    simulations: list  # per dataset: SimulationResult at the measurement times
+    sigma: float  # noise level (rad) used for chi^2
+    nfev: int = 0
+    success: bool = True
+    message: str = ""
+    method: str = ""
+
+    @property
+    def values(self):
+        return {p.name: p.value for p in self.parameters.values()}
+
+    @property
+    def n_data(self):
+        return int(sum(r.size for r in self.residuals))
+
+    @property
+    def n_varied(self):
+        return sum(p.vary for p in self.parameters.values())
+
+    @property
+    def chi2(self):
+        return float(sum(np.sum(r**2) for r in self.residuals) / self.sigma**2)
+
+    @property
+    def reduced_chi2(self):
+        return self.chi2 / max(1, self.n_data - self.n_varied)
+
+    @property
+    def rms(self):
+        return float(math.sqrt(sum(np.sum(r**2) for r in self.residuals) / self.n_data))
+
+    @property
+    def max_error(self):
+        return float(max(np.max(np.abs(r)) for r in self.residuals))
+
+    @property
+    def aic(self):
+        return self.chi2 + 2 * self.n_varied
+
+    @property
+    def bic(self):
+        return self.chi2 + self.n_varied * math.log(self.n_data)
+
+    def report(self):
+        """A readable fit report; parameters stuck at a bound are flagged."""
+        lines = [f"[[Fit]] effects: {', '.join(self.effects) or '(none)'}; spring model: {self.spring_model}",
+                 f"    method {self.method}, {self.nfev} simulations, {'converged' if self.success else 'NOT converged: ' + self.message}",
+                 f"    data points {self.n_data}, varied {self.n_varied}, noise sigma {self.sigma:.3g} rad",
+                 f"    rms {self.rms:.4g} rad, max |error| {self.max_error:.4g} rad, reduced chi2 {self.reduced_chi2:.3f}",
+                 f"    AIC {self.aic:.1f}, BIC {self.bic:.1f}", "[[Parameters]]"]
+        for p in self.parameters.values():
+            if not p.vary:
+                how = f"tied to {p.tied_to}" if p.tied_to else "fixed"
+                lines.append(f"    {p.name:18s} = {p.value:.6g} {p.unit} ({how})")
+                continue
+            err = f"+/- {p.stderr:.3g}" if p.stderr is not None and math.isfinite(p.stderr) else "+/- ?"
+            flag = "  AT BOUND [%g, %g]" % (p.min, p.max) if p.at_bound() else ""
+            lines.append(f"    {p.name:18s} = {p.value:.6g} {err} {p.unit} (bounds [{p.min:g}, {p.max:g}]){flag}")
+        return "\n".join(lines)
+
+
+def make_parameters(rig, effects, initial=None, vary=None):
+    """Parameters of ``effects``: fixed where the rig gives a value, varied otherwise.
+
+    ``initial`` overrides starting values; ``vary`` (a set of names) overrides which vary.
+    """
+    given = rig_values(rig)
+    params = {}
+    for spec in parameter_specs(effects):
+        if spec.name in given:
+            params[spec.name] = Parameter(spec.name, given[spec.name], spec.min, spec.max, False, spec.unit, spec.log)
+            continue
+        v = (initial or {}).get(spec.name, spec.initial)
+        is_varied = spec.vary if vary is None else spec.name in vary
+        params[spec.name] = Parameter(spec.name, float(np.clip(v, spec.min, spec.max)), spec.min, spec.max,
+                                      is_varied, spec.unit, spec.log)
+    return params
+
+
+def _progress(message):
+    print(message, file=sys.stderr, flush=True)
+
+
+class _Objective:
+    def __init__(self, datasets, effects, spring_model, params):
+        self.datasets, self.effects, self.spring_model = datasets, tuple(effects), spring_model
+        self.params = params
+        self.varied = [p for p in params.values() if p.vary]
+        self.nfev = 0
+        self.best = (math.inf, None)
+
+    def values(self, x):
+        vals = {p.name: p.value for p in self.params.values()}
+        for p, xi in zip(self.varied, x):
+            lo, hi = p.internal_bounds()
+            vals[p.name] = p.from_internal(float(np.clip(xi, lo, hi)))
+        for p in self.params.values():
+            if p.tied_to:
+                vals[p.name] = vals[p.tied_to]
+        return vals
+
+    def simulate(self, values):
+        return [simulate(d.rig, self.effects, values, spring_model=self.spring_model, sample_times=d.t)
+                for d in self.datasets]
+
+    def residual(self, x):
+        self.nfev += 1
+        try:
+            sims = self.simulate(self.values(x))
+        except SimulationError:
+            return np.full(sum(d.t.size for d in self.datasets), 1.0)  # a diverged trial scores badly
+        r = np.concatenate([s.angle - d.y for s, d in zip(sims, self.datasets)])
+        cost = float(np.dot(r, r))
+        if cost < self.best[0]:
+            self.best = (cost, np.array(x, float))
+        return r
+
+    def x0(self):
+        return np.array([p.to_internal(p.value) for p in self.varied])
+
+    def bounds(self):
+        b = [p.internal_bounds() for p in self.varied]
+        return np.array([lo for lo, _ in b]), np.array([hi for _, hi in b])
+
+
+def fit(datasets, effects, spring_model=None, params=None, *, method="least_squares", starts=None,
+        sigma=None, verbose=True, label=""):
+    """Fit the varied parameters of ``effects`` to the datasets.
+
+    ``starts``: list of dicts of starting values tried in turn (the best result is kept).
+    ``sigma``: noise level (rad) for chi^2 / AIC / BIC (default: estimated from the data).
+    Returns a :class:`FitResult`.
+    """
+    datasets = list(datasets)
+    rig0 = datasets[0].rig
+    spring_model = spring_model or rig0.model.spring_model
+    params = params or make_parameters(rig0, effects)
+    if sigma is None:
+        sigma = float(np.sqrt(np.mean([noise_estimate(d.y) ** 2 for d in datasets])))
+    obj = _Objective(datasets, effects, spring_model, params)
+    varied = obj.varied
+    nfev = 0
+    best_x, best_cost, success, message = obj.x0(), math.inf, True, ""
+    if varied:
+        start_points = [obj.x0()]
+        for s in starts or []:
+            start_points.append(np.array([p.to_internal(float(np.clip(s.get(p.name, p.value), p.min, p.max)))
+                                          for p in varied]))
+        lo, hi = obj.bounds()
+        for k, x0 in enumerate(start_points):
+            x0 = np.clip(x0, lo + 1e-9 * (hi - lo), hi - 1e-9 * (hi - lo))
+            if method == "nelder-mead":
+                span = hi - lo
+                simplex = [x0] + [x0 + np.eye(len(x0))[i] * 0.1 * span[i] * (1 if x0[i] + 0.1 * span[i] <= hi[i] else -1)
+                                  for i in range(len(x0))]
+                res = minimize(lambda x: float(np.sum(obj.residual(x) ** 2)), x0, method="Nelder-Mead",
+                               bounds=list(zip(lo, hi)),
+                               options={"initial_simplex": np.array(simplex), "xatol": 1e-4, "fatol": 1e-12,
+                                        "maxfev": 150 * len(x0)})
+                x, cost = res.x, float(res.fun)
+                ok, msg = bool(res.success), str(res.message)
+            else:
+                res = least_squares(obj.residual, x0, bounds=(lo, hi), method="trf", diff_step=1e-3,
+                                    x_scale="jac", xtol=1e-6, ftol=1e-8, max_nfev=60 * (len(x0) + 1))
+                x, cost = res.x, 2 * float(res.cost)
+                ok, msg = bool(res.status > 0), str(res.message)
+            if verbose:
+                _progress(f"  fit {label or ', '.join(effects)} start {k + 1}/{len(start_points)}: "
+                          f"rms {math.sqrt(cost / max(1, sum(d.t.size for d in datasets))):.3g} rad after {obj.nfev} simulations")
+            if cost < best_cost:
+                best_x, best_cost, success, message = x, cost, ok, msg
+            n_data = sum(d.t.size for d in datasets)
+            if best_cost <= n_data * sigma**2 * (1 + 3 * math.sqrt(2.0 / n_data)):
+                break  # at the noise level: further starts cannot do better
+        if obj.best[0] < best_cost:  # a trial point better than any optimiser end point
+            best_x = obj.best[1]
+    values = obj.values(best_x)
+    fitted = {name: replace(p, value=values[name]) for name, p in params.items()}
+    sims = obj.simulate(values)
+    residuals = [s.angle - d.y for s, d in zip(sims, datasets)]
+    result = FitResult(tuple(effects), spring_model, fitted, residuals, sims, sigma, obj.nfev, success, message, method)
+    if varied:
+        _standard_errors(result, obj, best_x)
+    return result
+
+
+def _standard_errors(result, obj, x):
+    """stderr from the Jacobian of the residuals at the optimum: cov = s^2 (J^T J)^-1."""
+    r0 = np.concatenate(result.residuals)
+    J = np.empty((r0.size, len(x)))
+    for i, p in enumerate(obj.varied):
+        h = 1e-3 * max(1.0, abs(x[i])) if p.log else 1e-3 * max(abs(x[i]), 1e-3 * (p.max - p.min))
+        xp = np.array(x, float)
+        xp[i] += h
+        J[:, i] = (obj.residual(xp) - r0) / h
+    dof = max(1, r0.size - len(x))
+    s2 = float(np.dot(r0, r0)) / dof
+    try:
+        cov = np.linalg.inv(J.T @ J) * s2
+    except np.linalg.LinAlgError:
+        return
+    for i, p in enumerate(obj.varied):
+        var = cov[i, i]
+        if not (var >= 0 and math.isfinite(var)):
+            continue
+        sd = math.sqrt(var)
+        name = p.name
+        result.parameters[name].stderr = result.parameters[name].value * sd if p.log else sd
