@@ -24,9 +24,9 @@ from dataclasses import dataclass
 import numpy as np
 
 from .effects import EFFECTS, applicable
-from .fitting import Dataset, FitResult, fit, make_parameters
+from .fitting import Dataset, FitResult, make_parameters, staged_fit
 from .signals import (decay_shape, disagreement_window, dominant_frequency, lag1_autocorrelation,
-                      noise_estimate, swing_peaks)
+                      noise_estimate, swing_peaks, swing_spans)
 from .springs import fundamental
 
 #: BIC improvement (in units of chi^2) required to name an effect. Kass & Raftery (1995)
@@ -105,30 +105,37 @@ def _progress(msg):
 def data_guesses(rig, measurement):
     """Starting values from the measured swing (pendulum) or registry defaults (cam).
 
-    A Coulomb torque T_f lowers each half-swing amplitude by 2 T_f / (M g L), with
-    T_f ~ mu_k r M g: mu_k ~ slope (T/2) L / (2 r). A viscous torque gives an envelope
-    exp(-lambda t) with Cv = 2 lambda I.
+    While the pendulum swings clearly, the span between successive extremes shrinks at
+    ``ds/dt = -4 T_f/(M g L T) - lambda s``: a Coulomb torque T_f ~ mu_k r M g takes a constant
+    4 T_f/(M g L) per half period T/2, a viscous torque gives the rate lambda = Cv / (2 I).
+    A linear regression of the span decrements on the span separates the two. Starts: the
+    regression, all of the decay as Coulomb, all of it as viscous.
     """
     if rig.experiment != "pendulum":
         return [{}]
     p = rig.pendulum
     y = measurement.channel("pendulum_angle")
-    tp, ap = swing_peaks(measurement.t, y)
-    shape = decay_shape(tp, ap)
-    if shape.get("peaks", 0) < 3:
+    mid, spans, gaps = swing_spans(measurement.t, y)
+    if spans.size < 3:
         return [{}]
-    half_period = float(np.median(np.diff(tp)))
-    mu_k = abs(shape["linear_slope"]) * half_period * p.com_distance / (2 * rig.shaft_radius)
-    viscous = 2 * max(shape["exponential_rate"], 0.0) * p.inertia
-    return [{"mu_k": mu_k, "viscous": 0.2 * viscous, "mu_s": 1.5 * mu_k},
-            {"mu_k": 0.2 * mu_k, "viscous": viscous, "mu_s": 0.3 * mu_k},
-            {"mu_k": 0.6 * mu_k, "viscous": 0.5 * viscous, "mu_s": 1.2 * mu_k}]
+    half_period = float(np.median(gaps))
+    rate_of_change = np.diff(spans) / np.diff(mid)
+    s_mid = 0.5 * (spans[1:] + spans[:-1])
+    coulomb_rate, lam = (-np.polyfit(s_mid, rate_of_change, 1)[::-1]) if s_mid.size >= 2 else (0.0, 0.0)
+    to_mu = half_period * p.com_distance / (4 * rig.shaft_radius)  # span decrement rate -> mu_k
+    total = float(-np.polyfit(mid, spans, 1)[0])  # everything as Coulomb
+    lam_all = max(float(-np.polyfit(mid, np.log(spans), 1)[0]), 0.0)  # everything as viscous
+    both = {"mu_k": max(float(coulomb_rate), 0.0) * to_mu, "viscous": 2 * max(float(lam), 0.0) * p.inertia}
+    both["mu_s"] = 1.5 * both["mu_k"]
+    return [both,
+            {"mu_k": max(total, 0.0) * to_mu, "viscous": 0.0, "mu_s": 1.5 * max(total, 0.0) * to_mu},
+            {"mu_k": 0.0, "viscous": 2 * lam_all * p.inertia, "mu_s": 0.0}]
 
 
 def _fit_job(args):
     rig, measurement, effects, spring_model, initial, starts, sigma, label = args
     params = make_parameters(rig, effects, initial=initial)
-    return fit([Dataset(rig, measurement)], effects, spring_model, params, starts=starts, sigma=sigma, label=label)
+    return staged_fit([Dataset(rig, measurement)], effects, spring_model, params, starts=starts, sigma=sigma, label=label)
 
 
 def _candidate_jobs(rig, measurement, baseline, guesses, sigma):

@@ -286,3 +286,38 @@ def _standard_errors(result, obj, x):
         sd = math.sqrt(var)
         name = p.name
         result.parameters[name].stderr = result.parameters[name].value * sd if p.log else sd
+
+
+def truncated(dataset, t_max):
+    """The dataset restricted to t <= t_max."""
+    m = dataset.measurement
+    keep = m.t <= t_max
+    sub = replace(m, t=m.t[keep], channels={k: v[keep] for k, v in m.channels.items()})
+    return Dataset(dataset.rig, sub)
+
+
+def staged_fit(datasets, effects, spring_model=None, params=None, *, starts=None, sigma=None,
+               verbose=True, label="", method="least_squares"):
+    """Fit first while the pendulum still swings, then the whole record.
+
+    After a free swing sticks, the stuck angle depends discontinuously on the friction
+    (one half-swing more or less), so the full-record cost has many local minima. The
+    swinging part is smooth in the parameters: fitting it first (from every start) and then
+    polishing on the full record (from that result) finds the global minimum reliably.
+    """
+    from .signals import motion_end_time
+
+    datasets = list(datasets)
+    if sigma is None:
+        sigma = float(np.sqrt(np.mean([noise_estimate(d.y) ** 2 for d in datasets])))
+    early = []
+    for d in datasets:
+        t_stop = motion_end_time(d.t, d.y, sigma) if d.rig.experiment == "pendulum" else d.t[-1]
+        early.append(truncated(d, t_stop) if t_stop < 0.9 * d.t[-1] else d)
+    if all(e is d for e, d in zip(early, datasets)):
+        return fit(datasets, effects, spring_model, params, starts=starts, sigma=sigma, verbose=verbose,
+                   label=label, method=method)
+    first = fit(early, effects, spring_model, params, starts=starts, sigma=sigma, verbose=verbose,
+                label=f"{label} (while swinging)", method=method)
+    return fit(datasets, effects, spring_model, first.parameters, sigma=sigma, verbose=verbose,
+               label=f"{label} (whole record)", method=method)

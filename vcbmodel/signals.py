@@ -25,8 +25,9 @@ def noise_estimate(y):
     return float(1.4826 * mad / math.sqrt(20.0))
 
 
-def swing_peaks(t, angle, min_separation=0.1):
-    """Extreme values of a free swing: returns (times, |amplitudes|) of alternating peaks.
+def swing_peaks(t, angle, min_separation=0.1, signed=False):
+    """Extreme values of a free swing: returns (times, |amplitudes|) of alternating peaks,
+    and with ``signed`` also the angle values at the peaks.
 
     A peak is the largest |angle| between two zero crossings of the (median-filtered)
     angle about its final rest value; peaks below three noise levels are dropped.
@@ -38,7 +39,7 @@ def swing_peaks(t, angle, min_separation=0.1):
     sign = np.sign(z)
     crossings = np.nonzero(np.diff(sign) != 0)[0]
     bounds = np.concatenate([[0], crossings + 1, [y.size]])
-    times, amps = [], []
+    times, amps, vals = [], [], []
     for a, b in zip(bounds[:-1], bounds[1:]):
         if b - a < 3:
             continue
@@ -46,6 +47,9 @@ def swing_peaks(t, angle, min_separation=0.1):
         if abs(z[i]) > 3 * sigma and (not times or t[i] - times[-1] >= min_separation):
             times.append(t[i])
             amps.append(abs(z[i]))
+            vals.append(y[i])
+    if signed:
+        return np.array(times), np.array(amps), np.array(vals)
     return np.array(times), np.array(amps)
 
 
@@ -114,3 +118,30 @@ def lag1_autocorrelation(residual):
     r = np.asarray(residual, float) - np.mean(residual)
     den = float(np.dot(r, r))
     return float(np.dot(r[1:], r[:-1]) / den) if den > 0 else 0.0
+
+
+def swing_spans(t, angle, sigma=None):
+    """The clear part of a free swing: (mid times, spans) with span_i = |p_i - p_(i+1)|
+    between successive extremes, from the release on, while spans exceed 20 noise levels
+    and extremes follow each other at a regular half period. Empty arrays if none."""
+    t = np.asarray(t)
+    sigma = noise_estimate(angle) if sigma is None else sigma
+    tp, _, values = swing_peaks(t, angle, signed=True)
+    if tp.size < 2:
+        return np.zeros(0), np.zeros(0), np.zeros(0)
+    spans = np.abs(np.diff(values))
+    gaps = np.diff(tp)
+    n = 0
+    while n < spans.size and spans[n] > 20 * sigma and gaps[n] < 1.5 * gaps[0]:
+        n += 1
+    return 0.5 * (tp[:n] + tp[1:n + 1]), spans[:n], gaps[:n]
+
+
+def motion_end_time(t, angle, sigma=None):
+    """Time (s) when a free swing visibly stops: the end of :func:`swing_spans` plus half
+    a swing; ``t[-1]`` if it never stops."""
+    t = np.asarray(t)
+    mid, spans, gaps = swing_spans(t, angle, sigma)
+    if spans.size == 0:
+        return float(t[-1])
+    return float(min(t[-1], mid[-1] + 1.5 * np.median(gaps)))
