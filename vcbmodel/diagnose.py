@@ -133,9 +133,10 @@ def data_guesses(rig, measurement):
 
 
 def _fit_job(args):
-    rig, measurement, effects, spring_model, initial, starts, sigma, label = args
+    rig, measurement, effects, spring_model, initial, starts, sigma, label, scan = args
     params = make_parameters(rig, effects, initial=initial)
-    return staged_fit([Dataset(rig, measurement)], effects, spring_model, params, starts=starts, sigma=sigma, label=label)
+    return staged_fit([Dataset(rig, measurement)], effects, spring_model, params, starts=starts, sigma=sigma,
+                      label=label, scan=scan)
 
 
 def _candidate_jobs(rig, measurement, baseline, guesses, sigma):
@@ -146,10 +147,11 @@ def _candidate_jobs(rig, measurement, baseline, guesses, sigma):
         effects = tuple(e for e in EFFECTS if e in baseline.effects or e == name)
         initial = dict(guesses[0])
         initial.update(baseline.values)
+        scan = {p.name: p.scan for p in effect.parameters if p.scan and p.vary}
         variants = getattr(effect, "variants", None) or (baseline.spring_model,)
         for variant in variants:
             jobs.append((name, (rig, measurement, effects, variant, initial, guesses, sigma,
-                                f"+{name}" + (f" [{variant}]" if variant != baseline.spring_model else ""))))
+                                f"+{name}" + (f" [{variant}]" if variant != baseline.spring_model else ""), scan)))
     return jobs
 
 
@@ -170,7 +172,7 @@ def diagnose(rig, measurement, processes=2, verbose=True) -> Diagnosis:
         _progress(f"diagnose: noise estimate {sigma:.3g} rad; fitting the starting model "
                   f"({', '.join(rig.model.effects) or 'no effects'}, {rig.model.spring_model})")
     baseline = _fit_job((rig, measurement, rig.model.effects, rig.model.spring_model, guesses[0], guesses[1:],
-                         sigma, "starting model"))
+                         sigma, "starting model", None))
     t0, t1, _ = disagreement_window(measurement.t, baseline.residuals[0], sigma)
     jobs = _candidate_jobs(rig, measurement, baseline, guesses, sigma)
     if verbose:

@@ -25,6 +25,7 @@ class ParameterSpec:
     unit: str
     vary: bool = True  # varied by the diagnosis unless the rig gives the value
     log: bool = False  # fit on a log scale (positive, spans decades)
+    scan: tuple = ()  # coarse values tried before a fit when the effect is newly added
 
 
 @dataclass
@@ -64,7 +65,7 @@ class Effect:
 class CoulombFriction(Effect):
     name = "coulomb_friction"
     description = "dry shaft friction mu_k r Fn with a Karnopp stick band"
-    parameters = (ParameterSpec("mu_k", 0.1, 0.0, 1.0, "-"),
+    parameters = (ParameterSpec("mu_k", 0.1, 0.0, 1.0, "-", scan=(0.03, 0.08, 0.15, 0.3)),
                   ParameterSpec("stick_velocity", DEFAULT_STICK_VELOCITY, 1e-5, 0.05, "rad/s",
                                 vary=False, log=True))
 
@@ -80,8 +81,8 @@ class CoulombFriction(Effect):
 class Stribeck(Effect):
     name = "stribeck"
     description = "static friction mu_s > mu_k, falling linearly to mu_k at the Stribeck velocity"
-    parameters = (ParameterSpec("mu_s", 0.2, 0.0, 1.5, "-"),
-                  ParameterSpec("stribeck_velocity", 0.1, 0.003, 2.0, "rad/s", log=True))
+    parameters = (ParameterSpec("mu_s", 0.2, 0.0, 1.5, "-", scan=(0.15, 0.25, 0.4)),
+                  ParameterSpec("stribeck_velocity", 0.1, 0.003, 2.0, "rad/s", log=True, scan=(0.03, 0.1, 0.3)))
 
     def on(self, spec, values, rig):
         spec.mu_s = max(values["mu_s"], spec.mu_k)
@@ -95,7 +96,7 @@ class Stribeck(Effect):
 class ViscousFriction(Effect):
     name = "viscous_friction"
     description = "viscous shaft torque Cv w"
-    parameters = (ParameterSpec("viscous", 0.3, 0.0, 20.0, "N m s/rad"),)
+    parameters = (ParameterSpec("viscous", 0.3, 0.0, 20.0, "N m s/rad", scan=(0.1, 0.4, 1.2, 4.0)),)
 
     def on(self, spec, values, rig):
         spec.viscous = values["viscous"]

@@ -296,14 +296,33 @@ def truncated(dataset, t_max):
     return Dataset(dataset.rig, sub)
 
 
+def scan_starts(datasets, effects, spring_model, params, grid, keep=2):
+    """Evaluate the cost on a coarse grid (dict name -> values) with the other parameters
+    at their current values; return the ``keep`` best grid points as start dicts."""
+    import itertools
+
+    obj = _Objective(datasets, effects, spring_model or datasets[0].rig.model.spring_model, params)
+    names = [n for n in grid if n in params and params[n].vary]
+    scored = []
+    for combo in itertools.product(*(grid[n] for n in names)):
+        start = dict(zip(names, combo))
+        x = np.array([p.to_internal(float(np.clip(start.get(p.name, p.value), p.min, p.max))) for p in obj.varied])
+        r = obj.residual(x)
+        scored.append((float(np.dot(r, r)), start))
+    scored.sort(key=lambda s: s[0])
+    return [s for _, s in scored[:keep]]
+
+
 def staged_fit(datasets, effects, spring_model=None, params=None, *, starts=None, sigma=None,
-               verbose=True, label="", method="least_squares"):
+               verbose=True, label="", method="least_squares", scan=None):
     """Fit first while the pendulum still swings, then the whole record.
 
     After a free swing sticks, the stuck angle depends discontinuously on the friction
     (one half-swing more or less), so the full-record cost has many local minima. The
     swinging part is smooth in the parameters: fitting it first (from every start) and then
     polishing on the full record (from that result) finds the global minimum reliably.
+    ``scan`` (dict name -> values): the best points of that coarse grid, evaluated on the
+    swinging part, are tried as the first starts.
     """
     from .signals import motion_end_time
 
@@ -314,6 +333,9 @@ def staged_fit(datasets, effects, spring_model=None, params=None, *, starts=None
     for d in datasets:
         t_stop = motion_end_time(d.t, d.y, sigma) if d.rig.experiment == "pendulum" else d.t[-1]
         early.append(truncated(d, t_stop) if t_stop < 0.9 * d.t[-1] else d)
+    if scan:
+        params = params or make_parameters(datasets[0].rig, effects)
+        starts = scan_starts(early, effects, spring_model, params, scan) + list(starts or [])
     if all(e is d for e, d in zip(early, datasets)):
         return fit(datasets, effects, spring_model, params, starts=starts, sigma=sigma, verbose=verbose,
                    label=label, method=method)

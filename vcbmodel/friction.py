@@ -150,10 +150,20 @@ def shaft_friction(w, applied_torque, R0x, R0y, R1x, R1y, inertia, law: Friction
     in_band = absw <= law.stick_velocity
     in_strib = absw < ws
     # Each branch is T_f = c F_n + d; pick (c, d) first so F_n is solved once.
+    # Branches whose parameters are zero are left out here, in Python, so the compiled
+    # expression stays small (the law is unchanged: they would contribute nothing).
     sTc = ops.sign(applied_torque)
-    mu_stribeck = law.mu_s - (law.mu_s - law.mu_k) * absw / (ws if ws > 0.0 else 1.0)
-    c = r * ops.where(in_band, law.mu_s * sTc, ops.where(in_strib, mu_stribeck * s, law.mu_k * s))
-    d = ops.where(in_band, 0.0, ops.where(in_strib, 0.0, law.viscous * (w - ws * s)))
+    outside = law.mu_k * s
+    if ws > 0.0:
+        mu_stribeck = law.mu_s - (law.mu_s - law.mu_k) * absw / ws
+        outside = ops.where(in_strib, mu_stribeck * s, outside)
+    c = r * ops.where(in_band, law.mu_s * sTc, outside)
+    if law.viscous == 0.0:
+        d = 0.0
+    elif ws > 0.0:
+        d = ops.where(in_band, 0.0, ops.where(in_strib, 0.0, law.viscous * (w - ws * s)))
+    else:
+        d = ops.where(in_band, 0.0, law.viscous * w)
     Fn_slip = consistent_reaction(R0x, R0y, R1x, R1y, applied_torque, inertia, c, d, ops)
     # stick band: the shaft holds (theta'' = 0, F_n = |R0|) if static friction can take T_c
     Fn_stick = ops.sqrt(R0x * R0x + R0y * R0y)

@@ -39,8 +39,9 @@ CAM_T_END = 0.035
 
 # --- reference rigs (studies) -----------------------------------------------------------
 #: Pendulum of the paper's section 2: M = 60 kg and I = 2.74 kg m^2 are the paper's; L is
-#: not printed: 0.2137 m makes the small-angle period 2 pi sqrt(I/(M g L)) = 0.93 s;
-#: journal radius 20 mm (a 40 mm cam shaft).
+#: not printed: L = sqrt(I/M) = 0.2137 m treats the 60 kg weight as the whole inertia (a
+#: point mass on a light link; small-angle period 0.93 s); journal radius 20 mm (a 40 mm
+#: cam shaft). These are the spec's example values.
 REFERENCE_PENDULUM = {
     "format": "vcb-rig/1", "name": "reference pendulum (paper section 2)",
     "experiment": "pendulum", "gravity": 9.81, "shaft": {"radius": 0.02},

@@ -237,7 +237,7 @@ def load_rig(path) -> Rig:
             com_distance=rd.number(p, "com_distance", "pendulum.", positive=True),
             initial_angle=rd.number(p, "initial_angle", "pendulum."),
             initial_velocity=rd.number(p, "initial_velocity", "pendulum.", default=0.0))
-        if pendulum.inertia < pendulum.mass * pendulum.com_distance**2 * (1 - 1e-9):
+        if pendulum.inertia < 0.99 * pendulum.mass * pendulum.com_distance**2:  # 1 %: rounded data
             rd.fail("pendulum.inertia", "smaller than mass * com_distance^2: not a physical body")
         if model.spring_model != "massless":
             rd.fail("model.spring_model", "a pendulum test has no closing spring: use 'massless'")
