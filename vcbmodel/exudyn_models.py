@@ -54,8 +54,8 @@ class ExudynModel:
         ti.verboseMode = 0
         sim.solution.file.write = False
         sim.solution.sensors.writePeriod = sensor_period or step
-        sim.displayComputationTime = False
-        sim.displayStatistics = False
+        sim.show.computationTime = False
+        sim.show.statistics = False
         try:
             ok = mbs.SolveDynamic(sim, solverType=exu.DynamicSolverType.RK44)
         except Exception as e:  # Exudyn raises on solver failure
@@ -77,7 +77,7 @@ def _shaft(model, inertia, theta0, omega0, position=(0.0, 0.0)):
     mbs = model.mbs
     nShaft = mbs.AddNode(it.Node1D(referenceCoordinates=[0.0], initialCoordinates=[theta0],
                                    initialVelocities=[omega0]))
-    oShaft = mbs.AddObject(it.ObjectRotationalMass1D(nodeNumber=nShaft, physicsInertia=inertia,
+    oShaft = mbs.AddObject(it.ObjectRotationalMass1D(nodeNumber=nShaft, inertia=inertia,
                                                      referencePosition=[position[0], position[1], 0.0]))
     nGround = mbs.AddNode(it.NodePointGround())
     mGroundCoordinate = mbs.AddMarker(it.MarkerNodeCoordinate(nodeNumber=nGround, coordinate=0))
@@ -182,7 +182,7 @@ def build_cam_drop(rig, law, chain=None, user_function="auto"):
         model.spring_nodes = []
         for frac, m in zip(chain.equilibrium_fractions(), chain.masses):
             nMass = mbs.AddNode(it.NodePoint2D(referenceCoordinates=[ox + frac * (bx0 - ox), oy + frac * (by0 - oy)]))
-            oMass = mbs.AddObject(it.MassPoint2D(nodeNumber=nMass, physicsMass=c * m))
+            oMass = mbs.AddObject(it.MassPoint2D(nodeNumber=nMass, mass=c * m))
             mMass = mbs.AddMarker(it.MarkerBodyPosition(bodyNumber=oMass, localPosition=[0.0, 0.0, 0.0]))
             if spring.weight:
                 mbs.AddLoad(it.LoadForceVector(markerNumber=mMass, loadVector=[0.0, -c * m * g, 0.0]))
