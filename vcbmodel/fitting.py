@@ -204,11 +204,12 @@ class _Objective:
 
 
 def fit(datasets, effects, spring_model=None, params=None, *, method="least_squares", starts=None,
-        sigma=None, verbose=True, label=""):
+        sigma=None, verbose=True, label="", max_simulations=None):
     """Fit the varied parameters of ``effects`` to the datasets.
 
     ``starts``: list of dicts of starting values tried in turn (the best result is kept).
     ``sigma``: noise level (rad) for chi^2 / AIC / BIC (default: estimated from the data).
+    ``max_simulations``: budget of the simplex (default 150 per varied parameter).
     Returns a :class:`FitResult`.
     """
     datasets = list(datasets)
@@ -236,7 +237,7 @@ def fit(datasets, effects, spring_model=None, params=None, *, method="least_squa
                 res = minimize(lambda x: float(np.sum(obj.residual(x) ** 2)), x0, method="Nelder-Mead",
                                bounds=list(zip(lo, hi)),
                                options={"initial_simplex": np.array(simplex), "xatol": 1e-4, "fatol": 1e-12,
-                                        "maxfev": 150 * len(x0)})
+                                        "maxfev": max_simulations or 150 * len(x0)})
                 x, cost = res.x, float(res.fun)
                 ok, msg = bool(res.success), str(res.message)
             else:

@@ -21,9 +21,13 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from .fitting import Dataset, FitResult, fit, make_parameters
+from .fitting import Dataset, FitResult, fit, make_parameters, staged_fit
 from .friction import zeta_from_viscous
 from .signals import swing_peaks
+
+#: Simulations allowed to the simplex polish after the least-squares stage (it refines the
+#: least-squares optimum the way the paper's simplex would; 40 keeps identification < 60 s).
+SIMPLEX_BUDGET = 40
 
 LAWS = {
     "hybrid": {"effects": ("coulomb_friction", "stribeck", "viscous_friction"),
@@ -90,10 +94,14 @@ def identify(pairs, law="hybrid", verbose=True, polish=True) -> IdentifyResult:
     if law == "stick-slip":  # ws follows w0: the Stribeck branch is empty
         params["stribeck_velocity"].vary = False
         params["stribeck_velocity"].tied_to = "stick_velocity"
-    result = fit(datasets, effects, "massless", params, starts=guesses[1:], verbose=verbose, label=f"{law} (least squares)")
+    scan = {"mu_s": (1.3, 2.0)} if law == "hybrid" else None  # mu_s as multiples of the mu_k guess
+    if scan:
+        scan = {"mu_s": tuple(f * guesses[0].get("mu_k", 0.1) for f in scan["mu_s"])}
+    result = staged_fit(datasets, effects, "massless", params, starts=guesses[1:], verbose=verbose,
+                        label=f"{law} (least squares)", scan=scan)
     if polish:
-        polished = fit(datasets, effects, "massless", result.parameters, method="nelder-mead",
-                       verbose=verbose, label=f"{law} (simplex polish)")
+        polished = fit(datasets, effects, "massless", result.parameters, method="nelder-mead", verbose=verbose,
+                       label=f"{law} (simplex polish)", max_simulations=SIMPLEX_BUDGET)
         if polished.chi2 <= result.chi2:
             for name, p in polished.parameters.items():
                 p.stderr = result.parameters[name].stderr

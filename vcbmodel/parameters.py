@@ -50,7 +50,13 @@ REFERENCE_PENDULUM = {
     "friction": {},
     "model": {"effects": ["coulomb_friction", "stribeck", "viscous_friction"], "spring_model": "massless"},
 }
-#: The truth used for the synthetic pendulum "measurements" (documented stand-ins).
+#: The paper's second test: "a shorter link and 15 deg" to reach higher speeds. The link
+#: length is not printed; 0.15 m (point mass again, I = M L^2) gives 30 % higher speeds.
+REFERENCE_PENDULUM_15 = dict(REFERENCE_PENDULUM, name="reference pendulum, short link, 15 deg",
+                             pendulum={"mass": 60.0, "inertia": 1.35, "com_distance": 0.15,
+                                       "initial_angle": 0.2617993877991494, "initial_velocity": 0.0})
+#: The truth used for the synthetic pendulum "measurements" (documented stand-ins): the
+#: ranges of the example data (mu_k 0.09-0.16, mu_s about 2 mu_k, ws ~0.1 rad/s, Cv ~0.6).
 REFERENCE_PENDULUM_TRUTH = {"mu_s": 0.20, "mu_k": 0.13, "stick_velocity": 1e-3,
                             "stribeck_velocity": 0.10, "viscous": 0.6}
 

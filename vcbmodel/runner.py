@@ -69,14 +69,14 @@ def default_t_end(rig):
 
 def default_step(rig, law):
     """Fixed Runge-Kutta step (s). Pendulum: at most PENDULUM_STEP and small enough that one
-    step at the release acceleration changes the speed by less than the stick band w0, so the
-    shaft can land in the band (Karnopp). Cam: CAM_STEP."""
+    step at the release acceleration changes the speed by 1.5 w0, less than the width 2 w0 of
+    the stick band, so a reversing shaft cannot jump over it (Karnopp). Cam: CAM_STEP."""
     if rig.experiment == "cam_drop":
         return P.CAM_STEP
     p = rig.pendulum
     acc = p.mass * rig.gravity * p.com_distance * max(abs(math.sin(p.initial_angle)), 1e-3) / p.inertia
     acc = max(acc, abs(p.initial_velocity) * 2 * math.pi / 1.0)
-    return float(min(P.PENDULUM_STEP, max(law.stick_velocity / acc, 1e-5)))
+    return float(min(P.PENDULUM_STEP, max(1.5 * law.stick_velocity / acc, 1e-5)))
 
 
 def simulate(rig: Rig, effects=None, values=None, *, spring_model=None, t_end=None, sample_times=None,
@@ -108,7 +108,17 @@ def simulate(rig: Rig, effects=None, values=None, *, spring_model=None, t_end=No
             s = rig.closing_spring
             chain = lumped_chain(n, s.stiffness, s.mass, s.free_length, spec.lumped_convention)
     if backend == "exudyn":
-        result = _simulate_exudyn(rig, spec, law, chain, t_end, step or default_step(rig, law), user_function)
+        step = step or default_step(rig, law)
+        period = None
+        if sample_times is not None and len(sample_times) > 2:
+            # uniform samples from t = 0 (a sensor's rate): shrink the step to divide the sample
+            # spacing and store only the sampled steps (no interpolation, less memory)
+            spacing = (sample_times[-1] - sample_times[0]) / (len(sample_times) - 1)
+            uniform = np.max(np.abs(np.diff(sample_times) - spacing)) < 1e-9 * max(1.0, sample_times[-1])
+            if uniform and abs(sample_times[0] / spacing - round(sample_times[0] / spacing)) < 1e-6:
+                k = math.ceil(spacing / step - 1e-9)
+                step, period = spacing / k, spacing
+        result = _simulate_exudyn(rig, spec, law, chain, t_end, step, user_function, period)
     elif backend == "reference":
         from .reference import simulate_reference
         result = simulate_reference(rig, spec, law, chain, t_end, method, step)
@@ -119,7 +129,7 @@ def simulate(rig: Rig, effects=None, values=None, *, spring_model=None, t_end=No
     return result
 
 
-def _simulate_exudyn(rig, spec, law, chain, t_end, step, user_function):
+def _simulate_exudyn(rig, spec, law, chain, t_end, step, user_function, sensor_period=None):
     from .exudyn_models import build_cam_drop, build_pendulum
     from .rig import lumped_mass_count
 
@@ -132,7 +142,7 @@ def _simulate_exudyn(rig, spec, law, chain, t_end, step, user_function):
             model = build_cam_drop_ancf(rig, law, user_function=user_function)
         else:
             model = build_cam_drop(rig, law, chain, user_function)
-    data = model.solve(t_end, step)
+    data = model.solve(t_end, step, sensor_period)
     t = data["angle"][:, 0]
     channels = {CHANNEL_OF_EXPERIMENT[rig.experiment]: data["angle"][:, 1],
                 "shaft_velocity": data["velocity"][:, 1]}

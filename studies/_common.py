@@ -1,0 +1,28 @@
+"""Shared helpers of the study scripts: output folder, JSON/Markdown tables, quick mode."""
+import argparse
+import json
+import os
+import sys
+from pathlib import Path
+
+ROOT = Path(__file__).resolve().parents[1]
+sys.path.insert(0, str(ROOT))
+
+
+def parse_args(description):
+    p = argparse.ArgumentParser(description=description)
+    p.add_argument("--out", default=str(ROOT / "results"), help="output folder (default results/)")
+    p.add_argument("--quick", action="store_true", help="smaller, faster run (smoke tests)")
+    a = p.parse_args()
+    os.makedirs(a.out, exist_ok=True)
+    return a
+
+
+def write_json(path, data):
+    Path(path).write_text(json.dumps(data, indent=2, default=float) + "\n")
+
+
+def markdown_table(headers, rows):
+    lines = ["| " + " | ".join(headers) + " |", "|" + "---|" * len(headers)]
+    lines += ["| " + " | ".join(str(c) for c in r) + " |" for r in rows]
+    return "\n".join(lines) + "\n"
