@@ -66,7 +66,7 @@ class CoulombFriction(Effect):
     name = "coulomb_friction"
     description = "dry shaft friction mu_k r Fn with a Karnopp stick band"
     parameters = (ParameterSpec("mu_k", 0.1, 0.0, 1.0, "-", scan=(0.03, 0.08, 0.15, 0.3)),
-                  ParameterSpec("stick_velocity", DEFAULT_STICK_VELOCITY, 1e-5, 0.05, "rad/s",
+                  ParameterSpec("stick_velocity", DEFAULT_STICK_VELOCITY, 2e-4, 0.02, "rad/s",
                                 vary=False, log=True))
 
     def on(self, spec, values, rig):
