@@ -1,0 +1,117 @@
+"""Speed and memory benchmark (targets from the issues); writes results/benchmark.json.
+
+Wall times are medians of several runs on this machine; tests never assert them.
+"""
+import platform
+import resource
+import statistics
+import tempfile
+import time
+from pathlib import Path
+
+from _common import parse_args, write_json
+
+from vcbmodel import parameters as P
+from vcbmodel.exudyn_models import build_pendulum
+from vcbmodel.rig import load_measurement, load_rig
+from vcbmodel.runner import default_step, model_spec, simulate
+from vcbmodel.synthetic import random_case, write_rig
+
+HYBRID = ("coulomb_friction", "stribeck", "viscous_friction")
+
+
+def median_time(fn, repeat):
+    times = []
+    for _ in range(repeat):
+        t0 = time.perf_counter()
+        fn()
+        times.append(time.perf_counter() - t0)
+    return statistics.median(times)
+
+
+def rss_mb():
+    return resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1024.0
+
+
+def main():
+    args = parse_args(__doc__)
+    repeat = 1 if args.quick else 3
+    out = Path(args.out)
+    tmp = Path(tempfile.mkdtemp())
+    write_rig(P.REFERENCE_PENDULUM, tmp / "p.rig.json")
+    write_rig(P.REFERENCE_CAM, tmp / "c.rig.json")
+    prig, crig = load_rig(tmp / "p.rig.json"), load_rig(tmp / "c.rig.json")
+    truth = P.REFERENCE_PENDULUM_TRUTH
+    law = model_spec(prig, HYBRID, truth).friction_law(prig.shaft_radius)
+    h = default_step(prig, law)
+    t_end = 6.0
+    res = {"machine": {"python": platform.python_version(), "processor": platform.processor() or platform.machine()},
+           "pendulum_6s": {"step_s": h}}
+    pend = res["pendulum_6s"]
+    for name, uf in (("floor_no_friction", "none"), ("symbolic_user_function", "symbolic"), ("python_user_function", "python")):
+        pend[name + "_s"] = median_time(lambda: build_pendulum(prig, law, uf).solve(t_end, h, 1e-3), repeat)
+    pend["scipy_reference_dop853_s"] = median_time(
+        lambda: simulate(prig, HYBRID, truth, t_end=t_end, backend="reference"), 1)
+    pend["compiled_over_floor"] = pend["symbolic_user_function_s"] / pend["floor_no_friction_s"]
+    pend["target_compiled_over_floor"] = 2.0
+    pend["target_met"] = pend["compiled_over_floor"] <= 2.0
+    print(pend, flush=True)
+
+    cam = res["cam_drop_35ms"] = {}
+    models = ["massless", "lumped-1", "lumped-2", "lumped-3"]
+    for m in models:
+        eff = ("coulomb_friction", "stribeck") + (("spring_mass",) if m != "massless" else ())
+        cam[m + "_s"] = median_time(lambda: simulate(crig, eff, spring_model=m, t_end=0.035), repeat)
+    cam["target_lumped_s"] = 0.5
+    cam["lumped_target_met"] = all(cam[m + "_s"] <= 0.5 for m in models[1:])
+    try:
+        from vcbmodel.ancf import build_cam_drop_ancf
+        eff = ("coulomb_friction", "stribeck", "spring_mass")
+        spec = model_spec(crig, eff, None, "ancf")
+        claw = spec.friction_law(crig.shaft_radius)
+        for ne in (4, 8, 16):
+            def run():
+                model = build_cam_drop_ancf(crig, claw, elements=ne)
+                model.solve(0.035, getattr(P, "ANCF_STEP", P.CAM_STEP), **({"solver": getattr(model, "solver", "RK44")} if hasattr(model, "solver") else {}))
+            cam[f"ancf_{ne}_s"] = median_time(run, repeat)
+        cam["target_ancf_8_s"] = 5.0
+        cam["ancf_8_target_met"] = cam["ancf_8_s"] <= 5.0
+    except ImportError:
+        cam["ancf"] = "not available"
+    print(cam, flush=True)
+
+    if not args.quick:
+        from vcbmodel.identify import identify
+        from vcbmodel.synthetic import synthetic_measurement
+        pairs = []
+        for i, rd in enumerate((P.REFERENCE_PENDULUM, P.REFERENCE_PENDULUM_15)):
+            write_rig(rd, tmp / f"id{i}.rig.json")
+            r = load_rig(tmp / f"id{i}.rig.json")
+            pairs.append((r, synthetic_measurement(r, HYBRID, truth, seed=20 + i)))
+        t0 = time.perf_counter()
+        identify(pairs, "hybrid", verbose=False)
+        res["hybrid_identification_two_measurements_s"] = time.perf_counter() - t0
+        res["hybrid_identification_target_s"] = 60.0
+        from vcbmodel.diagnose import diagnose
+        diag = res["diagnosis_s"] = {}
+        for case in ("pend_visc", "cam_mass"):
+            rp, mp, _ = random_case(case, 7, tmp)
+            rig = load_rig(rp)
+            t0 = time.perf_counter()
+            diagnose(rig, load_measurement(mp, rig.experiment), verbose=False)
+            diag[case] = time.perf_counter() - t0
+        diag["target_s"] = 120.0
+        print(res, flush=True)
+
+    # memory: repeated build + solve with symbolic user functions (exudyn-notes: leaks without SC.Reset)
+    before = rss_mb()
+    for _ in range(10 if args.quick else 100):
+        build_pendulum(prig, law, "symbolic").solve(0.5, h, 1e-3)
+    res["memory"] = {"peak_rss_mb": rss_mb(), "rss_growth_over_builds_mb": rss_mb() - before,
+                     "builds": 10 if args.quick else 100}
+    write_json(out / "benchmark.json", res)
+    print(res)
+
+
+if __name__ == "__main__":
+    main()
