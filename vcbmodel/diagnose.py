@@ -18,11 +18,12 @@ from __future__ import annotations
 import math
 import multiprocessing
 import sys
-from concurrent.futures import ProcessPoolExecutor
+from concurrent.futures import FIRST_COMPLETED, ProcessPoolExecutor, wait
 from dataclasses import dataclass
 
 import numpy as np
 
+from . import fitting
 from .effects import EFFECTS, applicable
 from .fitting import Dataset, FitResult, make_parameters, staged_fit
 from .signals import (decay_shape, disagreement_window, dominant_frequency, lag1_autocorrelation,
@@ -60,6 +61,7 @@ class Diagnosis:
     window: tuple
     signature: dict
     evidence: str
+    stopped: list = None  # candidates not fitted to the end: a simpler one explained the data already
 
     def to_json(self):
         b, f = self.baseline, self.final
@@ -72,7 +74,9 @@ class Diagnosis:
             "gap_ratio": f.rms / b.rms if b.rms > 0 else None,
             "noise_estimate": self.noise, "window": list(self.window),
             "bic_margin": BIC_MARGIN,
-            "candidates": [c.summary() for c in self.candidates],
+            "candidates": [c.summary() for c in self.candidates] + [
+                {"effect": name, "delta_bic": None, "status": "stopped: a candidate with no more parameters "
+                 "already explains the data within the noise"} for name in self.stopped or []],
             "fitted": _rounded(f.values), "fitted_before": _rounded(b.values),
             "stderr": {p.name: p.stderr for p in f.parameters.values() if p.vary},
             "at_bound": [p.name for p in f.parameters.values() if p.at_bound()],
@@ -87,6 +91,8 @@ class Diagnosis:
                  "  candidates (delta BIC, positive = better):"]
         for c in self.candidates:
             lines.append(f"    {c.effect:18s} dBIC {c.delta_bic:12.1f}  rms {c.fit.rms:.3g} rad [{c.fit.spring_model}]")
+        for name in self.stopped or []:
+            lines.append(f"    {name:18s} stopped: a simpler candidate explains the data within the noise")
         lines.append(f"  missing effect: {self.missing_effect}")
         lines.append(f"  rms {self.baseline.rms:.3g} -> {self.final.rms:.3g} rad")
         lines.append("  " + self.evidence)
@@ -135,8 +141,15 @@ def data_guesses(rig, measurement):
 def _fit_job(args):
     rig, measurement, effects, spring_model, initial, starts, sigma, label, scan = args
     params = make_parameters(rig, effects, initial=initial)
-    return staged_fit([Dataset(rig, measurement)], effects, spring_model, params, starts=starts, sigma=sigma,
-                      label=label, scan=scan)
+    try:
+        return staged_fit([Dataset(rig, measurement)], effects, spring_model, params, starts=starts, sigma=sigma,
+                          label=label, scan=scan)
+    except fitting.FitAborted:
+        return None
+
+
+def _init_worker(stop):
+    fitting.STOP = stop
 
 
 def _candidate_jobs(rig, measurement, baseline, guesses, sigma):
@@ -155,12 +168,52 @@ def _candidate_jobs(rig, measurement, baseline, guesses, sigma):
     return jobs
 
 
+def _new_parameter_count(job):
+    _, args = job
+    return len(args[-1] or {})
+
+
 def _run_jobs(jobs, processes):
-    if processes > 1 and len(jobs) > 1:
-        ctx = multiprocessing.get_context("fork")
-        with ProcessPoolExecutor(max_workers=processes, mp_context=ctx) as pool:
-            return list(pool.map(_fit_job, [j for _, j in jobs]))
-    return [_fit_job(j) for _, j in jobs]
+    """Fit the candidates, simplest (fewest new parameters) first. Once a candidate explains
+    the data within the noise, running and pending candidates with at least as many new
+    parameters are stopped: they could not beat it by the BIC margin (Occam). Stopped
+    candidates come back as None."""
+    order = sorted(range(len(jobs)), key=lambda i: _new_parameter_count(jobs[i]))
+    results = [None] * len(jobs)
+    winners = []  # parameter counts of candidates at the noise level
+
+    def pruned(i):
+        return any(_new_parameter_count(jobs[i]) >= k for k in winners)
+
+    if processes <= 1 or len(jobs) <= 1:
+        for i in order:
+            if not pruned(i):
+                results[i] = _fit_job(jobs[i][1])
+                if results[i] is not None and results[i].at_noise_level:
+                    winners.append(_new_parameter_count(jobs[i]))
+        return results
+    ctx = multiprocessing.get_context("fork")
+    stop = ctx.Event()
+    with ProcessPoolExecutor(max_workers=processes, mp_context=ctx, initializer=_init_worker,
+                             initargs=(stop,)) as pool:
+        pending = list(order)
+        running = {}
+        while pending or running:
+            while pending and len(running) < processes:
+                i = pending.pop(0)
+                if not pruned(i):
+                    running[pool.submit(_fit_job, jobs[i][1])] = i
+            if not running:
+                break
+            done, _ = wait(running, return_when=FIRST_COMPLETED)
+            for fut in done:
+                i = running.pop(fut)
+                results[i] = fut.result()
+                if results[i] is not None and results[i].at_noise_level:
+                    winners.append(_new_parameter_count(jobs[i]))
+                    if all(pruned(j) for j in running.values()) and running:
+                        stop.set()  # every running fit is beaten already
+    return results
 
 
 def diagnose(rig, measurement, processes=2, verbose=True) -> Diagnosis:
@@ -179,10 +232,13 @@ def diagnose(rig, measurement, processes=2, verbose=True) -> Diagnosis:
         _progress(f"diagnose: starting model rms {baseline.rms:.3g} rad ({baseline.rms / sigma:.2f}x noise); "
                   f"trying {len(jobs)} candidate model(s)")
     fits = _run_jobs(jobs, processes)
-    best_by_effect = {}
+    best_by_effect, stopped = {}, set()
     for (name, _), f in zip(jobs, fits):
-        if name not in best_by_effect or f.bic < best_by_effect[name].bic:
+        if f is None:
+            stopped.add(name)
+        elif name not in best_by_effect or f.bic < best_by_effect[name].bic:
             best_by_effect[name] = f
+    stopped -= set(best_by_effect)
     candidates = sorted((Candidate(n, f, baseline.bic - f.bic) for n, f in best_by_effect.items()),
                         key=lambda c: -c.delta_bic)
     chosen = candidates[0] if candidates and candidates[0].delta_bic > BIC_MARGIN else None
@@ -192,7 +248,7 @@ def diagnose(rig, measurement, processes=2, verbose=True) -> Diagnosis:
     if verbose:
         _progress(f"diagnose: missing effect {chosen.effect if chosen else None}; rms {baseline.rms:.3g} -> {final.rms:.3g} rad")
     return Diagnosis(rig, measurement, sigma, baseline, candidates, chosen.effect if chosen else None, final,
-                     (t0, t1), signature, evidence)
+                     (t0, t1), signature, evidence, sorted(stopped))
 
 
 def describe_signature(rig, measurement, baseline, sigma):

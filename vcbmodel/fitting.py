@@ -114,6 +114,10 @@ class FitResult:
         return float(max(np.max(np.abs(r)) for r in self.residuals))
 
     @property
+    def at_noise_level(self):
+        return at_noise_level(self.chi2 * self.sigma**2, self.n_data, self.sigma)
+
+    @property
     def aic(self):
         return self.chi2 + 2 * self.n_varied
 
@@ -161,6 +165,20 @@ def _progress(message):
     print(message, file=sys.stderr, flush=True)
 
 
+class FitAborted(Exception):
+    """Raised inside a fit when :data:`STOP` is set (another candidate already won)."""
+
+
+#: Set by the diagnosis (a multiprocessing Event in worker processes) to abort running fits.
+STOP = None
+
+
+def at_noise_level(cost, n_data, sigma):
+    """Whether a sum of squared residuals is what white noise of ``sigma`` alone would give
+    (within three standard deviations of the chi^2 distribution)."""
+    return cost <= n_data * sigma**2 * (1 + 3 * math.sqrt(2.0 / n_data))
+
+
 class _Objective:
     def __init__(self, datasets, effects, spring_model, params):
         self.datasets, self.effects, self.spring_model = datasets, tuple(effects), spring_model
@@ -184,6 +202,8 @@ class _Objective:
                 for d in self.datasets]
 
     def residual(self, x):
+        if STOP is not None and STOP.is_set():
+            raise FitAborted()
         self.nfev += 1
         try:
             sims = self.simulate(self.values(x))
@@ -250,8 +270,7 @@ def fit(datasets, effects, spring_model=None, params=None, *, method="least_squa
                           f"rms {math.sqrt(cost / max(1, sum(d.t.size for d in datasets))):.3g} rad after {obj.nfev} simulations")
             if cost < best_cost:
                 best_x, best_cost, success, message = x, cost, ok, msg
-            n_data = sum(d.t.size for d in datasets)
-            if best_cost <= n_data * sigma**2 * (1 + 3 * math.sqrt(2.0 / n_data)):
+            if at_noise_level(best_cost, sum(d.t.size for d in datasets), sigma):
                 break  # at the noise level: further starts cannot do better
         if obj.best[0] < best_cost:  # a trial point better than any optimiser end point
             best_x = obj.best[1]
