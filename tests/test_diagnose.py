@@ -13,8 +13,10 @@ from vcbmodel.signals import noise_estimate
 
 
 def run_case(case, seed, tmp_path):
-    experiment = CASES[case][0]
-    rig_path, meas_path, truth = random_case(case, seed, tmp_path, t_end=3.0 if experiment == "pendulum" else None)
+    # 3 s of swing is enough for a pendulum, except for Stribeck friction, which shows most
+    # while the swing dies out
+    short = CASES[case][0] == "pendulum" and case != "pend_strib"
+    rig_path, meas_path, truth = random_case(case, seed, tmp_path, t_end=3.0 if short else None)
     rig = load_rig(rig_path)
     d = diagnose(rig, load_measurement(meas_path, rig.experiment), verbose=False)
     return d, truth
@@ -27,7 +29,9 @@ def check(d, truth):
         assert all(c.delta_bic <= BIC_MARGIN for c in d.candidates)
         assert d.baseline.rms < 1.1 * d.noise  # explained within the noise
     else:
-        assert d.final.rms <= 0.5 * d.baseline.rms
+        # the gap between model and truth is the residual in excess of the noise
+        j = d.to_json()
+        assert j["excess_after"] <= 0.5 * j["excess_before"]
         assert d.final.rms < 1.15 * d.noise  # the gap closes down to the noise
         assert truth["answer"] in d.final.effects
 

@@ -24,7 +24,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from . import fitting
-from .effects import EFFECTS, applicable
+from .effects import EFFECTS
 from .fitting import Dataset, FitResult, make_parameters, staged_fit
 from .signals import (decay_shape, disagreement_window, dominant_frequency, lag1_autocorrelation,
                       noise_estimate, swing_peaks, swing_spans)
@@ -72,6 +72,9 @@ class Diagnosis:
             "rms_before": b.rms, "rms_after": f.rms,
             "max_error_before": b.max_error, "max_error_after": f.max_error,
             "gap_ratio": f.rms / b.rms if b.rms > 0 else None,
+            # the model-truth gap: residual rms in excess of the noise, sqrt(rms^2 - sigma^2)
+            "excess_before": math.sqrt(max(b.rms**2 - self.noise**2, 0.0)),
+            "excess_after": math.sqrt(max(f.rms**2 - self.noise**2, 0.0)),
             "noise_estimate": self.noise, "window": list(self.window),
             "bic_margin": BIC_MARGIN,
             "candidates": [c.summary() for c in self.candidates] + [
@@ -155,7 +158,7 @@ def _init_worker(stop):
 def _candidate_jobs(rig, measurement, baseline, guesses, sigma):
     jobs = []
     for name, effect in EFFECTS.items():
-        if name in baseline.effects or not applicable(name, rig.experiment):
+        if name in baseline.effects or rig.experiment not in effect.experiments:
             continue
         effects = tuple(e for e in EFFECTS if e in baseline.effects or e == name)
         initial = dict(guesses[0])

@@ -139,6 +139,3 @@ def assemble(rig, effects, values) -> ModelSpec:
         (effect.on if name in effects else effect.off)(spec, values, rig)
     return spec
 
-
-def applicable(effect_name, experiment):
-    return experiment in EFFECTS[effect_name].experiments
