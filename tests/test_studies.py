@@ -1,0 +1,38 @@
+"""Every study script runs (quick mode) and writes its outputs: build, run, plot, save."""
+import json
+import subprocess
+import sys
+from pathlib import Path
+
+import pytest
+
+STUDIES = Path(__file__).resolve().parents[1] / "studies"
+
+EXPECTED = {
+    "friction_identification.py": ["friction_identification.png", "friction_identification.json",
+                                   "synthetic/pendulum_10deg.csv"],
+    "spring_models.py": ["cam_drop_fig9a.png", "cam_drop_fig9b.png", "spring_modes.md", "spring_fidelity.json",
+                         "spring_shapes_fig10.png", "spring_lateral.png", "cam_drop.gif"],
+    "discrepancy_demo.py": ["discrepancy_demo_cam.png", "discrepancy_demo_pendulum.png", "discrepancy_demo.json"],
+    "diagnosis_sweep.py": ["diagnosis_sweep.json", "diagnosis_sweep.md"],
+    "benchmark.py": ["benchmark.json"],
+}
+
+
+@pytest.mark.parametrize("script", sorted(EXPECTED))
+def test_study_runs_and_writes_outputs(script, tmp_path):
+    p = subprocess.run([sys.executable, str(STUDIES / script), "--quick", "--out", str(tmp_path)],
+                       capture_output=True, text=True, timeout=600)
+    assert p.returncode == 0, p.stderr[-2000:]
+    for name in EXPECTED[script]:
+        f = tmp_path / name
+        assert f.exists() and f.stat().st_size > 100, name
+    for f in tmp_path.glob("*.json"):
+        json.loads(f.read_text())
+    for f in tmp_path.glob("*.png"):
+        assert f.stat().st_size < 500_000  # small enough to commit
+
+
+def test_every_study_is_smoke_tested():
+    scripts = {p.name for p in STUDIES.glob("*.py") if not p.name.startswith("_") and p.name != "run_all.py"}
+    assert scripts == set(EXPECTED)
