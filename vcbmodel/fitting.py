@@ -165,6 +165,22 @@ def _progress(message):
     print(message, file=sys.stderr, flush=True)
 
 
+def _simulate_job(job):
+    rig, effects, values, spring_model, t = job
+    return simulate(rig, effects, values, spring_model=spring_model, sample_times=t)
+
+
+def dataset_pool(datasets, processes=2):
+    """A process pool simulating several datasets at once (None for one dataset)."""
+    import multiprocessing
+    from concurrent.futures import ProcessPoolExecutor
+
+    if len(datasets) < 2 or processes < 2:
+        return None
+    return ProcessPoolExecutor(max_workers=min(processes, len(datasets)),
+                               mp_context=multiprocessing.get_context("fork"))
+
+
 class FitAborted(Exception):
     """Raised inside a fit when :data:`STOP` is set (another candidate already won)."""
 
@@ -180,7 +196,8 @@ def at_noise_level(cost, n_data, sigma):
 
 
 class _Objective:
-    def __init__(self, datasets, effects, spring_model, params):
+    def __init__(self, datasets, effects, spring_model, params, pool=None):
+        self.pool = pool  # simulates the datasets in parallel when given
         self.datasets, self.effects, self.spring_model = datasets, tuple(effects), spring_model
         self.params = params
         self.varied = [p for p in params.values() if p.vary]
@@ -198,8 +215,10 @@ class _Objective:
         return vals
 
     def simulate(self, values):
-        return [simulate(d.rig, self.effects, values, spring_model=self.spring_model, sample_times=d.t)
-                for d in self.datasets]
+        jobs = [(d.rig, self.effects, values, self.spring_model, d.t) for d in self.datasets]
+        if self.pool is not None:
+            return list(self.pool.map(_simulate_job, jobs))
+        return [_simulate_job(j) for j in jobs]
 
     def residual(self, x):
         if STOP is not None and STOP.is_set():
@@ -224,7 +243,7 @@ class _Objective:
 
 
 def fit(datasets, effects, spring_model=None, params=None, *, method="least_squares", starts=None,
-        sigma=None, verbose=True, label="", max_simulations=None):
+        sigma=None, verbose=True, label="", max_simulations=None, processes=2):
     """Fit the varied parameters of ``effects`` to the datasets.
 
     ``starts``: list of dicts of starting values tried in turn (the best result is kept).
@@ -238,7 +257,17 @@ def fit(datasets, effects, spring_model=None, params=None, *, method="least_squa
     params = params or make_parameters(rig0, effects)
     if sigma is None:
         sigma = float(np.sqrt(np.mean([noise_estimate(d.y) ** 2 for d in datasets])))
-    obj = _Objective(datasets, effects, spring_model, params)
+    pool = dataset_pool(datasets, processes)
+    try:
+        return _fit(datasets, effects, spring_model, params, method, starts, sigma, verbose, label,
+                    max_simulations, pool)
+    finally:
+        if pool is not None:
+            pool.shutdown()
+
+
+def _fit(datasets, effects, spring_model, params, method, starts, sigma, verbose, label, max_simulations, pool):
+    obj = _Objective(datasets, effects, spring_model, params, pool)
     varied = obj.varied
     nfev = 0
     best_x, best_cost, success, message = obj.x0(), math.inf, True, ""
