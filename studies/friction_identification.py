@@ -24,7 +24,7 @@ def main():
     args = parse_args(__doc__)
     out = Path(args.out)
     (out / "synthetic").mkdir(exist_ok=True)
-    t_end = 2.0 if args.quick else 6.0
+    t_end = 1.5 if args.quick else 6.0
     pairs = []
     for name, rig_dict, seed in (("pendulum_10deg", P.REFERENCE_PENDULUM, 10), ("pendulum_15deg", P.REFERENCE_PENDULUM_15, 11)):
         rig_path = out / "synthetic" / f"{name}.rig.json"

@@ -52,7 +52,7 @@ def test_names_hidden_effect_more_seeds(case, seed, tmp_path):
 
 
 def test_report_contents(tmp_path):
-    d, truth = run_case("cam_coul", 5, tmp_path)
+    d, truth = run_case("cam_coul", 11, tmp_path)
     j = d.to_json()
     for key in ("missing_effect", "baseline_effects", "final_effects", "rms_before", "rms_after", "noise_estimate",
                 "window", "candidates", "fitted"):
