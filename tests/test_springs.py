@@ -64,3 +64,15 @@ def test_equilibrium_positions_follow_compliance():
     comp = 1 / c.stiffnesses
     assert frac[0] == pytest.approx(comp[0] / comp.sum())
     assert np.all(np.diff(frac) > 0) and frac[-1] < 1
+
+
+def test_uniform_chain_converges_to_the_continuum():
+    errors, end_masses = [], []
+    for n in (5, 10, 20):
+        c = lumped_chain(n, K0, M0, L0, "uniform")
+        assert c.series_stiffness == pytest.approx(K0)
+        errors.append(abs(c.natural_frequencies()[0] / (math.pi * math.sqrt(K0 / M0)) - 1))
+        # Rayleigh: a spring whose end moves at v has kinetic energy (m0/3) v^2 / 2
+        end_masses.append(np.sum(c.masses * c.equilibrium_fractions() ** 2) / M0)
+    assert errors[0] > errors[1] > errors[2] and errors[2] < 1e-3
+    assert end_masses[0] < end_masses[1] < end_masses[2] and end_masses[2] == pytest.approx(1 / 3, rel=0.1)

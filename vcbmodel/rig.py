@@ -20,7 +20,7 @@ EXPERIMENTS = ("pendulum", "cam_drop")
 CHANNEL_OF_EXPERIMENT = {"pendulum": "pendulum_angle", "cam_drop": "cam_angle"}
 KNOWN_CHANNELS = ("pendulum_angle", "cam_angle", "follower_displacement")
 FRICTION_KEYS = ("mu_s", "mu_k", "stick_velocity", "stribeck_velocity", "viscous", "zeta")
-LUMPED_CONVENTIONS = ("exact", "paper")
+LUMPED_CONVENTIONS = ("exact", "paper", "uniform")
 
 
 @dataclass(frozen=True)
@@ -298,7 +298,7 @@ def _read_model(rd, data):
         rd.fail("model.spring_model", f"must be massless, lumped-N (N = 1..99) or ancf, got {json.dumps(spring_model)}")
     convention = m.get("lumped_convention", "exact")
     if convention not in LUMPED_CONVENTIONS:
-        rd.fail("model.lumped_convention", f"must be exact or paper, got {json.dumps(convention)}")
+        rd.fail("model.lumped_convention", f"must be exact, paper or uniform, got {json.dumps(convention)}")
     if ("spring_mass" in effects) != (spring_model != "massless"):
         rd.fail("model.effects", "'spring_mass' must be listed exactly when spring_model is not 'massless'")
     return ModelChoice(tuple(effects), spring_model, convention)

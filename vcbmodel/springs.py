@@ -3,7 +3,8 @@
 A ``lumped-n`` spring is a symmetric chain of n point masses and n+1 axial springs whose
 series stiffness is k0 and whose n fixed-fixed natural frequencies are w1, 2 w1, ..., n w1,
 with w1 = pi sqrt(k0/m0) (``exact``: the continuum's fundamental) or w1 = 2 sqrt(k0/m0)
-(``paper``, eq. 8). Symmetry leaves ceil(n/2) masses and ceil((n+1)/2) stiffnesses:
+(``paper``, eq. 8). A third convention, ``uniform`` (beyond the spec), is the plain
+finite-difference discretisation of the continuum, used as a converged reference. Symmetry leaves ceil(n/2) masses and ceil((n+1)/2) stiffnesses:
 n + 1 unknowns for n + 1 conditions, solved by :func:`lumped_chain`.
 """
 from __future__ import annotations
@@ -76,6 +77,11 @@ def lumped_chain(n, k0, m0, free_length, convention="exact") -> LumpedChain:
     """
     if n < 1:
         raise ValueError("a lumped chain needs at least one mass")
+    if convention == "uniform":
+        # finite-difference continuum: n equal masses m0/(n+1), n+1 equal springs (n+1) k0;
+        # its modes converge to the continuum's as n grows (f1 within 0.1 % at n = 20)
+        return LumpedChain(masses=np.full(n, m0 / (n + 1)), stiffnesses=np.full(n + 1, (n + 1) * k0),
+                           free_lengths=np.full(n + 1, free_length / (n + 1)))
     w1 = fundamental(k0, m0, convention)
     target = w1 * np.arange(1, n + 1)
     nm, nk = (n + 1) // 2, (n + 2) // 2
