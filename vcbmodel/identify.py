@@ -48,6 +48,7 @@ class IdentifyResult:
     def values(self):
         v = dict(self.fit.values)
         v.setdefault("viscous", 0.0)
+        v["mu_s"] = max(v["mu_s"], v["mu_k"])  # what the law uses (effects.ModelSpec.friction_law)
         return v
 
     def max_error_percent(self):
