@@ -1,0 +1,79 @@
+"""The command line's happy paths and its solver-failure path (spec cli.md)."""
+import json
+import subprocess
+import sys
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+from conftest import EXAMPLES, examples_available
+from vcbmodel.cli import main
+from vcbmodel.errors import SimulationError
+from vcbmodel.rig import load_measurement
+
+GOOD_CAM = Path(__file__).resolve().parent / "bad_rigs" / "good_cam.rig.json"
+
+
+def test_simulate_writes_a_measurement_file(tmp_path, capsys):
+    out = {}
+    for model in ("massless", "lumped-2"):
+        f = tmp_path / f"{model}.csv"
+        assert main(["simulate", str(GOOD_CAM), "--spring-model", model, "-o", str(f)]) == 0
+        m = load_measurement(f, "cam_drop")
+        assert m.t[-1] == pytest.approx(0.035)
+        assert np.allclose(np.diff(m.t), 1 / 12000, atol=2e-7)  # times are written to 0.1 us
+        assert np.all(np.isfinite(m.channels["cam_angle"]))
+        assert any("SIMULATED" in c for c in m.comments)
+        out[model] = m.channels["cam_angle"]
+    assert np.max(np.abs(out["massless"] - out["lumped-2"])) > 0.01
+
+
+def test_simulate_to_stdout_with_overrides(capsys):
+    assert main(["simulate", str(GOOD_CAM), "--effects", "", "--t-end", "0.01"]) == 0
+    lines = capsys.readouterr().out.strip().splitlines()
+    assert lines[1] == "t,cam_angle" and len(lines) == 2 + 120 + 1
+
+
+def test_solver_failure_exits_1_with_one_line(monkeypatch, capsys, tmp_path):
+    def boom(*a, **k):
+        raise SimulationError("the solution diverged (non-finite angle); reduce the step")
+    monkeypatch.setattr("vcbmodel.runner.simulate", boom)
+    assert main(["simulate", str(GOOD_CAM), "-o", str(tmp_path / "x.csv")]) == 1
+    err = capsys.readouterr().err.strip().splitlines()
+    assert len(err) == 1 and "diverged" in err[0]
+    assert not (tmp_path / "x.csv").exists()
+
+
+def test_help_everywhere():
+    for args in ([], ["simulate"], ["identify"], ["diagnose"]):
+        p = subprocess.run([sys.executable, "-m", "vcbmodel", *args, "--help"], capture_output=True, text=True)
+        assert p.returncode == 0 and "usage" in p.stdout
+
+
+@pytest.mark.skipif(not examples_available(), reason="shared example data not present")
+def test_diagnose_json_and_plot(tmp_path):
+    png = tmp_path / "d.png"
+    p = subprocess.run(["vcbmodel", "diagnose", str(EXAMPLES / "example05.csv"), "--json", "--plot", str(png)],
+                       capture_output=True, text=True, timeout=600)
+    assert p.returncode == 0, p.stderr
+    j = json.loads(p.stdout)
+    assert j["missing_effect"] == "coulomb_friction" and j["rms_after"] < 0.5 * j["rms_before"]
+    assert png.stat().st_size > 10_000
+    assert "diagnose:" in p.stderr  # progress goes to stderr, the JSON alone to stdout
+
+
+def test_identify_json(tmp_path, pendulum_rig):
+    from vcbmodel import parameters as P
+    from vcbmodel.synthetic import synthetic_measurement, write_measurement
+    meas = synthetic_measurement(pendulum_rig, ("coulomb_friction",), {"mu_k": 0.12}, seed=3, t_end=2.0)
+    f = tmp_path / "p.csv"
+    write_measurement(meas, f)
+    p = subprocess.run(["vcbmodel", "identify", str(f), "--rig", pendulum_rig.path, "--law", "stick-slip", "--json"],
+                       capture_output=True, text=True, timeout=600)
+    assert p.returncode == 0, p.stderr
+    j = json.loads(p.stdout)
+    for key in ("law", "mu_s", "mu_k", "stick_velocity", "stribeck_velocity", "viscous", "zeta", "rms",
+                "max_error_percent"):
+        assert key in j
+    assert j["mu_k"] == pytest.approx(0.12, rel=0.05) and j["viscous"] == 0.0
