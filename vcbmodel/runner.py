@@ -138,7 +138,11 @@ def _simulate_exudyn(rig, spec, law, chain, t_end, step, user_function, sensor_p
         model = build_pendulum(rig, law, uf)
     else:
         if lumped_mass_count(spec.spring_model) < 0:
-            from .ancf import build_cam_drop_ancf
+            try:
+                from .ancf import build_cam_drop_ancf
+            except ImportError:
+                from .errors import SimulationError
+                raise SimulationError("the ANCF spring model is not available in this version") from None
             model = build_cam_drop_ancf(rig, law, user_function=user_function)
         else:
             model = build_cam_drop(rig, law, chain, user_function)
