@@ -58,8 +58,9 @@ class ExudynModel:
         sim.show.statistics = False
         try:
             ok = mbs.SolveDynamic(sim, solverType=exu.DynamicSolverType.RK44)
-        except Exception as e:  # Exudyn raises on solver failure
-            raise SimulationError(f"Exudyn solver failed: {e}") from None
+        except Exception as e:  # Exudyn raises on solver failure; keep the first line of its message
+            first = str(e).strip().splitlines()
+            raise SimulationError("Exudyn solver failed: " + " ".join(first[:2])[:300]) from None
         if ok is False:
             raise SimulationError("Exudyn solver reported failure")
         out = {}

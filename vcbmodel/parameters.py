@@ -78,3 +78,15 @@ REFERENCE_CAM = {
 }
 #: The text's "each spring is heavy (about 1 kg)": the variant with the whole coil mass.
 HEAVY_SPRING_MASS = 1.0
+
+# --- ANCF spring (vcbmodel/ancf_spring.py) ----------------------------------------------------
+#: Elements of the ANCF closing spring by default (axial modes within 0.1 % at 8, exudyn-notes).
+ANCF_ELEMENTS = 8
+#: Penalty springs tie the cable's ends to the anchor and to the cam pin (N/m per spring); no
+#: constraints, so the explicit RK4 solver stays exact (exudyn-notes: constraint elimination is
+#: wrong for mass-coupled ANCF coordinates). 1e8 N/m moves an end by 0.06 mm under 6000 N; the
+#: penalty springs are critically damped against their end-node mass so their own fast mode dies.
+ANCF_PENALTY_STIFFNESS = 1e8
+#: RK4 step for the ANCF cam drop (s) up to ANCF_ELEMENTS elements: halving it changes the
+#: 35 ms cam angle by about 1e-5 rad (5e-6 s: 3e-4 rad; 1e-5 s diverges at 4 elements).
+ANCF_STEP = 2.5e-6

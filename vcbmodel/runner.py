@@ -79,8 +79,15 @@ def default_step(rig, law):
     return float(min(P.PENDULUM_STEP, max(1.5 * law.stick_velocity / acc, 1e-5)))
 
 
+def ancf_step(elements=None):
+    """RK4 step (s) for the ANCF spring: ANCF_STEP up to ANCF_ELEMENTS elements, shorter in
+    proportion above (the fastest element modes scale with the number of elements)."""
+    return P.ANCF_STEP * min(1.0, P.ANCF_ELEMENTS / (elements or P.ANCF_ELEMENTS))
+
+
 def simulate(rig: Rig, effects=None, values=None, *, spring_model=None, t_end=None, sample_times=None,
-             backend="exudyn", user_function="auto", step=None, method="DOP853") -> SimulationResult:
+             backend="exudyn", user_function="auto", step=None, method="DOP853",
+             ancf_elements=None) -> SimulationResult:
     """Simulate the rig's experiment.
 
     Parameters
@@ -96,6 +103,7 @@ def simulate(rig: Rig, effects=None, values=None, *, spring_model=None, t_end=No
     user_function : ``auto``, ``symbolic``, ``python`` (friction connector implementation).
     step : integration step (s), default from :mod:`vcbmodel.parameters`.
     method : reference backend only: ``DOP853`` (adaptive; ``step`` caps it) or ``rk4``.
+    ancf_elements : elements of the ``ancf`` spring (default parameters.ANCF_ELEMENTS).
     """
     spec = model_spec(rig, effects, values, spring_model)
     if t_end is None:
@@ -108,7 +116,8 @@ def simulate(rig: Rig, effects=None, values=None, *, spring_model=None, t_end=No
             s = rig.closing_spring
             chain = lumped_chain(n, s.stiffness, s.mass, s.free_length, spec.lumped_convention)
     if backend == "exudyn":
-        step = step or default_step(rig, law)
+        if step is None:
+            step = ancf_step(ancf_elements) if spec.spring_model == "ancf" else default_step(rig, law)
         period = None
         if sample_times is not None and len(sample_times) > 2:
             # uniform samples from t = 0 (a sensor's rate): shrink the step to divide the sample
@@ -118,7 +127,7 @@ def simulate(rig: Rig, effects=None, values=None, *, spring_model=None, t_end=No
             if uniform and abs(sample_times[0] / spacing - round(sample_times[0] / spacing)) < 1e-6:
                 k = math.ceil(spacing / step - 1e-9)
                 step, period = spacing / k, spacing
-        result = _simulate_exudyn(rig, spec, law, chain, t_end, step, user_function, period)
+        result = _simulate_exudyn(rig, spec, law, chain, t_end, step, user_function, period, ancf_elements)
     elif backend == "reference":
         from .reference import simulate_reference
         result = simulate_reference(rig, spec, law, chain, t_end, method, step)
@@ -129,7 +138,7 @@ def simulate(rig: Rig, effects=None, values=None, *, spring_model=None, t_end=No
     return result
 
 
-def _simulate_exudyn(rig, spec, law, chain, t_end, step, user_function, sensor_period=None):
+def _simulate_exudyn(rig, spec, law, chain, t_end, step, user_function, sensor_period=None, ancf_elements=None):
     from .exudyn_models import build_cam_drop, build_pendulum
     from .rig import lumped_mass_count
 
@@ -138,12 +147,8 @@ def _simulate_exudyn(rig, spec, law, chain, t_end, step, user_function, sensor_p
         model = build_pendulum(rig, law, uf)
     else:
         if lumped_mass_count(spec.spring_model) < 0:
-            try:
-                from .ancf import build_cam_drop_ancf
-            except ImportError:
-                from .errors import SimulationError
-                raise SimulationError("the ANCF spring model is not available in this version") from None
-            model = build_cam_drop_ancf(rig, law, user_function=user_function)
+            from .ancf_spring import build_cam_drop_ancf
+            model = build_cam_drop_ancf(rig, law, user_function=user_function, elements=ancf_elements)
         else:
             model = build_cam_drop(rig, law, chain, user_function)
     data = model.solve(t_end, step, sensor_period)
