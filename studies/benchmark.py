@@ -64,20 +64,12 @@ def main():
         cam[m + "_s"] = median_time(lambda: simulate(crig, eff, spring_model=m, t_end=0.035), repeat)
     cam["target_lumped_s"] = 0.5
     cam["lumped_target_met"] = all(cam[m + "_s"] <= 0.5 for m in models[1:])
-    try:
-        from vcbmodel.ancf import build_cam_drop_ancf
-        eff = ("coulomb_friction", "stribeck", "spring_mass")
-        spec = model_spec(crig, eff, None, "ancf")
-        claw = spec.friction_law(crig.shaft_radius)
-        for ne in (4, 8, 16):
-            def run():
-                model = build_cam_drop_ancf(crig, claw, elements=ne)
-                model.solve(0.035, getattr(P, "ANCF_STEP", P.CAM_STEP), **({"solver": getattr(model, "solver", "RK44")} if hasattr(model, "solver") else {}))
-            cam[f"ancf_{ne}_s"] = median_time(run, repeat)
-        cam["target_ancf_8_s"] = 5.0
-        cam["ancf_8_target_met"] = cam["ancf_8_s"] <= 5.0
-    except ImportError:
-        cam["ancf"] = "not available"
+    eff = ("coulomb_friction", "stribeck", "spring_mass")
+    for ne in (4, 8, 16):
+        cam[f"ancf_{ne}_s"] = median_time(lambda: simulate(crig, eff, spring_model="ancf", ancf_elements=ne,
+                                                            t_end=0.035), repeat)
+    cam["target_ancf_8_s"] = 5.0
+    cam["ancf_8_target_met"] = cam["ancf_8_s"] <= 5.0
     print(cam, flush=True)
 
     if not args.quick:

@@ -20,11 +20,11 @@ NOISE_SIGMA = {"pendulum": 0.5e-3, "cam_drop": 2e-3}  # rad
 
 
 def synthetic_measurement(rig, effects, values, *, spring_model=None, sigma=None, seed=0, t_end=None,
-                          path="synthetic.csv") -> Measurement:
+                          path="synthetic.csv", ancf_elements=None) -> Measurement:
     """Simulate the truth and add white Gaussian noise of ``sigma`` rad."""
     t_end = t_end or (6.0 if rig.experiment == "pendulum" else 0.035)
     t = output_times(rig, t_end)
-    truth = simulate(rig, effects, values, spring_model=spring_model, sample_times=t)
+    truth = simulate(rig, effects, values, spring_model=spring_model, sample_times=t, ancf_elements=ancf_elements)
     sigma = NOISE_SIGMA[rig.experiment] if sigma is None else sigma
     noisy = truth.angle + np.random.default_rng(seed).normal(0.0, sigma, t.size)
     name = CHANNEL_OF_EXPERIMENT[rig.experiment]
