@@ -269,7 +269,6 @@ def fit(datasets, effects, spring_model=None, params=None, *, method="least_squa
 def _fit(datasets, effects, spring_model, params, method, starts, sigma, verbose, label, max_simulations, pool):
     obj = _Objective(datasets, effects, spring_model, params, pool)
     varied = obj.varied
-    nfev = 0
     best_x, best_cost, success, message = obj.x0(), math.inf, True, ""
     if varied:
         start_points = [obj.x0()]

@@ -8,7 +8,7 @@ from __future__ import annotations
 import json
 import math
 import re
-from dataclasses import dataclass, field, replace
+from dataclasses import dataclass, replace
 from pathlib import Path
 
 import numpy as np
@@ -90,7 +90,6 @@ class Rig:
     pendulum: Pendulum | None = None
     cam: Cam | None = None
     closing_spring: ClosingSpring | None = None
-    extra: dict = field(default_factory=dict)
 
     def with_model(self, effects=None, spring_model=None, lumped_convention=None):
         m = self.model
