@@ -27,7 +27,7 @@ from . import fitting
 from .effects import EFFECTS
 from .fitting import Dataset, FitResult, make_parameters, staged_fit
 from .signals import (decay_shape, disagreement_window, dominant_frequency, lag1_autocorrelation,
-                      noise_estimate, swing_peaks, swing_spans)
+                      motion_end_time, noise_estimate, swing_peaks, swing_spans)
 from .springs import fundamental
 
 #: BIC improvement (in units of chi^2) required to name an effect. Kass & Raftery (1995)
@@ -264,8 +264,12 @@ def describe_signature(rig, measurement, baseline, sigma):
            "residual_dominant_frequency_hz": dominant_frequency(t, r),
            "lag1_autocorrelation": lag1_autocorrelation(r)}
     if rig.experiment == "pendulum":
-        tp, ap = swing_peaks(t, measurement.channel("pendulum_angle"))
+        y = measurement.channel("pendulum_angle")
+        tp, ap = swing_peaks(t, y)
         sig["amplitude_decay"] = decay_shape(tp, ap)
+        # stick episode: when the swing stops, measured vs the starting model
+        sig["measured_stop_time_s"] = motion_end_time(t, y, sigma)
+        sig["model_stop_time_s"] = motion_end_time(t, baseline.simulations[0].angle, sigma)
     else:
         s = rig.closing_spring
         sig["spring_surge_frequency_hz"] = fundamental(s.stiffness, s.mass, "exact") / (2 * math.pi)
@@ -280,7 +284,8 @@ def _evidence(baseline, final, chosen, sigma, window, signature):
             f"t = [{window[0]:.4g}, {window[1]:.4g}] s (lag-1 autocorrelation {signature['lag1_autocorrelation']:.2f}).")
     if "amplitude_decay" in signature and signature["amplitude_decay"].get("shape") != "unknown":
         d = signature["amplitude_decay"]
-        text += f" The measured swing amplitude decays {d['shape']}ly over {d['peaks']} peaks."
+        text += (f" The measured swing amplitude decays {d['shape']}ly over {d['peaks']} peaks and stops at "
+                 f"{signature['measured_stop_time_s']:.2f} s (model: {signature['model_stop_time_s']:.2f} s).")
     if "spring_surge_frequency_hz" in signature:
         text += (f" Residual grows {signature['residual_growth']:.1f}x from the first to the second half; "
                  f"its dominant frequency is {signature['residual_dominant_frequency_hz']:.0f} Hz "
