@@ -77,3 +77,15 @@ def test_identify_json(tmp_path, pendulum_rig):
                 "max_error_percent"):
         assert key in j
     assert j["mu_k"] == pytest.approx(0.12, rel=0.05) and j["viscous"] == 0.0
+
+
+@pytest.mark.parametrize("model", ["lumped-3", "ancf"])
+def test_stdout_carries_only_the_csv(model, tmp_path):
+    """Exudyn's own console messages (e.g. its memory-allocation warning with Python user
+    functions) must not leak into the CSV written to stdout."""
+    p = subprocess.run(["vcbmodel", "simulate", str(GOOD_CAM), "--spring-model", model, "--t-end", "0.005"],
+                       capture_output=True, text=True, timeout=300)
+    assert p.returncode == 0, p.stderr
+    lines = p.stdout.splitlines()
+    assert lines[0].startswith("# ") and lines[1] == "t,cam_angle"
+    assert all(len(l.split(",")) == 2 and float(l.split(",")[1]) == float(l.split(",")[1]) for l in lines[2:])

@@ -46,7 +46,7 @@ class Candidate:
         return {"effect": self.effect, "delta_bic": round(self.delta_bic, 2), "bic": round(r.bic, 2),
                 "aic": round(r.aic, 2), "rms": r.rms, "reduced_chi2": round(r.reduced_chi2, 4),
                 "lag1_autocorrelation": round(lag1_autocorrelation(r.residuals[0]), 4),
-                "spring_model": r.spring_model, "parameters": _rounded(r.values)}
+                "spring_model": r.spring_model_label, "parameters": _rounded(r.values)}
 
 
 @dataclass
@@ -68,7 +68,7 @@ class Diagnosis:
         return {
             "missing_effect": self.missing_effect,
             "baseline_effects": list(b.effects), "final_effects": list(f.effects),
-            "baseline_spring_model": b.spring_model, "final_spring_model": f.spring_model,
+            "baseline_spring_model": b.spring_model_label, "final_spring_model": f.spring_model_label,
             "rms_before": b.rms, "rms_after": f.rms,
             "max_error_before": b.max_error, "max_error_after": f.max_error,
             "gap_ratio": f.rms / b.rms if b.rms > 0 else None,
@@ -93,7 +93,7 @@ class Diagnosis:
                  f"  disagreement largest in t = [{self.window[0]:.4g}, {self.window[1]:.4g}] s",
                  "  candidates (delta BIC, positive = better):"]
         for c in self.candidates:
-            lines.append(f"    {c.effect:18s} dBIC {c.delta_bic:12.1f}  rms {c.fit.rms:.3g} rad [{c.fit.spring_model}]")
+            lines.append(f"    {c.effect:18s} dBIC {c.delta_bic:12.1f}  rms {c.fit.rms:.3g} rad [{c.fit.spring_model_label}]")
         for name in self.stopped or []:
             lines.append(f"    {name:18s} stopped: a simpler candidate explains the data within the noise")
         lines.append(f"  missing effect: {self.missing_effect}")
@@ -145,10 +145,13 @@ def _fit_job(args):
     rig, measurement, effects, spring_model, initial, starts, sigma, label, scan = args
     params = make_parameters(rig, effects, initial=initial)
     try:
-        return staged_fit([Dataset(rig, measurement)], effects, spring_model, params, starts=starts, sigma=sigma,
-                          label=label, scan=scan)
+        result = staged_fit([Dataset(rig, measurement)], effects, spring_model, params, starts=starts, sigma=sigma,
+                            label=label, scan=scan)
     except fitting.FitAborted:
         return None
+    result.spring_model_label = spring_model + (f" ({rig.model.lumped_convention})"
+                                                if spring_model.startswith("lumped") else "")
+    return result
 
 
 def _init_worker(stop):
@@ -166,7 +169,9 @@ def _candidate_jobs(rig, measurement, baseline, guesses, sigma):
         scan = {p.name: p.scan for p in effect.parameters if p.scan and p.vary}
         variants = getattr(effect, "variants", None) or (baseline.spring_model,)
         for variant in variants:
-            jobs.append((name, (rig, measurement, effects, variant, initial, guesses, sigma,
+            model, _, convention = variant.partition(":")
+            job_rig = rig.with_model(lumped_convention=convention) if convention else rig
+            jobs.append((name, (job_rig, measurement, effects, model, initial, guesses, sigma,
                                 f"+{name}" + (f" [{variant}]" if variant != baseline.spring_model else ""), scan)))
     return jobs
 

@@ -111,8 +111,9 @@ class SpringMass(Effect):
     parameters = ()
     experiments = ("cam_drop",)
     #: mass models the diagnosis tries when adding this effect (a discrete choice, no fitted
-    #: parameter); the best by BIC is kept
-    variants = ("lumped-1", "lumped-2", "lumped-3")
+    #: parameter), as "spring_model" or "spring_model:convention"; the best by BIC is kept.
+    #: Cheapest first: a candidate that explains the data within the noise stops the rest.
+    variants = ("lumped-1", "lumped-2", "lumped-3", "lumped-1:paper", "lumped-2:paper", "lumped-3:paper", "ancf")
 
     def on(self, spec, values, rig):
         chosen = rig.model.spring_model

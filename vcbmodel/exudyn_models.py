@@ -28,6 +28,9 @@ def _exudyn():
     if _EXU is None:
         import exudyn as exu
         from exudyn import itemInterface as items
+        # Exudyn writes solver warnings and failure banners to stdout, which would corrupt
+        # `--json` output and CSV on stdout; failures reach the caller as SimulationError
+        exu.SetWriteToConsole(False)
         _EXU = (exu, items)
     return _EXU
 

@@ -84,6 +84,7 @@ class FitResult:
     success: bool = True
     message: str = ""
     method: str = ""
+    spring_model_label: str = ""  # spring model with its lumped convention, for reports
 
     @property
     def values(self):
