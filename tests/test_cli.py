@@ -64,7 +64,6 @@ def test_diagnose_json_and_plot(tmp_path):
 
 
 def test_identify_json(tmp_path, pendulum_rig):
-    from vcbmodel import parameters as P
     from vcbmodel.synthetic import synthetic_measurement, write_measurement
     meas = synthetic_measurement(pendulum_rig, ("coulomb_friction",), {"mu_k": 0.12}, seed=3, t_end=2.0)
     f = tmp_path / "p.csv"

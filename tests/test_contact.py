@@ -1,5 +1,4 @@
 """The Hertz / Lankarani-Nikravesh contact law (groundwork for the whole-breaker model)."""
-import math
 
 import numpy as np
 import pytest

@@ -1,7 +1,6 @@
 """Layer 4: identification recovers known friction parameters (paper section 2.2)."""
 import json
 
-import numpy as np
 import pytest
 
 from conftest import EXAMPLES, examples_available

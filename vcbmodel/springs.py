@@ -41,7 +41,6 @@ class LumpedChain:
 def chain_stiffness_matrix(stiffnesses):
     """Tridiagonal stiffness matrix (N/m) of a chain fixed at both ends."""
     k = np.asarray(stiffnesses, float)
-    n = len(k) - 1
     K = np.diag(k[:-1] + k[1:])
     K -= np.diag(k[1:-1], 1) + np.diag(k[1:-1], -1)
     return K
