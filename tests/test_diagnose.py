@@ -93,8 +93,8 @@ def test_registering_an_effect_makes_it_a_candidate(monkeypatch, tmp_path):
     class Baseline:
         effects, spring_model, values = ("coulomb_friction",), "massless", {"mu_k": 0.1}
     jobs = _candidate_jobs(rig, load_measurement(meas_path), Baseline, [{}], 2e-3)
-    assert "shaft_backlash" in {name for name, _ in jobs}
-    assert "coulomb_friction" not in {name for name, _ in jobs}
+    assert "shaft_backlash" in {name for name, _, _ in jobs}
+    assert "coulomb_friction" not in {name for name, _, _ in jobs}
 
 
 @pytest.mark.skipif(not examples_available(), reason="shared example data not present")

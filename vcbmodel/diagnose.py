@@ -25,6 +25,7 @@ import numpy as np
 
 from . import fitting
 from .effects import EFFECTS
+from .runner import rig_values
 from .fitting import Dataset, FitResult, make_parameters, staged_fit
 from .signals import (decay_shape, disagreement_window, dominant_frequency, lag1_autocorrelation,
                       motion_end_time, noise_estimate, swing_peaks, swing_spans)
@@ -159,6 +160,8 @@ def _init_worker(stop):
 
 
 def _candidate_jobs(rig, measurement, baseline, guesses, sigma):
+    """(effect name, fit-job arguments, number of parameters the effect adds to the fit)."""
+    given = rig_values(rig)
     jobs = []
     for name, effect in EFFECTS.items():
         if name in baseline.effects or rig.experiment not in effect.experiments:
@@ -166,19 +169,16 @@ def _candidate_jobs(rig, measurement, baseline, guesses, sigma):
         effects = tuple(e for e in EFFECTS if e in baseline.effects or e == name)
         initial = dict(guesses[0])
         initial.update(baseline.values)
-        scan = {p.name: p.scan for p in effect.parameters if p.scan and p.vary}
+        new = [p for p in effect.parameters if p.vary and p.name not in given]
+        scan = {p.name: p.scan for p in new if p.scan}
         variants = getattr(effect, "variants", None) or (baseline.spring_model,)
         for variant in variants:
             model, _, convention = variant.partition(":")
             job_rig = rig.with_model(lumped_convention=convention) if convention else rig
             jobs.append((name, (job_rig, measurement, effects, model, initial, guesses, sigma,
-                                f"+{name}" + (f" [{variant}]" if variant != baseline.spring_model else ""), scan)))
+                                f"+{name}" + (f" [{variant}]" if variant != baseline.spring_model else ""), scan),
+                         len(new)))
     return jobs
-
-
-def _new_parameter_count(job):
-    _, args = job
-    return len(args[-1] or {})
 
 
 def _run_jobs(jobs, processes):
@@ -186,19 +186,22 @@ def _run_jobs(jobs, processes):
     the data within the noise, running and pending candidates with at least as many new
     parameters are stopped: they could not beat it by the BIC margin (Occam). Stopped
     candidates come back as None."""
-    order = sorted(range(len(jobs)), key=lambda i: _new_parameter_count(jobs[i]))
+    order = sorted(range(len(jobs)), key=lambda i: jobs[i][2])
     results = [None] * len(jobs)
     winners = []  # parameter counts of candidates at the noise level
 
     def pruned(i):
-        return any(_new_parameter_count(jobs[i]) >= k for k in winners)
+        return any(jobs[i][2] >= k for k in winners)
+
+    def record(i, result):
+        results[i] = result
+        if result is not None and result.at_noise_level:
+            winners.append(jobs[i][2])
 
     if processes <= 1 or len(jobs) <= 1:
         for i in order:
             if not pruned(i):
-                results[i] = _fit_job(jobs[i][1])
-                if results[i] is not None and results[i].at_noise_level:
-                    winners.append(_new_parameter_count(jobs[i]))
+                record(i, _fit_job(jobs[i][1]))
         return results
     ctx = multiprocessing.get_context("fork")
     stop = ctx.Event()
@@ -215,12 +218,9 @@ def _run_jobs(jobs, processes):
                 break
             done, _ = wait(running, return_when=FIRST_COMPLETED)
             for fut in done:
-                i = running.pop(fut)
-                results[i] = fut.result()
-                if results[i] is not None and results[i].at_noise_level:
-                    winners.append(_new_parameter_count(jobs[i]))
-                    if all(pruned(j) for j in running.values()) and running:
-                        stop.set()  # every running fit is beaten already
+                record(running.pop(fut), fut.result())
+            if running and winners and all(pruned(j) for j in running.values()):
+                stop.set()  # every running fit is beaten already
     return results
 
 
@@ -241,7 +241,7 @@ def diagnose(rig, measurement, processes=2, verbose=True) -> Diagnosis:
                   f"trying {len(jobs)} candidate model(s)")
     fits = _run_jobs(jobs, processes)
     best_by_effect, stopped = {}, set()
-    for (name, _), f in zip(jobs, fits):
+    for (name, _, _), f in zip(jobs, fits):
         if f is None:
             stopped.add(name)
         elif name not in best_by_effect or f.bic < best_by_effect[name].bic:

@@ -30,7 +30,7 @@ def _exudyn():
         from exudyn import itemInterface as items
         # Exudyn writes solver warnings and failure banners to stdout, which would corrupt
         # `--json` output and CSV on stdout; failures reach the caller as SimulationError
-        exu.SetWriteToConsole(False)
+        exu.config.printToConsole = False
         _EXU = (exu, items)
     return _EXU
 
