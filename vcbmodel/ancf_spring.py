@@ -24,9 +24,8 @@ import math
 import numpy as np
 
 from . import parameters as P
-from .exudyn_models import ExudynModel, _exudyn, _friction_connector, _shaft
-from .friction import shaft_friction
-from .mechanics import cam_loads, cam_pin
+from .exudyn_models import ExudynModel, _exudyn, _shaft, cam_friction
+from .mechanics import cam_pin
 
 
 def coil_bending_stiffness(spring):
@@ -56,7 +55,7 @@ def _add_cable(mbs, it, start, end, free_length, elements, EA, rhoA, EI):
     return nodes, cables
 
 
-def build_cam_drop_ancf(rig, law, user_function="auto", elements=None):
+def build_cam_drop_ancf(rig, law, user_function="auto", elements=None, extra_loads=None):
     """Cam drop with the closing springs as one ANCF cable (see module docstring)."""
     exu, it = _exudyn()
     cam, spring, g = rig.cam, rig.closing_spring, rig.gravity
@@ -68,11 +67,13 @@ def build_cam_drop_ancf(rig, law, user_function="auto", elements=None):
     model.step = P.ANCF_STEP
     mbs = model.mbs
     nCam, oCam, mGround, mShaft = _shaft(model, cam.inertia_pivot, cam.initial_angle, cam.initial_velocity, cam.pivot)
+    model.mGroundCoordinate, model.mShaftCoordinate = mGround, mShaft
     mPin = mbs.AddMarker(it.MarkerBodyPosition(bodyNumber=oCam, localPosition=[cam.arm_length, 0.0, 0.0]))
     mCamCom = mbs.AddMarker(it.MarkerBodyPosition(bodyNumber=oCam, localPosition=[
         cam.com_distance * math.cos(-cam.com_angle), cam.com_distance * math.sin(-cam.com_angle), 0.0]))
     mbs.AddLoad(it.LoadForceVector(markerNumber=mCamCom, loadVector=[0.0, -cam.mass * g, 0.0]))
     oGround = mbs.AddObject(it.ObjectGround())
+    model.oGround = oGround
     mAnchor = mbs.AddMarker(it.MarkerBodyPosition(bodyNumber=oGround, localPosition=[*spring.anchor, 0.0]))
     B0 = cam_pin(cam.initial_angle, cam)
     nodes, cables = _add_cable(mbs, it, spring.anchor, B0, spring.free_length, N, EA, rhoA, EI)
@@ -95,20 +96,17 @@ def build_cam_drop_ancf(rig, law, user_function="auto", elements=None):
     nLast = nodes[-1]
     position, velocity = exu.OutputVariableType.Position, exu.OutputVariableType.Velocity
 
-    def friction_of_state(theta, omega, ops):
+    def pin_force(theta, omega, ops):
         px, py = mbs.GetNodeOutput(nLast, position)[:2]
         vx, vy = mbs.GetNodeOutput(nLast, velocity)[:2]
         bx, by = cam_pin(theta, cam)
         # velocity of B: omega e_z x (B - A)
         bvx, bvy = -omega * (by - cam.pivot[1]), omega * (bx - cam.pivot[0])
-        fx = k_pen * (px - bx) + d_pen * (vx - bvx)
-        fy = k_pen * (py - by) + d_pen * (vy - bvy)
-        Tc, R0x, R0y, R1x, R1y = cam_loads(theta, omega, cam, fx, fy, g)
-        return shaft_friction(omega, Tc, R0x, R0y, R1x, R1y, cam.inertia_pivot, law)[0]
+        return k_pen * (px - bx) + d_pen * (vx - bvx), k_pen * (py - by) + d_pen * (vy - bvy)
 
     if user_function == "symbolic":
         raise ValueError("the ANCF spring's friction needs the Python user function")
-    model.oFriction = _friction_connector(model, (mGround, mShaft), friction_of_state, "python")
+    cam_friction(model, rig, law, pin_force, "python", extra_loads)
     model.nCam, model.oCam, model.spring_nodes = nCam, oCam, nodes
     return model
 

@@ -39,6 +39,8 @@ class ModelSpec:
     viscous: float = 0.0
     spring_model: str = "massless"
     lumped_convention: str = "exact"
+    restitution: float = 1.0  # whole breaker: contacts' coefficient of restitution (1: elastic)
+    bellows_force: float = 0.0  # whole breaker: atmospheric force on each pole's bellows (N)
 
     def friction_law(self, radius):
         return FrictionLaw(mu_s=max(self.mu_s, self.mu_k), mu_k=self.mu_k,
@@ -53,7 +55,7 @@ class Effect:
     name = ""
     description = ""
     parameters: tuple = ()
-    experiments = ("pendulum", "cam_drop")
+    experiments = ("pendulum", "cam_drop", "vcb_closing")
 
     def on(self, spec: ModelSpec, values: dict, rig) -> None:
         raise NotImplementedError
@@ -109,7 +111,7 @@ class SpringMass(Effect):
     name = "spring_mass"
     description = "the closing spring's own inertia (surge, lateral motion) as a mass model"
     parameters = ()
-    experiments = ("cam_drop",)
+    experiments = ("cam_drop", "vcb_closing")
     #: mass models the diagnosis tries when adding this effect (a discrete choice, no fitted
     #: parameter), as "spring_model" or "spring_model:convention"; the best by BIC is kept.
     #: Cheapest first: a candidate that explains the data within the noise stops the rest.
@@ -124,8 +126,36 @@ class SpringMass(Effect):
         spec.spring_model = "massless"
 
 
+class ContactDamping(Effect):
+    name = "contact_damping"
+    description = ("energy lost in the cam-roller and pole contact impacts: Lankarani-Nikravesh hysteresis "
+                   "damping with restitution e < 1 (off: elastic Hertz contacts)")
+    parameters = (ParameterSpec("restitution", 0.8, 0.3, 1.0, "-", scan=(0.5, 0.7, 0.9)),)
+    experiments = ("vcb_closing",)
+
+    def on(self, spec, values, rig):
+        spec.restitution = values["restitution"]
+
+    def off(self, spec, values, rig):
+        spec.restitution = 1.0
+
+
+class BellowsForce(Effect):
+    name = "bellows_force"
+    description = "atmospheric pressure on each vacuum interrupter's bellows, pushing the moving contact closed"
+    parameters = (ParameterSpec("bellows_force", 150.0, 0.0, 1000.0, "N", scan=(50.0, 150.0, 400.0)),)
+    experiments = ("vcb_closing",)
+
+    def on(self, spec, values, rig):
+        spec.bellows_force = values["bellows_force"]
+
+    def off(self, spec, values, rig):
+        spec.bellows_force = 0.0
+
+
 # Order matters: Stribeck's "off" copies mu_k, so Coulomb comes first.
-EFFECTS = {e.name: e for e in (CoulombFriction(), Stribeck(), ViscousFriction(), SpringMass())}
+EFFECTS = {e.name: e for e in (CoulombFriction(), Stribeck(), ViscousFriction(), SpringMass(), ContactDamping(),
+                               BellowsForce())}
 
 
 def parameter_specs(effects):

@@ -96,7 +96,7 @@ def _shaft(model, inertia, theta0, omega0, position=(0.0, 0.0)):
 
 
 def _friction_connector(model, markers, friction_of_state, user_function):
-    """Friction torque connector; ``friction_of_state(theta, omega, ops)`` -> T_f.
+    """Friction torque connector; ``friction_of_state(t, theta, omega, ops)`` -> T_f.
 
     ``user_function``: 'symbolic' (compiled), 'python', or 'none' (no friction item).
     """
@@ -106,7 +106,7 @@ def _friction_connector(model, markers, friction_of_state, user_function):
         return None
 
     def friction_torque_uf(mbs, t, itemNumber, deltaL, deltaL_t, stiffness, damping, offset):
-        return friction_of_state(deltaL, deltaL_t, ops_holder[0])
+        return friction_of_state(t, deltaL, deltaL_t, ops_holder[0])
 
     oFriction = mbs.AddObject(it.ObjectConnectorCoordinateSpringDamper(
         markerNumbers=list(markers), stiffness=0.0, damping=0.0,
@@ -138,7 +138,7 @@ def build_pendulum(rig, law, user_function="symbolic"):
     mWeight = mbs.AddMarker(it.MarkerBodyPosition(bodyNumber=oShaft, localPosition=[0.0, -p.com_distance, 0.0]))
     mbs.AddLoad(it.LoadForceVector(markerNumber=mWeight, loadVector=[0.0, -p.mass * g, 0.0]))
 
-    def friction_of_state(theta, omega, ops):
+    def friction_of_state(t, theta, omega, ops):
         Tc, R0x, R0y, R1x, R1y = pendulum_loads(theta, omega, p.mass, p.com_distance, g, ops)
         return shaft_friction(omega, Tc, R0x, R0y, R1x, R1y, p.inertia, law, ops)[0]
 
@@ -147,12 +147,31 @@ def build_pendulum(rig, law, user_function="symbolic"):
     return model
 
 
-def build_cam_drop(rig, law, chain=None, user_function="auto"):
+def cam_friction(model, rig, law, pin_force, user_function, extra_loads=None):
+    """The cam shaft's friction connector (eq. 11-13): ``pin_force(theta, omega, ops)`` is the
+    closing springs' pull (N) on pin B at the current Runge-Kutta stage; ``extra_loads(t, theta,
+    omega)`` -> (torque about A in N m, Fx, Fy in N) adds other loads on the cam (the whole
+    breaker's roller contact and latch) to the applied torque and the shaft reaction."""
+    cam, g = rig.cam, rig.gravity
+
+    def friction_of_state(t, theta, omega, ops):
+        fx, fy = pin_force(theta, omega, ops)
+        Tc, R0x, R0y, R1x, R1y = cam_loads(theta, omega, cam, fx, fy, g, ops)
+        if extra_loads is not None:
+            torque, ex, ey = extra_loads(t, theta, omega)
+            Tc, R0x, R0y = Tc + torque, R0x - ex, R0y - ey
+        return shaft_friction(omega, Tc, R0x, R0y, R1x, R1y, cam.inertia_pivot, law, ops)[0]
+
+    model.oFriction = _friction_connector(model, (model.mGroundCoordinate, model.mShaftCoordinate),
+                                          friction_of_state, user_function)
+
+
+def build_cam_drop(rig, law, chain=None, user_function="auto", extra_loads=None):
     """The cam of eq. 11-13 on its shaft at A, pulled at pin B by the closing springs.
 
     ``chain`` is a :class:`vcbmodel.springs.LumpedChain` (None: massless springs). The
     ``count`` identical springs act in the same plane, so one chain with ``count`` times
-    the masses and stiffnesses represents them.
+    the masses and stiffnesses represents them. ``extra_loads``: see :func:`cam_friction`.
     """
     exu, it = _exudyn()
     cam, spring, g = rig.cam, rig.closing_spring, rig.gravity
@@ -160,30 +179,29 @@ def build_cam_drop(rig, law, chain=None, user_function="auto"):
     mbs = model.mbs
     nCam, oCam, mGround, mShaft = _shaft(model, cam.inertia_pivot, cam.initial_angle,
                                          cam.initial_velocity, cam.pivot)
+    model.mGroundCoordinate, model.mShaftCoordinate = mGround, mShaft
     mPin = mbs.AddMarker(it.MarkerBodyPosition(bodyNumber=oCam, localPosition=[cam.arm_length, 0.0, 0.0]))
     mCamCom = mbs.AddMarker(it.MarkerBodyPosition(bodyNumber=oCam, localPosition=[
         cam.com_distance * math.cos(-cam.com_angle), cam.com_distance * math.sin(-cam.com_angle), 0.0]))
     mbs.AddLoad(it.LoadForceVector(markerNumber=mCamCom, loadVector=[0.0, -cam.mass * g, 0.0]))
     oGround = mbs.AddObject(it.ObjectGround())
+    model.oGround = oGround
     mAnchor = mbs.AddMarker(it.MarkerBodyPosition(bodyNumber=oGround, localPosition=[spring.anchor[0], spring.anchor[1], 0.0]))
     c = spring.count
+    model.spring_nodes = []
     if chain is None:
         mbs.AddObject(it.ObjectConnectorSpringDamper(markerNumbers=[mAnchor, mPin], stiffness=c * spring.stiffness,
                                                      referenceLength=spring.free_length, damping=0.0))
 
-        def friction_of_state(theta, omega, ops):
+        def pin_force(theta, omega, ops):
             bx, by = cam_pin(theta, cam, ops)
-            fx, fy = massless_spring_force(bx, by, spring, ops)
-            Tc, R0x, R0y, R1x, R1y = cam_loads(theta, omega, cam, fx, fy, g, ops)
-            return shaft_friction(omega, Tc, R0x, R0y, R1x, R1y, cam.inertia_pivot, law, ops)[0]
+            return massless_spring_force(bx, by, spring, ops)
 
-        uf = "symbolic" if user_function == "auto" else user_function
-        model.spring_nodes = []
+        uf = "symbolic" if user_function == "auto" and extra_loads is None else user_function
     else:
         bx0, by0 = cam_pin(cam.initial_angle, cam)
         ox, oy = spring.anchor
         previous = mAnchor
-        model.spring_nodes = []
         for frac, m in zip(chain.equilibrium_fractions(), chain.masses):
             nMass = mbs.AddNode(it.NodePoint2D(referenceCoordinates=[ox + frac * (bx0 - ox), oy + frac * (by0 - oy)]))
             oMass = mbs.AddObject(it.MassPoint2D(nodeNumber=nMass, mass=c * m))
@@ -191,13 +209,13 @@ def build_cam_drop(rig, law, chain=None, user_function="auto"):
             if spring.weight:
                 mbs.AddLoad(it.LoadForceVector(markerNumber=mMass, loadVector=[0.0, -c * m * g, 0.0]))
             model.spring_nodes.append(nMass)
-            model.sensors[f"spring_mass_{len(model.spring_nodes)}"] = mbs.AddSensor(it.SensorNode(
-                nodeNumber=nMass, outputVariableType=exu.OutputVariableType.Position,
-                storeInternal=True, writeToFile=False))
-            segment = len(model.spring_nodes) - 1
+            k = len(model.spring_nodes)
+            for suffix, output in (("", exu.OutputVariableType.Position), ("_velocity", exu.OutputVariableType.Velocity)):
+                model.sensors[f"spring_mass_{k}{suffix}"] = mbs.AddSensor(it.SensorNode(
+                    nodeNumber=nMass, outputVariableType=output, storeInternal=True, writeToFile=False))
             mbs.AddObject(it.ObjectConnectorSpringDamper(markerNumbers=[previous, mMass], damping=0.0,
-                                                         stiffness=c * chain.stiffnesses[segment],
-                                                         referenceLength=chain.free_lengths[segment]))
+                                                         stiffness=c * chain.stiffnesses[k - 1],
+                                                         referenceLength=chain.free_lengths[k - 1]))
             previous = mMass
         k_last, l_last = c * chain.stiffnesses[-1], chain.free_lengths[-1]
         mbs.AddObject(it.ObjectConnectorSpringDamper(markerNumbers=[previous, mPin], damping=0.0,
@@ -205,20 +223,18 @@ def build_cam_drop(rig, law, chain=None, user_function="auto"):
         nLast = model.spring_nodes[-1]
         position = exu.OutputVariableType.Position
 
-        def friction_of_state(theta, omega, ops):
+        def pin_force(theta, omega, ops):
             # last segment's pull on B, from the last mass's position at this RK stage
             px, py = mbs.GetNodeOutput(nLast, position)[:2]
             bx, by = cam_pin(theta, cam, ops)
             dx, dy = bx - px, by - py
             length = math.sqrt(dx * dx + dy * dy)
             tension = k_last * (length - l_last)
-            fx, fy = -tension * dx / length, -tension * dy / length
-            Tc, R0x, R0y, R1x, R1y = cam_loads(theta, omega, cam, fx, fy, g, ops)
-            return shaft_friction(omega, Tc, R0x, R0y, R1x, R1y, cam.inertia_pivot, law, ops)[0]
+            return -tension * dx / length, -tension * dy / length
 
         uf = "python" if user_function == "auto" else user_function
-        if uf == "symbolic":
-            raise ValueError("a lumped spring's friction needs the Python user function")
-    model.oFriction = _friction_connector(model, (mGround, mShaft), friction_of_state, uf)
+    if uf == "symbolic" and (chain is not None or extra_loads is not None):
+        raise ValueError("a lumped spring's or the breaker's friction needs the Python user function")
+    cam_friction(model, rig, law, pin_force, uf, extra_loads)
     model.nCam, model.oCam = nCam, oCam
     return model

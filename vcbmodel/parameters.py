@@ -90,3 +90,47 @@ ANCF_PENALTY_STIFFNESS = 1e8
 #: RK4 step for the ANCF cam drop (s) up to ANCF_ELEMENTS elements: halving it changes the
 #: 35 ms cam angle by about 1e-5 rad (5e-6 s: 3e-4 rad; 1e-5 s diverges at 4 elements).
 ANCF_STEP = 2.5e-6
+
+# --- whole breaker (paper section 4; vcbmodel/breaker.py) -------------------------------------
+#: A 12 kV, 40 kA class three-pole vacuum breaker around the reference cam (the paper gives only
+#: the rating, the closing time of about 30 ms and the spring forces). Values and reasons:
+#: - contact gap 11 mm (12 kV interrupters open 8-12 mm), wipe about 4 mm (contact-spring travel
+#:   of 3-4 mm is usual); pole gaps spread by +-0.3 mm (assembly tolerance: shows pole scatter);
+#: - moving mass 1.5 kg per pole (moving contact and stem, terminal, share of the push rod);
+#: - wipe spring 2500 N preload, 250 kN/m (about 3500 N contact force closed: 40 kA interrupters
+#:   need 3-4 kN against electrodynamic repulsion); push rod and stop 2e7 N/m, 500 N s/m;
+#: - bellows: 150 N per pole (0.1 MPa on a 15 cm^2 mean bellows area);
+#: - opening spring 1200 N at open, 60 kN/m (about 25 J stored in the 15 mm stroke of F);
+#: - follower: pivot 0.1 m from the roller, output arm 0.16 m (F travels 1.6 x the roller),
+#:   0.08 kg m^2 with main shaft and pole levers; roller radius 20 mm on a 45 mm base circle;
+#: - cam profile: 9.4 mm roller lift (F travel 15 mm = gap + wipe) with a 4-5-6-7 polynomial rise
+#:   over cam angles 30-170 deg, so the contacts touch after about 30 ms at about 1.5 m/s
+#:   (12 kV breakers close at 0.6-1.5 m/s); the pressure angle stays below 10 deg;
+#: - Hertz contacts, exponent 1.5: cam-roller 1e11 N/m^1.5 (steel line contact, 0.02 mm at
+#:   10 kN), poles 2e9 N/m^1.5 (Cu-Cr butt contacts with stem compliance, 0.15 mm at 3.5 kN);
+#:   restitution 0.8 (bounces of 1-2 ms as seen on breakers); impact-speed floor 0.05 m/s;
+#: - closing latch: holding torque released linearly over 2 ms (a solenoid-tripped latch).
+REFERENCE_BREAKER_SECTION = {
+    "cam_profile": {"base_radius": 0.045, "lift": 0.0094, "rise_start": 0.6981, "rise_end": 3.8397,
+                    "return_start": 5.7, "return_end": 6.4},
+    "roller_radius": 0.02,
+    "follower": {"pivot": [0.3445, 0.065], "inertia": 0.08, "roller_arm": 0.10, "output_arm": 0.16,
+                 "output_angle": 0.0, "rest_angle": 0.0},
+    "poles": {"count": 3, "moving_mass": 1.5, "contact_gap": 0.011, "gap_offsets": [0.0, 0.0003, -0.0003],
+              "push_rod_length": 0.25, "wipe_preload": 2500.0, "wipe_rate": 2.5e5, "rod_stiffness": 2e7,
+              "rod_damping": 500.0, "bellows_force": 150.0},
+    "opening_spring": {"stiffness": 6e4, "preload": 1200.0, "length": 0.2},
+    "contact": {"cam_roller_stiffness": 1e11, "pole_stiffness": 2e9, "exponent": 1.5, "restitution": 0.8,
+                "min_impact_speed": 0.05},
+    "latch": {"release_time": 0.002},
+}
+REFERENCE_BREAKER = dict(
+    REFERENCE_CAM, name="reference 12 kV / 40 kA breaker closing (paper section 4)", experiment="vcb_closing",
+    breaker=REFERENCE_BREAKER_SECTION,
+    model={"effects": ["coulomb_friction", "stribeck", "spring_mass", "contact_damping", "bellows_force"],
+           "spring_model": "lumped-2", "lumped_convention": "paper"})
+#: Simulated closing (s): latch release to contacts settled.
+BREAKER_T_END = 0.045
+#: Fixed RK4 step of the whole breaker (s): the cam drop's step; the stiffest contact (cam-roller
+#: at 20 kN, about 1.7 kHz) then gets 60 steps per period. Step refinement is tested.
+BREAKER_STEP = 1e-5

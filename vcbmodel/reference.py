@@ -49,8 +49,9 @@ def pendulum_rhs(rig, law):
     return rhs, np.array([p.initial_angle, p.initial_velocity])
 
 
-def cam_rhs(rig, law, chain=None):
-    """State: theta, omega, then x_i, y_i of each spring mass, then their velocities."""
+def cam_rhs(rig, law, chain=None, extension=None):
+    """State: theta, omega, then x_i, y_i of each spring mass, then their velocities, then
+    the ``extension``'s states (the whole breaker: :class:`BreakerExtension`)."""
     cam, spring, g = rig.cam, rig.closing_spring, rig.gravity
     c = spring.count
     O = np.array(spring.anchor, float)
@@ -64,6 +65,9 @@ def cam_rhs(rig, law, chain=None):
     pos0 = O[None, :] + fractions[:, None] * (B0 - O)[None, :]
     y0 = np.concatenate([[cam.initial_angle, cam.initial_velocity], pos0.ravel(), np.zeros(2 * n)])
     weight = spring.weight
+    n_cam = len(y0)
+    if extension is not None:
+        y0 = np.concatenate([y0, extension.y0])
 
     def rhs(t, y):
         th, w = y[0], y[1]
@@ -79,21 +83,62 @@ def cam_rhs(rig, law, chain=None):
             acc_pts[:, 1] -= g
         fx, fy = -f_seg[-1]  # pull of the last segment on B
         Tc, R0x, R0y, R1x, R1y = cam_loads(th, w, cam, fx, fy, g)
+        tail = []
+        if extension is not None:
+            (torque, ex, ey), tail = extension.loads_and_rates(t, th, w, y[n_cam:])
+            Tc, R0x, R0y = Tc + torque, R0x - ex, R0y - ey
         Tf, _ = friction_iterated(w, Tc, (R0x, R0y), (R1x, R1y), cam.inertia_pivot, law)
-        vel = y[2 + 2 * n:]
-        return np.concatenate([[w, (Tc - Tf) / cam.inertia_pivot], vel, acc_pts.ravel()])
+        vel = y[2 + 2 * n:n_cam]
+        return np.concatenate([[w, (Tc - Tf) / cam.inertia_pivot], vel, acc_pts.ravel(), tail])
 
     return rhs, y0
 
 
-def rk4(rhs, y0, t_end, step):
-    """Classical fixed-step Runge-Kutta (returns t, Y)."""
+class BreakerExtension:
+    """The whole breaker's follower and poles appended to the cam's equations: state
+    (phi, z_1..z_n, phi', z_1'..z_n'); the equations written from the laws directly
+    (follower: I_f phi'' = torques; pole: m z'' = rod push - contact + bellows - weight)."""
+
+    def __init__(self, rig, spec):
+        from .breaker_model import BreakerLaws, massless_pull
+
+        self.laws = BreakerLaws(rig, spec)
+        self.n = rig.breaker.poles.count
+        self.initial = self.laws.initial_state(massless_pull(rig))
+        self.y0 = np.array([self.initial.follower_angle, *self.initial.pole_travel, 0.0, *([0.0] * self.n)])
+        self.impact = np.zeros(self.n + 1)
+        self.offset = None  # index of the extension in the full state (set by simulate_reference)
+
+    def loads_and_rates(self, t, th, w, y):
+        laws, n, b = self.laws, self.n, self.laws.b
+        phi, z, phid, zd = y[0], y[1:1 + n], y[1 + n], y[2 + n:]
+        t_fol, (t_cam, fx, fy) = laws.follower_torque(th, w, phi, phid, z, zd, self.impact[0])
+        acc = [(laws.rod_loads(phi, phid, z[i], zd[i])[0] - laws.pole_contact(i, z[i], zd[i], self.impact[i + 1])
+                + laws.pole_load) / b.poles.moving_mass for i in range(n)]
+        rates = np.concatenate([[phid], zd, [t_fol / b.follower.inertia], acc])
+        return (t_cam + laws.latch(t, self.initial.holding_torque), fx, fy), rates
+
+    def pre_step(self, t, y_full):
+        from .breaker_model import update_impact_speeds
+
+        y = y_full[self.offset:]
+        n, laws = self.n, self.laws
+        c = laws.roller(y_full[0], y_full[1], y[0], y[1 + n])[0]
+        state = [(c.penetration, c.penetration_rate)]
+        state += [(y[1 + i] - laws.gaps[i], y[2 + n + i]) for i in range(n)]
+        update_impact_speeds(self.impact, state)
+
+
+def rk4(rhs, y0, t_end, step, pre_step=None):
+    """Classical fixed-step Runge-Kutta (returns t, Y); ``pre_step(t, y)`` runs before each step."""
     n = max(1, int(round(t_end / step)))
     h = t_end / n
     Y = np.empty((n + 1, len(y0)))
     Y[0] = y = np.array(y0, float)
     t = 0.0
     for i in range(n):
+        if pre_step is not None:
+            pre_step(t, y)
         k1 = rhs(t, y)
         k2 = rhs(t + h / 2, y + h / 2 * k1)
         k3 = rhs(t + h / 2, y + h / 2 * k2)
@@ -109,12 +154,19 @@ def simulate_reference(rig, spec, law, chain, t_end, method="DOP853", step=None)
     from .rig import CHANNEL_OF_EXPERIMENT
     from .runner import SimulationResult
 
+    extension = None
     if rig.experiment == "pendulum":
         rhs, y0 = pendulum_rhs(rig, law)
+    elif rig.experiment == "vcb_closing":
+        extension = BreakerExtension(rig, spec)
+        rhs, y0 = cam_rhs(rig, law, chain, extension)
+        extension.offset = len(y0) - len(extension.y0)
+        if method != "rk4" and spec.restitution < 1.0:
+            raise ValueError("the breaker's contact damping needs the fixed-step reference (method='rk4')")
     else:
         rhs, y0 = cam_rhs(rig, law, chain)
     if method == "rk4":
-        t, Y = rk4(rhs, y0, t_end, step)
+        t, Y = rk4(rhs, y0, t_end, step, extension.pre_step if extension is not None else None)
     else:
         sol = solve_ivp(rhs, (0.0, t_end), y0, method=method, rtol=1e-10, atol=1e-12,
                         max_step=step or np.inf, dense_output=True)
@@ -124,9 +176,25 @@ def simulate_reference(rig, spec, law, chain, t_end, method="DOP853", step=None)
         Y = sol.sol(t).T
     if not np.all(np.isfinite(Y)):
         raise SimulationError("reference solution is not finite")
+    if extension is not None:
+        return _breaker_result(rig, spec, extension, t, Y, method)
     channels = {CHANNEL_OF_EXPERIMENT[rig.experiment]: Y[:, 0], "shaft_velocity": Y[:, 1]}
     n = (len(y0) - 2) // 4
     for i in range(n):
         channels[f"spring_mass_{i + 1}_x"] = Y[:, 2 + 2 * i]
         channels[f"spring_mass_{i + 1}_y"] = Y[:, 3 + 2 * i]
     return SimulationResult(t, channels, rig.experiment, spec, {"backend": "reference", "method": method})
+
+
+def _breaker_result(rig, spec, ext, t, Y, method):
+    from .breaker_model import follower_displacement
+    from .runner import SimulationResult
+
+    n, o = ext.n, ext.offset
+    phi = Y[:, o]
+    ch = {"cam_angle": Y[:, 0], "shaft_velocity": Y[:, 1], "follower_angle": phi, "follower_velocity": Y[:, o + 1 + n],
+          "follower_displacement": follower_displacement(phi, rig.breaker.follower, ext.initial.follower_angle)}
+    for i in range(n):
+        ch[f"pole_{i + 1}_travel"], ch[f"pole_{i + 1}_velocity"] = Y[:, o + 1 + i], Y[:, o + 2 + n + i]
+    return SimulationResult(t, ch, rig.experiment, spec, {"backend": "reference", "method": method,
+                                                          "initial": ext.initial})

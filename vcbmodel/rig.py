@@ -16,8 +16,9 @@ import numpy as np
 from .errors import InputError
 
 FORMAT = "vcb-rig/1"
-EXPERIMENTS = ("pendulum", "cam_drop")
-CHANNEL_OF_EXPERIMENT = {"pendulum": "pendulum_angle", "cam_drop": "cam_angle"}
+EXPERIMENTS = ("pendulum", "cam_drop", "vcb_closing")
+CHANNEL_OF_EXPERIMENT = {"pendulum": "pendulum_angle", "cam_drop": "cam_angle",
+                         "vcb_closing": "follower_displacement"}
 KNOWN_CHANNELS = ("pendulum_angle", "cam_angle", "follower_displacement")
 FRICTION_KEYS = ("mu_s", "mu_k", "stick_velocity", "stribeck_velocity", "viscous", "zeta")
 LUMPED_CONVENTIONS = ("exact", "paper", "uniform")
@@ -90,6 +91,7 @@ class Rig:
     pendulum: Pendulum | None = None
     cam: Cam | None = None
     closing_spring: ClosingSpring | None = None
+    breaker: object = None  # vcbmodel.breaker.Breaker (experiment vcb_closing)
 
     def with_model(self, effects=None, spring_model=None, lumped_convention=None):
         m = self.model
@@ -225,7 +227,7 @@ def load_rig(path) -> Rig:
     if "mu_s" in friction and "mu_k" in friction and friction["mu_s"] < friction["mu_k"]:
         rd.fail("friction.mu_s", "must not be smaller than friction.mu_k")
 
-    model = _read_model(rd, data)
+    model = _read_model(rd, data, experiment)
 
     pendulum = cam = spring = None
     if experiment == "pendulum":
@@ -273,14 +275,31 @@ def load_rig(path) -> Rig:
         by = ay + cam.arm_length * math.sin(cam.initial_angle)
         if math.hypot(bx - spring.anchor[0], by - spring.anchor[1]) <= spring.free_length:
             rd.fail("closing_spring.free_length", "the spring is not stretched at the start: a tension spring must be charged")
+    breaker = None
+    if experiment == "vcb_closing":
+        from .breaker import read_breaker
+        breaker = read_breaker(rd, data)
+        _check_breaker_rest(rd, cam, breaker)
     name = data.get("name", Path(path).name.replace(".rig.json", ""))
     if not isinstance(name, str):
         rd.fail("name", "must be a string")
     return Rig(path=path, name=name, experiment=experiment, gravity=gravity, shaft_radius=radius,
-               friction=friction, model=model, pendulum=pendulum, cam=cam, closing_spring=spring)
+               friction=friction, model=model, pendulum=pendulum, cam=cam, closing_spring=spring, breaker=breaker)
 
 
-def _read_model(rd, data):
+def _check_breaker_rest(rd, cam, breaker):
+    from .breaker import pitch_radius, rest_geometry
+
+    try:
+        rest_geometry(breaker, cam.pivot)
+    except ValueError as e:
+        rd.fail("breaker.follower.pivot", str(e))
+    p = breaker.profile
+    if pitch_radius(cam.initial_angle, p, breaker.roller_radius)[0] > p.base_radius + breaker.roller_radius + 1e-12:
+        rd.fail("cam.initial_angle", "the roller is not on the cam's base circle at the start (breaker open)")
+
+
+def _read_model(rd, data, experiment):
     from .effects import EFFECTS
 
     m = rd.section(data, "model")
@@ -290,6 +309,8 @@ def _read_model(rd, data):
     for e in effects:
         if e not in EFFECTS:
             rd.fail("model.effects", f"unknown effect {e!r} (known: {', '.join(EFFECTS)})")
+        if experiment not in EFFECTS[e].experiments:
+            rd.fail("model.effects", f"effect {e!r} does not apply to a {experiment} test")
     if len(set(effects)) != len(effects):
         rd.fail("model.effects", "lists an effect twice")
     spring_model = m.get("spring_model", "massless")

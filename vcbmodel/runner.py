@@ -36,8 +36,14 @@ class SimulationResult:
 
 
 def rig_values(rig: Rig):
-    """Friction values the rig gives, with ``zeta`` converted to ``viscous`` (pendulum)."""
+    """Effect parameter values the rig gives: friction (``zeta`` converted to ``viscous`` for
+    the pendulum) and, for the whole breaker, ``restitution`` and ``bellows_force``."""
     values = dict(rig.friction)
+    if rig.breaker is not None:
+        for key, value in (("restitution", rig.breaker.contact.restitution),
+                           ("bellows_force", rig.breaker.poles.bellows_force)):
+            if value is not None:
+                values[key] = value
     if "zeta" in values and "viscous" not in values and rig.pendulum is not None:
         p = rig.pendulum
         values["viscous"] = viscous_from_zeta(values["zeta"], p.inertia, p.mass, rig.gravity, p.com_distance)
@@ -64,7 +70,7 @@ def model_spec(rig: Rig, effects=None, values=None, spring_model=None) -> ModelS
 
 
 def default_t_end(rig):
-    return P.PENDULUM_T_END if rig.experiment == "pendulum" else P.CAM_T_END
+    return {"pendulum": P.PENDULUM_T_END, "cam_drop": P.CAM_T_END, "vcb_closing": P.BREAKER_T_END}[rig.experiment]
 
 
 def default_step(rig, law):
@@ -73,6 +79,8 @@ def default_step(rig, law):
     the stick band, so a reversing shaft cannot jump over it (Karnopp). Cam: CAM_STEP."""
     if rig.experiment == "cam_drop":
         return P.CAM_STEP
+    if rig.experiment == "vcb_closing":
+        return P.BREAKER_STEP
     p = rig.pendulum
     acc = p.mass * rig.gravity * p.com_distance * max(abs(math.sin(p.initial_angle)), 1e-3) / p.inertia
     acc = max(acc, abs(p.initial_velocity) * 2 * math.pi / 1.0)
@@ -110,7 +118,7 @@ def simulate(rig: Rig, effects=None, values=None, *, spring_model=None, t_end=No
         t_end = float(sample_times[-1]) if sample_times is not None else default_t_end(rig)
     law = spec.friction_law(rig.shaft_radius)
     chain = None
-    if rig.experiment == "cam_drop":
+    if rig.experiment in ("cam_drop", "vcb_closing"):
         n = lumped_mass_count(spec.spring_model)
         if n > 0:
             s = rig.closing_spring
@@ -145,6 +153,11 @@ def _simulate_exudyn(rig, spec, law, chain, t_end, step, user_function, sensor_p
     if rig.experiment == "pendulum":
         uf = "symbolic" if user_function == "auto" else user_function
         model = build_pendulum(rig, law, uf)
+    elif rig.experiment == "vcb_closing":
+        from .breaker_model import build_vcb_closing, closing_channels
+        model = build_vcb_closing(rig, spec, law, chain, user_function, ancf_elements)
+        data = model.solve(t_end, step, sensor_period)
+        return closing_channels(model, data, rig, spec, step)
     else:
         if lumped_mass_count(spec.spring_model) < 0:
             from .ancf_spring import build_cam_drop_ancf
