@@ -443,6 +443,7 @@ def figures_of_merit(result, rig):
             bounce_times.append(0.0)
     travel = ch["follower_displacement"]
     done = [x for x in touches if x is not None]
+    at_touch = float(np.interp(min(done), t, travel)) if done else float("nan")
     return {
         "closing_time_s": max(done) if len(done) == len(gaps) else None,
         "first_touch_s": min(done) if done else None,
@@ -451,8 +452,10 @@ def figures_of_merit(result, rig):
         "bounce_count": int(max(bounces)),
         "bounce_duration_s": float(max(bounce_times)),
         "final_travel_m": float(travel[-1]),
-        "overtravel_m": float(np.max(travel) - travel[-1]),
+        "overtravel_m": float(np.max(travel) - at_touch) if done else None,  # follower travel after first touch
+        "overshoot_m": float(np.max(travel) - travel[-1]),
         "peak_cam_roller_force_N": float(np.max(ch["cam_roller_force"])),
+        "roller_lift_off_s": float(np.sum(np.diff(t) * (ch["cam_roller_force"][1:] <= 0.0))),
         "max_pressure_angle_deg": float(np.degrees(np.max(ch["pressure_angle"]))),
         "per_pole": {"touch_s": touches, "touch_speed_m_s": speeds, "bounces": bounces, "bounce_duration_s": bounce_times},
     }

@@ -25,6 +25,7 @@ import numpy as np
 
 from . import fitting
 from .effects import EFFECTS
+from .rig import CHANNEL_OF_EXPERIMENT, UNIT_OF_EXPERIMENT
 from .runner import rig_values
 from .fitting import Dataset, FitResult, make_parameters, staged_fit
 from .signals import (decay_shape, disagreement_window, dominant_frequency, lag1_autocorrelation,
@@ -64,6 +65,10 @@ class Diagnosis:
     evidence: str
     stopped: list = None  # candidates not fitted to the end: a simpler one explained the data already
 
+    @property
+    def unit(self):
+        return UNIT_OF_EXPERIMENT[self.rig.experiment]
+
     def to_json(self):
         b, f = self.baseline, self.final
         return {
@@ -89,16 +94,16 @@ class Diagnosis:
 
     def report(self):
         lines = [f"Diagnosis of {self.measurement.path}",
-                 f"  noise estimate {self.noise:.3g} rad; baseline {', '.join(self.baseline.effects) or '(none)'}"
-                 f" [{self.baseline.spring_model}]: rms {self.baseline.rms:.3g} rad",
+                 f"  noise estimate {self.noise:.3g} {self.unit}; baseline {', '.join(self.baseline.effects) or '(none)'}"
+                 f" [{self.baseline.spring_model}]: rms {self.baseline.rms:.3g} {self.unit}",
                  f"  disagreement largest in t = [{self.window[0]:.4g}, {self.window[1]:.4g}] s",
                  "  candidates (delta BIC, positive = better):"]
         for c in self.candidates:
-            lines.append(f"    {c.effect:18s} dBIC {c.delta_bic:12.1f}  rms {c.fit.rms:.3g} rad [{c.fit.spring_model_label}]")
+            lines.append(f"    {c.effect:18s} dBIC {c.delta_bic:12.1f}  rms {c.fit.rms:.3g} {self.unit} [{c.fit.spring_model_label}]")
         for name in self.stopped or []:
             lines.append(f"    {name:18s} stopped: a simpler candidate explains the data within the noise")
         lines.append(f"  missing effect: {self.missing_effect}")
-        lines.append(f"  rms {self.baseline.rms:.3g} -> {self.final.rms:.3g} rad")
+        lines.append(f"  rms {self.baseline.rms:.3g} -> {self.final.rms:.3g} {self.unit}")
         lines.append("  " + self.evidence)
         lines.append(self.final.report())
         return "\n".join(lines)
@@ -230,14 +235,14 @@ def diagnose(rig, measurement, processes=2, verbose=True) -> Diagnosis:
     sigma = noise_estimate(dataset.y)
     guesses = data_guesses(rig, measurement)
     if verbose:
-        _progress(f"diagnose: noise estimate {sigma:.3g} rad; fitting the starting model "
+        _progress(f"diagnose: noise estimate {sigma:.3g} {UNIT_OF_EXPERIMENT[rig.experiment]}; fitting the starting model "
                   f"({', '.join(rig.model.effects) or 'no effects'}, {rig.model.spring_model})")
     baseline = _fit_job((rig, measurement, rig.model.effects, rig.model.spring_model, guesses[0], guesses[1:],
                          sigma, "starting model", None))
     t0, t1, _ = disagreement_window(measurement.t, baseline.residuals[0], sigma)
     jobs = _candidate_jobs(rig, measurement, baseline, guesses, sigma)
     if verbose:
-        _progress(f"diagnose: starting model rms {baseline.rms:.3g} rad ({baseline.rms / sigma:.2f}x noise); "
+        _progress(f"diagnose: starting model rms {baseline.rms:.3g} {UNIT_OF_EXPERIMENT[rig.experiment]} ({baseline.rms / sigma:.2f}x noise); "
                   f"trying {len(jobs)} candidate model(s)")
     fits = _run_jobs(jobs, processes)
     best_by_effect, stopped = {}, set()
@@ -254,7 +259,7 @@ def diagnose(rig, measurement, processes=2, verbose=True) -> Diagnosis:
     signature = describe_signature(rig, measurement, baseline, sigma)
     evidence = _evidence(baseline, final, chosen, sigma, (t0, t1), signature)
     if verbose:
-        _progress(f"diagnose: missing effect {chosen.effect if chosen else None}; rms {baseline.rms:.3g} -> {final.rms:.3g} rad")
+        _progress(f"diagnose: missing effect {chosen.effect if chosen else None}; rms {baseline.rms:.3g} -> {final.rms:.3g} {UNIT_OF_EXPERIMENT[rig.experiment]}")
     return Diagnosis(rig, measurement, sigma, baseline, candidates, chosen.effect if chosen else None, final,
                      (t0, t1), signature, evidence, sorted(stopped))
 
@@ -278,14 +283,16 @@ def describe_signature(rig, measurement, baseline, sigma):
     else:
         s = rig.closing_spring
         sig["spring_surge_frequency_hz"] = fundamental(s.stiffness, s.mass, "exact") / (2 * math.pi)
-        travel = measurement.channel("cam_angle") - measurement.channel("cam_angle")[0]
+        y = measurement.channel(CHANNEL_OF_EXPERIMENT[rig.experiment])
+        travel = y - y[0]
         sig["residual_travel_correlation"] = float(np.corrcoef(travel, r)[0, 1]) if np.std(r) > 0 else 0.0
     return sig
 
 
 def _evidence(baseline, final, chosen, sigma, window, signature):
-    text = (f"The starting model leaves an rms residual of {baseline.rms:.3g} rad, "
-            f"{baseline.rms / sigma:.2f}x the noise estimate {sigma:.3g} rad, largest in "
+    unit = UNIT_OF_EXPERIMENT[baseline.simulations[0].experiment]
+    text = (f"The starting model leaves an rms residual of {baseline.rms:.3g} {unit}, "
+            f"{baseline.rms / sigma:.2f}x the noise estimate {sigma:.3g} {unit}, largest in "
             f"t = [{window[0]:.4g}, {window[1]:.4g}] s (lag-1 autocorrelation {signature['lag1_autocorrelation']:.2f}).")
     if "amplitude_decay" in signature and signature["amplitude_decay"].get("shape") != "unknown":
         d = signature["amplitude_decay"]
@@ -299,6 +306,6 @@ def _evidence(baseline, final, chosen, sigma, window, signature):
         text += f" No candidate lowers BIC by more than {BIC_MARGIN:g}: nothing is missing."
     else:
         text += (f" Adding {chosen.effect} lowers BIC by {chosen.delta_bic:.0f} and leaves "
-                 f"{final.rms:.3g} rad ({final.rms / sigma:.2f}x noise, lag-1 autocorrelation "
+                 f"{final.rms:.3g} {unit} ({final.rms / sigma:.2f}x noise, lag-1 autocorrelation "
                  f"{lag1_autocorrelation(final.residuals[0]):.2f}): the gap shrinks {baseline.rms / final.rms:.1f}x.")
     return text

@@ -107,7 +107,7 @@ ANCF_STEP = 2.5e-6
 #:   over cam angles 30-170 deg, so the contacts touch after about 30 ms at about 1.5 m/s
 #:   (12 kV breakers close at 0.6-1.5 m/s); the pressure angle stays below 10 deg;
 #: - Hertz contacts, exponent 1.5: cam-roller 1e11 N/m^1.5 (steel line contact, 0.02 mm at
-#:   10 kN), poles 2e9 N/m^1.5 (Cu-Cr butt contacts with stem compliance, 0.15 mm at 3.5 kN);
+#:   10 kN), poles 1e10 N/m^1.5 (Cu-Cr butt contacts with the stems' compliance, 0.05 mm at 3.5 kN);
 #:   restitution 0.8 (bounces of 1-2 ms as seen on breakers); impact-speed floor 0.05 m/s;
 #: - closing latch: holding torque released linearly over 2 ms (a solenoid-tripped latch).
 REFERENCE_BREAKER_SECTION = {
@@ -120,7 +120,7 @@ REFERENCE_BREAKER_SECTION = {
               "push_rod_length": 0.25, "wipe_preload": 2500.0, "wipe_rate": 2.5e5, "rod_stiffness": 2e7,
               "rod_damping": 500.0, "bellows_force": 150.0},
     "opening_spring": {"stiffness": 6e4, "preload": 1200.0, "length": 0.2},
-    "contact": {"cam_roller_stiffness": 1e11, "pole_stiffness": 2e9, "exponent": 1.5, "restitution": 0.8,
+    "contact": {"cam_roller_stiffness": 1e11, "pole_stiffness": 1e10, "exponent": 1.5, "restitution": 0.8,
                 "min_impact_speed": 0.05},
     "latch": {"release_time": 0.002},
 }

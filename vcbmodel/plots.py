@@ -18,6 +18,7 @@ def save(fig, path):
 def plot_diagnosis(diagnosis, path, measured_label="measurement"):
     """Measurement, model before and after; residuals before and after, window shaded."""
     d = diagnosis
+    u = d.unit
     t = d.measurement.t
     y = d.baseline.simulations[0].angle - d.baseline.residuals[0]  # the measured angle
     fig, (ax1, ax2) = plt.subplots(2, 1, figsize=(8, 6.5), sharex=True)
@@ -26,16 +27,16 @@ def plot_diagnosis(diagnosis, path, measured_label="measurement"):
              label=f"starting model ({', '.join(d.baseline.effects) or 'no friction'}; {d.baseline.spring_model})")
     if d.missing_effect:
         ax1.plot(t, d.final.simulations[0].angle, "--", lw=1.5, label=f"+ {d.missing_effect} ({d.final.spring_model})")
-    ax1.set_ylabel("angle (rad)")
+    ax1.set_ylabel(f"measured channel ({u})")
     ax1.legend(fontsize=8)
     ax1.set_title(f"diagnosis: missing effect = {d.missing_effect}")
-    ax2.plot(t, d.baseline.residuals[0], lw=0.8, label=f"residual before (rms {d.baseline.rms:.3g} rad)")
+    ax2.plot(t, d.baseline.residuals[0], lw=0.8, label=f"residual before (rms {d.baseline.rms:.3g} {u})")
     if d.missing_effect:
-        ax2.plot(t, d.final.residuals[0], lw=0.8, label=f"residual after (rms {d.final.rms:.3g} rad)")
+        ax2.plot(t, d.final.residuals[0], lw=0.8, label=f"residual after (rms {d.final.rms:.3g} {u})")
     for k in (-2, 2):
         ax2.axhline(k * d.noise, color="k", lw=0.6, ls=":")
     ax2.axvspan(*d.window, color="orange", alpha=0.25, label="largest disagreement")
     ax2.set_xlabel("t (s)")
-    ax2.set_ylabel("model - measurement (rad)")
+    ax2.set_ylabel(f"model - measurement ({u})")
     ax2.legend(fontsize=8)
     save(fig, path)

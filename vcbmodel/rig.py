@@ -19,6 +19,7 @@ FORMAT = "vcb-rig/1"
 EXPERIMENTS = ("pendulum", "cam_drop", "vcb_closing")
 CHANNEL_OF_EXPERIMENT = {"pendulum": "pendulum_angle", "cam_drop": "cam_angle",
                          "vcb_closing": "follower_displacement"}
+UNIT_OF_EXPERIMENT = {"pendulum": "rad", "cam_drop": "rad", "vcb_closing": "m"}
 KNOWN_CHANNELS = ("pendulum_angle", "cam_angle", "follower_displacement")
 FRICTION_KEYS = ("mu_s", "mu_k", "stick_velocity", "stribeck_velocity", "viscous", "zeta")
 LUMPED_CONVENTIONS = ("exact", "paper", "uniform")

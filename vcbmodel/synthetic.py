@@ -16,13 +16,18 @@ from .rig import CHANNEL_OF_EXPERIMENT, Measurement
 from .runner import simulate
 from .sampling import output_times
 
-NOISE_SIGMA = {"pendulum": 0.5e-3, "cam_drop": 2e-3}  # rad
+#: rad for the angles; m for the breaker's follower displacement (camera at 12 kHz resolving
+#: about 0.1 mm over a 100 mm field: sigma 0.05 mm)
+NOISE_SIGMA = {"pendulum": 0.5e-3, "cam_drop": 2e-3, "vcb_closing": 5e-5}
 
 
 def synthetic_measurement(rig, effects, values, *, spring_model=None, sigma=None, seed=0, t_end=None,
                           path="synthetic.csv", ancf_elements=None) -> Measurement:
-    """Simulate the truth and add white Gaussian noise of ``sigma`` rad."""
-    t_end = t_end or (6.0 if rig.experiment == "pendulum" else 0.035)
+    """Simulate the truth and add white Gaussian noise of ``sigma`` (rad, or m for a closing)."""
+    from .runner import default_t_end
+    from .rig import UNIT_OF_EXPERIMENT
+
+    t_end = t_end or default_t_end(rig)
     t = output_times(rig, t_end)
     truth = simulate(rig, effects, values, spring_model=spring_model, sample_times=t, ancf_elements=ancf_elements)
     sigma = NOISE_SIGMA[rig.experiment] if sigma is None else sigma
@@ -30,7 +35,7 @@ def synthetic_measurement(rig, effects, values, *, spring_model=None, sigma=None
     name = CHANNEL_OF_EXPERIMENT[rig.experiment]
     return Measurement(path=str(path), t=t, channels={name: noisy},
                        comments=(f"SYNTHETIC: truth effects {','.join(effects)}, spring model "
-                                 f"{truth.spec.spring_model}, noise sigma {sigma:g} rad, seed {seed}",))
+                                 f"{truth.spec.spring_model}, noise sigma {sigma:g} {UNIT_OF_EXPERIMENT[rig.experiment]}, seed {seed}",))
 
 
 def write_measurement(measurement, path):
@@ -39,7 +44,7 @@ def write_measurement(measurement, path):
     lines = [f"# {c}" for c in measurement.comments] + ["t," + ",".join(names)]
     cols = [measurement.channels[n] for n in names]
     for i, t in enumerate(measurement.t):
-        lines.append(f"{t:.7f}," + ",".join(f"{c[i]:.7f}" for c in cols))
+        lines.append(f"{t:.7f}," + ",".join(f"{c[i]:.9g}" for c in cols))
     path.write_text("\n".join(lines) + "\n")
 
 
