@@ -72,6 +72,16 @@ def main():
     cam["ancf_8_target_met"] = cam["ancf_8_s"] <= 5.0
     print(cam, flush=True)
 
+    write_rig(P.REFERENCE_BREAKER, tmp / "b.rig.json")
+    brig = load_rig(tmp / "b.rig.json")
+    closing = res["vcb_closing_45ms"] = {}
+    for m in ("massless", "lumped-2", "ancf"):
+        eff = tuple(e for e in brig.model.effects if e != "spring_mass") + (("spring_mass",) if m != "massless" else ())
+        closing[m.replace("-", "") + "_s"] = median_time(lambda: simulate(brig, eff, spring_model=m), repeat)
+    closing["target_lumped2_s"] = 10.0
+    closing["lumped2_target_met"] = closing["lumped2_s"] <= 10.0
+    print(closing, flush=True)
+
     if not args.quick:
         from vcbmodel.identify import identify
         from vcbmodel.synthetic import synthetic_measurement

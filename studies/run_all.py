@@ -5,8 +5,8 @@ import time
 from pathlib import Path
 
 HERE = Path(__file__).resolve().parent
-STUDIES = ["friction_identification.py", "spring_models.py", "discrepancy_demo.py", "diagnosis_sweep.py",
-           "benchmark.py"]
+STUDIES = ["friction_identification.py", "spring_models.py", "vcb_closing.py", "discrepancy_demo.py",
+           "diagnosis_sweep.py", "benchmark.py"]
 
 if __name__ == "__main__":
     extra = sys.argv[1:]

@@ -241,3 +241,44 @@ def test_cli_simulates_a_closing_and_writes_follower_displacement(tmp_path):
     values = np.array([[float(x) for x in ln.split(",")] for ln in lines[1:]])
     assert values[0, 1] == 0.0 and 0.013 < values[-1, 1] < 0.016  # closed: gap + wipe
     assert np.allclose(np.diff(values[:, 0]), 1 / 12000, atol=1e-7)
+
+
+# --- diagnosis on a closing ----------------------------------------------------------------------
+
+def hidden_effect_case(tmp_path, starting_effects, truth_values, seed):
+    from vcbmodel.synthetic import synthetic_measurement, write_measurement
+
+    d = copy.deepcopy(P.REFERENCE_BREAKER)
+    d["friction"] = {"stick_velocity": 1e-3} if "coulomb_friction" not in starting_effects else {
+        "mu_k": truth_values["mu_k"], "stick_velocity": 1e-3}
+    d["breaker"]["contact"].pop("restitution")
+    d["breaker"]["poles"].pop("bellows_force")
+    d["model"] = {"effects": list(starting_effects), "spring_model": "lumped-2", "lumped_convention": "paper"}
+    rig = load_rig(write(tmp_path, d, "closing.rig.json"))
+    truth = ("coulomb_friction", "spring_mass", "contact_damping", "bellows_force")
+    meas = synthetic_measurement(rig, truth, truth_values, seed=seed, t_end=T_END, path=tmp_path / "closing.csv")
+    write_measurement(meas, meas.path)
+    return rig, meas
+
+
+def test_diagnosis_finds_hidden_shaft_friction_in_a_closing(tmp_path):
+    from vcbmodel.diagnose import diagnose
+
+    truth = {"mu_k": 0.12, "restitution": 0.8, "bellows_force": 150.0}
+    rig, meas = hidden_effect_case(tmp_path, ("spring_mass", "contact_damping", "bellows_force"), truth, seed=5)
+    d = diagnose(rig, meas, verbose=False)
+    assert d.missing_effect == "coulomb_friction"
+    assert d.final.values["mu_k"] == pytest.approx(0.12, rel=0.03)
+    assert d.baseline.rms > 10 * d.final.rms
+    assert d.final.rms < 1.3 * d.noise
+
+
+@pytest.mark.slow
+def test_diagnosis_finds_a_hidden_bellows_force(tmp_path):
+    from vcbmodel.diagnose import diagnose
+
+    truth = {"mu_k": 0.13, "restitution": 0.8, "bellows_force": 300.0}
+    rig, meas = hidden_effect_case(tmp_path, ("coulomb_friction", "spring_mass", "contact_damping"), truth, seed=6)
+    d = diagnose(rig, meas, verbose=False)
+    assert d.missing_effect == "bellows_force"
+    assert d.final.values["bellows_force"] == pytest.approx(300.0, rel=0.3)

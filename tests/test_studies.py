@@ -16,6 +16,8 @@ EXPECTED = {
     "discrepancy_demo.py": ["discrepancy_demo_cam.png", "discrepancy_demo_pendulum.png", "discrepancy_demo.json"],
     "diagnosis_sweep.py": ["diagnosis_sweep.json", "diagnosis_sweep.md"],
     "benchmark.py": ["benchmark.json"],
+    "vcb_closing.py": ["vcb_closing_fig12.png", "vcb_closing_detail.png", "vcb_closing.json", "vcb_closing.md",
+                       "synthetic/vcb_closing.csv"],
 }
 
 

@@ -29,6 +29,7 @@ from scipy.optimize import brentq
 
 from .breaker import (cam_roller_contact, cam_roller_loads, contact_energy, contact_force, latch_torque,
                       output_point, pole_gaps, push_rod_energy, push_rod_force, rest_geometry)
+from .errors import SimulationError
 from .mechanics import cam_pin, massless_spring_force
 
 
@@ -154,7 +155,8 @@ class BreakerLaws:
         span = 1e-3
         lo, hi = phi_rest - span, phi_rest + span
         if torque(lo) * torque(hi) > 0:
-            raise ValueError("breaker: no static rest of the follower on the cam (check the opening spring)")
+            raise SimulationError("breaker: no static rest of the follower on the cam: the poles' bellows "
+                                  "and rod forces lift it against the opening spring")
         phi = brentq(torque, lo, hi, xtol=1e-15)
         z = [self.rest_pole_travel(phi)] * n
         _, (t_cam, _, _) = self.follower_torque(theta, 0.0, phi, 0.0, z, [0.0] * n)

@@ -142,8 +142,9 @@ class ContactDamping(Effect):
 
 class BellowsForce(Effect):
     name = "bellows_force"
-    description = "atmospheric pressure on each vacuum interrupter's bellows, pushing the moving contact closed"
-    parameters = (ParameterSpec("bellows_force", 150.0, 0.0, 1000.0, "N", scan=(50.0, 150.0, 400.0)),)
+    description = ("atmospheric pressure on each vacuum interrupter's bellows, pushing the moving contact closed "
+                   "(100-400 N for medium-voltage interrupters)")
+    parameters = (ParameterSpec("bellows_force", 150.0, 0.0, 600.0, "N", scan=(50.0, 150.0, 300.0)),)
     experiments = ("vcb_closing",)
 
     def on(self, spec, values, rig):

@@ -18,7 +18,7 @@ from scipy.optimize import least_squares, minimize
 
 from .effects import parameter_specs
 from .errors import SimulationError
-from .rig import CHANNEL_OF_EXPERIMENT
+from .rig import CHANNEL_OF_EXPERIMENT, UNIT_OF_EXPERIMENT
 from .runner import rig_values, simulate
 from .signals import noise_estimate
 
@@ -72,19 +72,24 @@ class Dataset:
 
 @dataclass
 class FitResult:
-    """Outcome of a fit. Residuals and rms in rad; aic/bic from chi^2 with noise ``sigma``."""
+    """Outcome of a fit. Residuals and rms in the measured channel's unit (rad, or m for a
+    breaker closing); aic/bic from chi^2 with noise ``sigma``."""
 
     effects: tuple
     spring_model: str
     parameters: dict
-    residuals: list  # per dataset: simulated - measured (rad)
+    residuals: list  # per dataset: simulated - measured (rad or m)
     simulations: list  # per dataset: SimulationResult at the measurement times
-    sigma: float  # noise level (rad) used for chi^2
+    sigma: float  # noise level (rad or m) used for chi^2
     nfev: int = 0
     success: bool = True
     message: str = ""
     method: str = ""
     spring_model_label: str = ""  # spring model with its lumped convention, for reports
+
+    @property
+    def unit(self):
+        return UNIT_OF_EXPERIMENT[self.simulations[0].experiment] if self.simulations else "rad"
 
     @property
     def values(self):
@@ -130,8 +135,8 @@ class FitResult:
         """A readable fit report; parameters stuck at a bound are flagged."""
         lines = [f"[[Fit]] effects: {', '.join(self.effects) or '(none)'}; spring model: {self.spring_model}",
                  f"    method {self.method}, {self.nfev} simulations, {'converged' if self.success else 'NOT converged: ' + self.message}",
-                 f"    data points {self.n_data}, varied {self.n_varied}, noise sigma {self.sigma:.3g} rad",
-                 f"    rms {self.rms:.4g} rad, max |error| {self.max_error:.4g} rad, reduced chi2 {self.reduced_chi2:.3f}",
+                 f"    data points {self.n_data}, varied {self.n_varied}, noise sigma {self.sigma:.3g} {self.unit}",
+                 f"    rms {self.rms:.4g} {self.unit}, max |error| {self.max_error:.4g} {self.unit}, reduced chi2 {self.reduced_chi2:.3f}",
                  f"    AIC {self.aic:.1f}, BIC {self.bic:.1f}", "[[Parameters]]"]
         for p in self.parameters.values():
             if not p.vary:
@@ -296,7 +301,7 @@ def _fit(datasets, effects, spring_model, params, method, starts, sigma, verbose
                 ok, msg = bool(res.status > 0), str(res.message)
             if verbose:
                 _progress(f"  fit {label or ', '.join(effects)} start {k + 1}/{len(start_points)}: "
-                          f"rms {math.sqrt(cost / max(1, sum(d.t.size for d in datasets))):.3g} rad after {obj.nfev} simulations")
+                          f"rms {math.sqrt(cost / max(1, sum(d.t.size for d in datasets))):.3g} {UNIT_OF_EXPERIMENT[datasets[0].rig.experiment]} after {obj.nfev} simulations")
             if cost < best_cost:
                 best_x, best_cost, success, message = x, cost, ok, msg
             if at_noise_level(best_cost, sum(d.t.size for d in datasets), sigma):
