@@ -313,7 +313,7 @@ def closing_channels(model, data, rig, spec, step):
         ch[f"pole_{i + 1}_travel"] = data[f"pole_{i + 1}_travel"][:, 1]
         ch[f"pole_{i + 1}_velocity"] = data[f"pole_{i + 1}_travel_velocity"][:, 1]
     for name, d in data.items():
-        if name.startswith("spring_mass_") or name.startswith("ancf_"):
+        if name.startswith(("spring_mass_", "spring_velocity_", "ancf_")):
             ch[name + "_x"], ch[name + "_y"] = d[:, 1], d[:, 2]
     ch.update(contact_channels(laws, ch, n))
     return SimulationResult(t, ch, rig.experiment, spec, {"backend": "exudyn", "step": step,
@@ -382,7 +382,7 @@ def energy_balance(result, rig, chain=None):
         pts = [np.stack([np.full_like(th, spring.anchor[0]), np.full_like(th, spring.anchor[1])])]
         for k, m in enumerate(chain.masses, start=1):
             pts.append(np.stack([ch[f"spring_mass_{k}_x"], ch[f"spring_mass_{k}_y"]]))
-            kinetic = kinetic + 0.5 * c * m * (ch[f"spring_mass_{k}_velocity_x"] ** 2 + ch[f"spring_mass_{k}_velocity_y"] ** 2)
+            kinetic = kinetic + 0.5 * c * m * (ch[f"spring_velocity_{k}_x"] ** 2 + ch[f"spring_velocity_{k}_y"] ** 2)
         pts.append(np.stack([bx, by]))
         springs = sum(0.5 * c * k * (np.hypot(*(p1 - p0)) - l0) ** 2
                       for p0, p1, k, l0 in zip(pts[:-1], pts[1:], chain.stiffnesses, chain.free_lengths))

@@ -126,32 +126,35 @@ class SpringMass(Effect):
         spec.spring_model = "massless"
 
 
-class ContactDamping(Effect):
+class ScalarEffect(Effect):
+    """An effect that sets one model field from its one parameter; off sets ``off_value``."""
+
+    field = ""
+    off_value = 0.0
+
+    def on(self, spec, values, rig):
+        setattr(spec, self.field, values[self.field])
+
+    def off(self, spec, values, rig):
+        setattr(spec, self.field, self.off_value)
+
+
+class ContactDamping(ScalarEffect):
     name = "contact_damping"
     description = ("energy lost in the cam-roller and pole contact impacts: Lankarani-Nikravesh hysteresis "
                    "damping with restitution e < 1 (off: elastic Hertz contacts)")
     parameters = (ParameterSpec("restitution", 0.8, 0.3, 1.0, "-", scan=(0.5, 0.7, 0.9)),)
     experiments = ("vcb_closing",)
-
-    def on(self, spec, values, rig):
-        spec.restitution = values["restitution"]
-
-    def off(self, spec, values, rig):
-        spec.restitution = 1.0
+    field, off_value = "restitution", 1.0
 
 
-class BellowsForce(Effect):
+class BellowsForce(ScalarEffect):
     name = "bellows_force"
     description = ("atmospheric pressure on each vacuum interrupter's bellows, pushing the moving contact closed "
                    "(100-400 N for medium-voltage interrupters)")
     parameters = (ParameterSpec("bellows_force", 150.0, 0.0, 600.0, "N", scan=(50.0, 150.0, 300.0)),)
     experiments = ("vcb_closing",)
-
-    def on(self, spec, values, rig):
-        spec.bellows_force = values["bellows_force"]
-
-    def off(self, spec, values, rig):
-        spec.bellows_force = 0.0
+    field = "bellows_force"
 
 
 # Order matters: Stribeck's "off" copies mu_k, so Coulomb comes first.

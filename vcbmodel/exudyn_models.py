@@ -210,8 +210,9 @@ def build_cam_drop(rig, law, chain=None, user_function="auto", extra_loads=None)
                 mbs.AddLoad(it.LoadForceVector(markerNumber=mMass, loadVector=[0.0, -c * m * g, 0.0]))
             model.spring_nodes.append(nMass)
             k = len(model.spring_nodes)
-            for suffix, output in (("", exu.OutputVariableType.Position), ("_velocity", exu.OutputVariableType.Velocity)):
-                model.sensors[f"spring_mass_{k}{suffix}"] = mbs.AddSensor(it.SensorNode(
+            for prefix, output in (("spring_mass", exu.OutputVariableType.Position),
+                                   ("spring_velocity", exu.OutputVariableType.Velocity)):
+                model.sensors[f"{prefix}_{k}"] = mbs.AddSensor(it.SensorNode(
                     nodeNumber=nMass, outputVariableType=output, storeInternal=True, writeToFile=False))
             mbs.AddObject(it.ObjectConnectorSpringDamper(markerNumbers=[previous, mMass], damping=0.0,
                                                          stiffness=c * chain.stiffnesses[k - 1],
