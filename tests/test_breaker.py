@@ -261,24 +261,20 @@ def hidden_effect_case(tmp_path, starting_effects, truth_values, seed):
     return rig, meas
 
 
-def test_diagnosis_finds_hidden_shaft_friction_in_a_closing(tmp_path):
+@pytest.mark.parametrize("starting,truth,seed,missing,parameter,rel", [
+    (("spring_mass", "contact_damping", "bellows_force"),
+     {"mu_k": 0.12, "restitution": 0.8, "bellows_force": 150.0}, 5, "coulomb_friction", "mu_k", 0.03),
+    pytest.param(("coulomb_friction", "spring_mass", "contact_damping"),
+                 {"mu_k": 0.13, "restitution": 0.8, "bellows_force": 300.0}, 6, "bellows_force", "bellows_force", 0.3,
+                 marks=pytest.mark.slow),
+], ids=["hidden_shaft_friction", "hidden_bellows_force"])
+def test_diagnosis_finds_a_hidden_effect_in_a_closing(tmp_path, starting, truth, seed, missing, parameter, rel):
     from vcbmodel.diagnose import diagnose
 
-    truth = {"mu_k": 0.12, "restitution": 0.8, "bellows_force": 150.0}
-    rig, meas = hidden_effect_case(tmp_path, ("spring_mass", "contact_damping", "bellows_force"), truth, seed=5)
+    rig, meas = hidden_effect_case(tmp_path, starting, truth, seed=seed)
     d = diagnose(rig, meas, verbose=False)
-    assert d.missing_effect == "coulomb_friction"
-    assert d.final.values["mu_k"] == pytest.approx(0.12, rel=0.03)
-    assert d.baseline.rms > 10 * d.final.rms
-    assert d.final.rms < 1.3 * d.noise
-
-
-@pytest.mark.slow
-def test_diagnosis_finds_a_hidden_bellows_force(tmp_path):
-    from vcbmodel.diagnose import diagnose
-
-    truth = {"mu_k": 0.13, "restitution": 0.8, "bellows_force": 300.0}
-    rig, meas = hidden_effect_case(tmp_path, ("coulomb_friction", "spring_mass", "contact_damping"), truth, seed=6)
-    d = diagnose(rig, meas, verbose=False)
-    assert d.missing_effect == "bellows_force"
-    assert d.final.values["bellows_force"] == pytest.approx(300.0, rel=0.3)
+    assert d.missing_effect == missing
+    assert d.final.values[parameter] == pytest.approx(truth[parameter], rel=rel)
+    if missing == "coulomb_friction":
+        assert d.baseline.rms > 10 * d.final.rms
+        assert d.final.rms < 1.3 * d.noise

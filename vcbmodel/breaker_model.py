@@ -25,6 +25,7 @@ import math
 from dataclasses import dataclass
 
 import numpy as np
+from scipy.integrate import cumulative_trapezoid
 from scipy.optimize import brentq
 
 from .breaker import (cam_roller_contact, cam_roller_loads, contact_energy, contact_force, latch_torque,
@@ -166,6 +167,15 @@ class BreakerLaws:
         spring_and_weight = (bx - cam.pivot[0]) * fy - (by - cam.pivot[1]) * fx - cam.mass * g * rgx
         return InitialState(phi, z, -(spring_and_weight + t_cam))
 
+    def latch_impact_speeds(self, impact, theta, omega, phi, phi_dot, z, z_dot):
+        """Update ``impact`` ([cam-roller, pole 1..n], m/s) from a state by
+        :func:`update_impact_speeds`; returns the cam-roller contact at that state."""
+        roller = self.roller(theta, omega, phi, phi_dot)[0]
+        state = [(roller.penetration, roller.penetration_rate)]
+        state += [(zi - gap, zi_dot) for zi, zi_dot, gap in zip(z, z_dot, self.gaps)]
+        update_impact_speeds(impact, state)
+        return roller
+
     def latch(self, t, holding):
         return latch_torque(t, holding, self.b.latch_release_time)
 
@@ -176,8 +186,8 @@ def massless_pull(rig):
 
 
 def build_vcb_closing(rig, spec, law, chain=None, user_function="auto", ancf_elements=None):
-    """The whole breaker in Exudyn (module docstring); returns the model with ``laws``,
-    ``initial`` and ``impact_history`` ((t, impact speed of each contact) per step) attached."""
+    """The whole breaker in Exudyn (module docstring); returns the model with ``laws`` and
+    ``initial`` attached."""
     from .exudyn_models import _exudyn, build_cam_drop
 
     exu, it = _exudyn()
@@ -264,23 +274,18 @@ def build_vcb_closing(rig, spec, law, chain=None, user_function="auto", ancf_ele
                 nodeNumber=nPole, outputVariableType=output, storeInternal=True, writeToFile=False))
         model.pole_nodes.append(nPole)
 
-    history = []  # (t, impact speeds) at every step start
     coordinates, velocities = exu.OutputVariableType.Coordinates, exu.OutputVariableType.Coordinates_t
 
     def latch_impact_speeds(mbs, t):
         theta, omega = mbs.GetNodeOutput(nCam, coordinates), mbs.GetNodeOutput(nCam, velocities)
         phi, phi_dot = mbs.GetNodeOutput(nFollower, coordinates), mbs.GetNodeOutput(nFollower, velocities)
-        roller = laws.roller(theta, omega, phi, phi_dot)[0]
-        state = [(roller.penetration, roller.penetration_rate)]
-        for i, nPole in enumerate(model.pole_nodes):
-            z, z_dot = mbs.GetNodeOutput(nPole, coordinates), mbs.GetNodeOutput(nPole, velocities)
-            state.append((z - laws.gaps[i], z_dot))
-        update_impact_speeds(impact, state)
-        history.append((t, *impact))
+        z = [mbs.GetNodeOutput(nPole, coordinates) for nPole in model.pole_nodes]
+        z_dot = [mbs.GetNodeOutput(nPole, velocities) for nPole in model.pole_nodes]
+        laws.latch_impact_speeds(impact, theta, omega, phi, phi_dot, z, z_dot)
         return True
 
     mbs.SetPreStepUserFunction(latch_impact_speeds)
-    model.laws, model.initial, model.impact_history, model.nFollower = laws, initial, history, nFollower
+    model.laws, model.initial, model.nFollower = laws, initial, nFollower
     return model
 
 
@@ -326,6 +331,7 @@ def contact_channels(laws, ch, n):
     m = len(ch["cam_angle"])
     impact = np.zeros(n + 1)
     out = {"cam_roller_force": np.zeros(m), "cam_roller_penetration": np.zeros(m),
+           "cam_roller_penetration_rate": np.zeros(m),
            "cam_roller_damping_force": np.zeros(m), "pressure_angle": np.zeros(m)}
     for i in range(n):
         for key in ("contact_force", "contact_damping_force", "rod_force", "rod_compression", "rod_rate"):
@@ -333,14 +339,12 @@ def contact_channels(laws, ch, n):
     law = laws.b.contact
     for j in range(m):
         th, w, phi, phid = ch["cam_angle"][j], ch["shaft_velocity"][j], ch["follower_angle"][j], ch["follower_velocity"][j]
-        c = laws.roller(th, w, phi, phid)[0]
-        state = [(c.penetration, c.penetration_rate)]
         zs = [(ch[f"pole_{i + 1}_travel"][j], ch[f"pole_{i + 1}_velocity"][j]) for i in range(n)]
-        state += [(z - laws.gaps[i], zd) for i, (z, zd) in enumerate(zs)]
-        update_impact_speeds(impact, state)
+        c = laws.latch_impact_speeds(impact, th, w, phi, phid, [z for z, _ in zs], [zd for _, zd in zs])
         force = laws.roller(th, w, phi, phid, impact[0])[1]
         out["cam_roller_force"][j] = force
         out["cam_roller_penetration"][j] = c.penetration
+        out["cam_roller_penetration_rate"][j] = c.penetration_rate
         out["pressure_angle"][j] = c.pressure_angle
         elastic = law.cam_roller_stiffness * max(c.penetration, 0.0) ** law.exponent
         out["cam_roller_damping_force"][j] = force - elastic if force > 0 else 0.0
@@ -354,10 +358,6 @@ def contact_channels(laws, ch, n):
             out[f"pole_{i + 1}_rod_compression"][j] = s
             out[f"pole_{i + 1}_rod_rate"][j] = rate
     return out
-
-
-def _trapezoid(y, t):
-    return np.concatenate([[0.0], np.cumsum(0.5 * (y[1:] + y[:-1]) * np.diff(t))])
 
 
 def energy_balance(result, rig, chain=None):
@@ -396,8 +396,7 @@ def energy_balance(result, rig, chain=None):
     dissipation = np.zeros_like(th)
     if "friction_torque" in ch:  # the channel is the friction's torque on the cam (opposes w)
         dissipation -= ch["friction_torque"] * w
-    roller_rate = np.array([laws.roller(*s)[0].penetration_rate for s in zip(th, w, phi, phid)])
-    dissipation += ch["cam_roller_damping_force"] * roller_rate
+    dissipation += ch["cam_roller_damping_force"] * ch["cam_roller_penetration_rate"]
     for i in range(n):
         z, zd = ch[f"pole_{i + 1}_travel"], ch[f"pole_{i + 1}_velocity"]
         kinetic = kinetic + 0.5 * b.poles.moving_mass * zd**2
@@ -407,9 +406,9 @@ def energy_balance(result, rig, chain=None):
         dissipation += ch[f"pole_{i + 1}_contact_damping_force"] * zd
         dissipation += b.poles.rod_damping * ch[f"pole_{i + 1}_rod_rate"] ** 2
     holding = result.info["initial"].holding_torque
-    latch_work = _trapezoid(np.array([laws.latch(tt, holding) for tt in t]) * w, t)
+    latch_work = cumulative_trapezoid(np.array([laws.latch(tt, holding) for tt in t]) * w, t, initial=0.0)
     potential = springs + cam_weight + opening + rods + contacts + poles
-    dissipated = _trapezoid(dissipation, t)
+    dissipated = cumulative_trapezoid(dissipation, t, initial=0.0)
     total = kinetic + potential
     return {"t": t, "kinetic": kinetic, "potential": potential, "closing_springs": springs, "opening_spring": opening,
             "wipe_and_rods": rods, "contacts": contacts, "dissipated": dissipated, "latch_work": latch_work,

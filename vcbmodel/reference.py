@@ -119,14 +119,8 @@ class BreakerExtension:
         return (t_cam + laws.latch(t, self.initial.holding_torque), fx, fy), rates
 
     def pre_step(self, t, y_full):
-        from .breaker_model import update_impact_speeds
-
-        y = y_full[self.offset:]
-        n, laws = self.n, self.laws
-        c = laws.roller(y_full[0], y_full[1], y[0], y[1 + n])[0]
-        state = [(c.penetration, c.penetration_rate)]
-        state += [(y[1 + i] - laws.gaps[i], y[2 + n + i]) for i in range(n)]
-        update_impact_speeds(self.impact, state)
+        y, n = y_full[self.offset:], self.n
+        self.laws.latch_impact_speeds(self.impact, y_full[0], y_full[1], y[0], y[1 + n], y[1:1 + n], y[2 + n:])
 
 
 def rk4(rhs, y0, t_end, step, pre_step=None):
