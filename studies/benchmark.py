@@ -12,10 +12,13 @@ from pathlib import Path
 from _common import parse_args, write_json
 
 from vcbmodel import parameters as P
-from vcbmodel.exudyn_models import build_pendulum
-from vcbmodel.rig import load_measurement, load_rig
-from vcbmodel.runner import default_step, model_spec, simulate
-from vcbmodel.synthetic import random_case, write_rig
+from vcbmodel.analysis.diagnose import diagnose
+from vcbmodel.analysis.identify import identify
+from vcbmodel.analysis.synthetic import random_case, synthetic_measurement, write_rig
+from vcbmodel.builders.pendulum import build_pendulum
+from vcbmodel.experiments import experiment_of
+from vcbmodel.experiments.loading import load_record, load_rig
+from vcbmodel.experiments.simulation import model_spec, simulate
 
 HYBRID = ("coulomb_friction", "stribeck", "viscous_friction")
 
@@ -43,7 +46,7 @@ def main():
     prig, crig = load_rig(tmp / "p.rig.json"), load_rig(tmp / "c.rig.json")
     truth = P.REFERENCE_PENDULUM_TRUTH
     law = model_spec(prig, HYBRID, truth).friction_law(prig.shaft_radius)
-    h = default_step(prig, law)
+    h = experiment_of("pendulum").step(prig, law)
     t_end = 6.0
     res = {"machine": {"python": platform.python_version(), "processor": platform.processor() or platform.machine()},
            "pendulum_6s": {"step_s": h}}
@@ -83,8 +86,6 @@ def main():
     print(closing, flush=True)
 
     if not args.quick:
-        from vcbmodel.identify import identify
-        from vcbmodel.synthetic import synthetic_measurement
         pairs = []
         for i, rd in enumerate((P.REFERENCE_PENDULUM, P.REFERENCE_PENDULUM_15)):
             write_rig(rd, tmp / f"id{i}.rig.json")
@@ -94,13 +95,12 @@ def main():
         identify(pairs, "hybrid", verbose=False)
         res["hybrid_identification_two_measurements_s"] = time.perf_counter() - t0
         res["hybrid_identification_target_s"] = 60.0
-        from vcbmodel.diagnose import diagnose
         diag = res["diagnosis_s"] = {}
         for case in ("pend_visc", "cam_mass"):
             rp, mp, _ = random_case(case, 7, tmp)
             rig = load_rig(rp)
             t0 = time.perf_counter()
-            diagnose(rig, load_measurement(mp, rig.experiment), verbose=False)
+            diagnose(rig, load_record(mp, rig), verbose=False)
             diag[case] = time.perf_counter() - t0
         diag["target_s"] = 120.0
         print(res, flush=True)

@@ -1,6 +1,6 @@
 """Hit rate of the diagnosis on randomised synthetic measurements with one hidden effect.
 
-For every case kind of vcbmodel.synthetic.CASES (pendulum and cam drop; hidden Coulomb,
+For every case kind of vcbmodel.analysis.synthetic.CASES (pendulum and cam drop; hidden Coulomb,
 viscous, Stribeck, spring mass, or nothing) and several seeds, a rig and a SYNTHETIC
 measurement are drawn, `diagnose` runs without knowing the answer, and the named effect
 and the gap shrink are scored. Writes results/diagnosis_sweep.{json,md}.
@@ -11,9 +11,10 @@ from pathlib import Path
 
 from _common import markdown_table, parse_args, write_json
 
-from vcbmodel.diagnose import diagnose
-from vcbmodel.rig import load_measurement, load_rig
-from vcbmodel.synthetic import CASES, random_case
+from vcbmodel.analysis.diagnose import diagnose
+from vcbmodel.experiments.loading import load_rig
+from vcbmodel.experiments.loading import load_record
+from vcbmodel.analysis.synthetic import CASES, random_case
 
 SEEDS = (1001, 1002)
 
@@ -30,7 +31,7 @@ def main():
                 rig_path, meas_path, truth = random_case(case, seed, tmp)
                 rig = load_rig(rig_path)
                 t0 = time.time()
-                d = diagnose(rig, load_measurement(meas_path, rig.experiment), verbose=False)
+                d = diagnose(rig, load_record(meas_path, rig), verbose=False)
                 seconds = time.time() - t0
                 ratio = d.final.rms / d.baseline.rms
                 ok = d.missing_effect == truth["answer"] and (truth["answer"] is None or ratio <= 0.5)

@@ -12,10 +12,11 @@ from pathlib import Path
 from _common import parse_args, write_json
 
 from vcbmodel import parameters as P
-from vcbmodel.diagnose import diagnose
-from vcbmodel.plots import plot_diagnosis
-from vcbmodel.rig import load_rig
-from vcbmodel.synthetic import synthetic_measurement, write_measurement, write_rig
+from vcbmodel.analysis.diagnose import diagnose
+from vcbmodel.app.plots import plot_diagnosis
+from vcbmodel.experiments.loading import load_rig
+from vcbmodel.analysis.synthetic import synthetic_measurement, write_rig
+from vcbmodel.records.measurement import write_measurement
 
 
 def cam_case(out):

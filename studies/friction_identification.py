@@ -12,10 +12,11 @@ from pathlib import Path
 from _common import markdown_table, parse_args, write_json
 
 from vcbmodel import parameters as P
-from vcbmodel.identify import identify
-from vcbmodel.plots import plt, save
-from vcbmodel.rig import load_rig
-from vcbmodel.synthetic import synthetic_measurement, write_measurement, write_rig
+from vcbmodel.analysis.identify import identify
+from vcbmodel.app.plots import plt, save
+from vcbmodel.experiments.loading import load_rig
+from vcbmodel.analysis.synthetic import synthetic_measurement, write_rig
+from vcbmodel.records.measurement import write_measurement
 
 TRUTH_EFFECTS = ("coulomb_friction", "stribeck", "viscous_friction")
 
@@ -46,7 +47,7 @@ def main():
         ax.plot(meas.t, meas.channels["pendulum_angle"], ".", ms=1.5, color="0.55", label="synthetic measurement")
         for law, style in (("hybrid", "-"), ("stick-slip", "--")):
             f = fits[law]
-            ax.plot(meas.t, f.fit.simulations[j].angle, style, lw=1.1,
+            ax.plot(meas.t, f.fit.simulations[j].measured, style, lw=1.1,
                     label=f"{law} fit (max error {100 * abs(f.fit.residuals[j]).max() / f.first_peaks[j]:.1f} %)")
             axr.plot(meas.t, f.fit.residuals[j], style, lw=0.8, label=law)
         ax.set_title(rig.name)

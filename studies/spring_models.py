@@ -14,12 +14,15 @@ import numpy as np
 from _common import markdown_table, parse_args, write_json
 
 from vcbmodel import parameters as P
-from vcbmodel.mechanics import cam_pin
-from vcbmodel.plots import plt, save
-from vcbmodel.rig import load_rig
-from vcbmodel.runner import simulate
-from vcbmodel.springs import fixed_fixed_frequencies, lumped_chain, string_frequencies
-from vcbmodel.synthetic import synthetic_measurement, write_measurement, write_rig
+from vcbmodel.analysis.synthetic import synthetic_measurement, write_rig
+from vcbmodel.app.plots import plt, save
+from vcbmodel.builders.ancf import ancf_fixed_fixed_frequencies
+from vcbmodel.experiments.loading import load_rig
+from vcbmodel.experiments.simulation import simulate
+from vcbmodel.laws.mechanics import cam_pin
+from vcbmodel.laws.springs import fixed_fixed_frequencies, lumped_chain, string_frequencies
+from vcbmodel.records.measurement import write_measurement
+from vcbmodel.rig.data import Cam
 
 FRICTION = ("coulomb_friction", "stribeck")
 TRUTH_MODEL = "ancf"  # the continuum, 16 elements (mesh-converged: tests/test_ancf.py)
@@ -41,7 +44,7 @@ def spring_points(result, rig, i):
     names = sorted({k.rsplit("_", 1)[0] for k in result.channels if k.startswith(("spring_mass_", "ancf_node_"))},
                    key=lambda s: int(s.rsplit("_", 1)[1]))
     pts = [rig.closing_spring.anchor] + [(result.channels[n + "_x"][i], result.channels[n + "_y"][i]) for n in names]
-    pts.append(cam_pin(result.angle[i], rig.cam))
+    pts.append(cam_pin(result.measured[i], rig.cam))
     return np.array(pts)
 
 
@@ -75,7 +78,6 @@ def modes_table(out):
             rows.append([key, ", ".join(f"{x:.1f}" for x in f), ", ".join(f"{x:.4f}" for x in c.masses),
                          ", ".join(f"{x:.0f}" for x in c.stiffnesses), f"{total:.3f}", f"{end_mass:.3f}"])
     if True:
-        from vcbmodel.ancf_spring import ancf_fixed_fixed_frequencies
         for ne in (4, 8, 16):
             f = np.asarray(ancf_fixed_fixed_frequencies(k0, m0, L, ne, count=3))
             data["models"][f"ancf-{ne}"] = {"frequencies_hz": f.tolist()}
@@ -107,7 +109,6 @@ def modes_table(out):
 
 
 def load_rig_cam():
-    from vcbmodel.rig import Cam
     c = P.REFERENCE_CAM["cam"]
     return Cam(c["mass"], c["inertia_com"], c["com_distance"], c["com_angle"], tuple(c["pivot"]), c["arm_length"],
                c["initial_angle"], c["initial_velocity"])
@@ -134,31 +135,31 @@ def main():
         models += [("lumped-20", "uniform"), ("ancf", "exact")]
         curves = {}
         for model, conv in models:
-            r = rig.with_model(lumped_convention=conv)
             eff = FRICTION + (("spring_mass",) if model != "massless" else ())
-            sim = simulate(r, eff, friction, spring_model=model, sample_times=meas.t)  # ancf: 8 elements
+            spring = f"{model}:{conv}" if model.startswith("lumped") else model
+            sim = simulate(rig, eff, friction, spring_model=spring, sample_times=meas.t)  # ancf: 8 elements
             key = f"{model} ({conv})" if model.startswith("lumped") else model
             curves[key] = sim
-            rms = float(np.sqrt(np.mean((sim.angle - y) ** 2)))
-            fidelity["cases"].setdefault(label, {})[key] = {"rms_rad": rms, "max_error_rad": float(np.max(np.abs(sim.angle - y)))}
-            rows.append([label, key, f"{1e3 * rms:.2f}", f"{1e3 * np.max(np.abs(sim.angle - y)):.2f}"])
+            rms = float(np.sqrt(np.mean((sim.measured - y) ** 2)))
+            fidelity["cases"].setdefault(label, {})[key] = {"rms_rad": rms, "max_error_rad": float(np.max(np.abs(sim.measured - y)))}
+            rows.append([label, key, f"{1e3 * rms:.2f}", f"{1e3 * np.max(np.abs(sim.measured - y)):.2f}"])
         nofric = simulate(rig, (), {}, spring_model="massless", sample_times=meas.t)
-        fidelity["cases"][label]["massless, no friction"] = {"rms_rad": float(np.sqrt(np.mean((nofric.angle - y) ** 2)))}
+        fidelity["cases"][label]["massless, no friction"] = {"rms_rad": float(np.sqrt(np.mean((nofric.measured - y) ** 2)))}
         rows.append([label, "massless, no friction", f"{1e3 * fidelity['cases'][label]['massless, no friction']['rms_rad']:.2f}", ""])
         if mass == P.HEAVY_SPRING_MASS:
             tms = meas.t * 1e3
             fig, ax = plt.subplots(figsize=(7, 4.5))
             ax.plot(tms, y, ".", ms=2, color="0.5", label="synthetic measurement (12 kHz camera)")
-            ax.plot(tms, curves["massless"].angle, label="massless spring, with shaft friction")
-            ax.plot(tms, nofric.angle, "--", label="massless spring, no shaft friction")
+            ax.plot(tms, curves["massless"].measured, label="massless spring, with shaft friction")
+            ax.plot(tms, nofric.measured, "--", label="massless spring, no shaft friction")
             ax.set_xlabel("t (ms)"); ax.set_ylabel("cam angle (rad)"); ax.legend(fontsize=8)
             ax.set_title("Fig. 9(a): ideal spring vs measurement (1 kg spring)")
             save(fig, out / "cam_drop_fig9a.png")
             fig, (ax, axr) = plt.subplots(2, 1, figsize=(7, 6.5), sharex=True, gridspec_kw={"height_ratios": [2, 1]})
             ax.plot(tms, y, ".", ms=2, color="0.5", label="synthetic measurement")
             for key in ["lumped-1 (exact)", "lumped-2 (exact)", "lumped-3 (exact)", "lumped-2 (paper)", "ancf"]:
-                ax.plot(tms, curves[key].angle, lw=1, label=key)
-                axr.plot(tms, curves[key].angle - y, lw=0.8, label=key)
+                ax.plot(tms, curves[key].measured, lw=1, label=key)
+                axr.plot(tms, curves[key].measured - y, lw=0.8, label=key)
             ax.set_ylabel("cam angle (rad)"); ax.legend(fontsize=8)
             ax.set_title("Fig. 9(b): lumped and continuum spring models (1 kg spring)")
             axr.set_xlabel("t (ms)"); axr.set_ylabel("model - measurement (rad)")

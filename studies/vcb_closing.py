@@ -15,13 +15,14 @@ import numpy as np
 from _common import markdown_table, parse_args, write_json
 
 from vcbmodel import parameters as P
-from vcbmodel.breaker import pressure_angle_curve
-from vcbmodel.breaker_model import BreakerLaws, energy_balance, figures_of_merit
-from vcbmodel.plots import plt, save
-from vcbmodel.rig import load_rig
-from vcbmodel.runner import model_spec, simulate
-from vcbmodel.springs import lumped_chain
-from vcbmodel.synthetic import synthetic_measurement, write_measurement, write_rig
+from vcbmodel.laws.breaker import pressure_angle_curve
+from vcbmodel.laws.breaker import BreakerLaws
+from vcbmodel.experiments.closing_evaluation import energy_balance, figures_of_merit
+from vcbmodel.app.plots import plt, save
+from vcbmodel.experiments.loading import load_rig
+from vcbmodel.experiments.simulation import model_spec, simulate
+from vcbmodel.analysis.synthetic import synthetic_measurement, write_rig
+from vcbmodel.records.measurement import write_measurement
 
 FRICTION = ("coulomb_friction", "stribeck")
 
@@ -38,15 +39,8 @@ def models(rig):
     }
 
 
-def chain_of(rig, result):
-    s, spec = rig.closing_spring, result.spec
-    if not spec.spring_model.startswith("lumped"):
-        return None
-    return lumped_chain(int(spec.spring_model.split("-")[1]), s.stiffness, s.mass, s.free_length, spec.lumped_convention)
-
-
 def energy_row(label, rig, result):
-    e = energy_balance(result, rig, chain_of(rig, result))
+    e = energy_balance(result, rig)
     released = float(np.max(e["spring_energy_released"]))
     laws_end = {k: float(e[k][-1]) for k in ("kinetic", "opening_spring", "wipe_and_rods", "contacts", "dissipated")}
     return {"model": label, "spring_energy_released_max_J": released,
@@ -113,7 +107,7 @@ def main():
                                              - summary["models"]["full model (friction + lumped-2)"]["figures_of_merit"]["closing_time_s"])}
     summary["step_convergence"] = conv
 
-    laws = BreakerLaws(rig, model_spec(rig))
+    laws = BreakerLaws.of_rig(rig, model_spec(rig))
     thetas = np.linspace(rig.cam.initial_angle, rig.cam.initial_angle + 2 * np.pi, 721)
     pressure = np.degrees(pressure_angle_curve(rig.breaker, laws.geometry, thetas))
     summary["max_pressure_angle_deg"] = float(pressure.max())

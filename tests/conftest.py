@@ -4,7 +4,7 @@ from pathlib import Path
 import pytest
 
 from vcbmodel import parameters as P
-from vcbmodel.rig import load_rig
+from vcbmodel.experiments.loading import load_rig
 
 ROOT = Path(__file__).resolve().parents[1]
 EXAMPLES = ROOT.parent / "shared" / "data" / "examples"

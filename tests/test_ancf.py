@@ -4,9 +4,12 @@ import math
 import numpy as np
 import pytest
 
-from vcbmodel.ancf_spring import ancf_modes, coil_bending_stiffness
+from vcbmodel import parameters as P
+from vcbmodel.builders.ancf import ancf_modes
 from vcbmodel.errors import SimulationError
-from vcbmodel.runner import simulate
+from vcbmodel.experiments.loading import load_rig
+from vcbmodel.experiments.simulation import simulate
+from vcbmodel.laws.coil import coil_bending_stiffness
 
 K0, M0, L0 = 24230.0, 0.3364, 0.30
 EFFECTS = ("coulomb_friction", "stribeck", "spring_mass")
@@ -40,8 +43,6 @@ def test_preloaded_lateral_mode_is_the_string_mode_plus_bending():
 def heavy_cam(tmp_path_factory):
     import copy
     import json
-    from vcbmodel import parameters as P
-    from vcbmodel.rig import load_rig
     d = copy.deepcopy(P.REFERENCE_CAM)
     d["closing_spring"]["mass"] = 1.0
     path = tmp_path_factory.mktemp("ancf") / "cam.rig.json"
@@ -52,16 +53,16 @@ def heavy_cam(tmp_path_factory):
 def test_cam_drop_converges_under_mesh_refinement(heavy_cam):
     runs = {n: simulate(heavy_cam, EFFECTS, spring_model="ancf", ancf_elements=n, sample_times=T, step=1.25e-6)
             for n in (4, 8, 16)}
-    d1 = np.max(np.abs(runs[4].angle - runs[16].angle))
-    d2 = np.max(np.abs(runs[8].angle - runs[16].angle))
+    d1 = np.max(np.abs(runs[4].measured - runs[16].measured))
+    d2 = np.max(np.abs(runs[8].measured - runs[16].measured))
     assert d2 < d1 and d2 < 1e-4
-    assert all(np.all(np.isfinite(r.angle)) for r in runs.values())
+    assert all(np.all(np.isfinite(r.measured)) for r in runs.values())
 
 
 def test_uniform_chains_approach_the_ancf_continuum(heavy_cam):
     ancf = simulate(heavy_cam, EFFECTS, spring_model="ancf", sample_times=T)
-    uniform = heavy_cam.with_model(lumped_convention="uniform")
-    gaps = [np.max(np.abs(simulate(uniform, EFFECTS, spring_model=f"lumped-{n}", sample_times=T).angle - ancf.angle))
+    uniform = heavy_cam
+    gaps = [np.max(np.abs(simulate(uniform, EFFECTS, spring_model=f"lumped-{n}:uniform", sample_times=T).measured - ancf.measured))
             for n in (5, 10, 20)]
     assert gaps[0] > gaps[1] > gaps[2]
     assert gaps[2] < 0.05  # 20 equal masses: within 50 mrad of the continuum after a 3.5 rad stroke

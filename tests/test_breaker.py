@@ -9,13 +9,15 @@ import numpy as np
 import pytest
 
 from vcbmodel import parameters as P
-from vcbmodel.breaker import (cam_roller_contact, cam_roller_loads, kinematic_follower_angle, latch_torque,
+from vcbmodel.laws.breaker import (BreakerLaws, cam_roller_contact, cam_roller_loads, kinematic_follower_angle, latch_torque,
                               pitch_radius, polynomial_rise, pressure_angle_curve, push_rod_energy, push_rod_force)
-from vcbmodel.breaker_model import BreakerLaws, energy_balance, figures_of_merit
+from vcbmodel.analysis.diagnose import diagnose
+from vcbmodel.analysis.synthetic import synthetic_measurement
 from vcbmodel.errors import InputError
-from vcbmodel.rig import load_rig
-from vcbmodel.runner import model_spec, simulate
-from vcbmodel.springs import lumped_chain
+from vcbmodel.experiments.closing_evaluation import energy_balance, figures_of_merit
+from vcbmodel.experiments.loading import load_rig
+from vcbmodel.experiments.simulation import model_spec, simulate
+from vcbmodel.records.measurement import write_measurement
 
 T_END = 0.04
 
@@ -33,7 +35,7 @@ def rig(tmp_path_factory):
 
 @pytest.fixture(scope="module")
 def laws(rig):
-    return BreakerLaws(rig, model_spec(rig))
+    return BreakerLaws.of_rig(rig, model_spec(rig))
 
 
 # --- pure laws -------------------------------------------------------------------------------
@@ -165,11 +167,7 @@ def test_energy_balance_of_the_whole_closing(rig, spring):
     """Released spring energy = kinetic + dissipated (friction, contacts, rods) + stored, to 1 %."""
     r = simulate(rig, spring_model=spring, t_end=T_END,
                  effects=[e for e in rig.model.effects if spring != "massless" or e != "spring_mass"])
-    chain = None
-    if spring != "massless":
-        s = rig.closing_spring
-        chain = lumped_chain(2, s.stiffness, s.mass, s.free_length, r.spec.lumped_convention)
-    e = energy_balance(r, rig, chain)
+    e = energy_balance(r, rig)
     released = np.max(e["spring_energy_released"])
     assert released > 1000.0
     assert np.max(np.abs(e["residual"])) < 0.01 * released
@@ -246,7 +244,6 @@ def test_cli_simulates_a_closing_and_writes_follower_displacement(tmp_path):
 # --- diagnosis on a closing ----------------------------------------------------------------------
 
 def hidden_effect_case(tmp_path, starting_effects, truth_values, seed):
-    from vcbmodel.synthetic import synthetic_measurement, write_measurement
 
     d = copy.deepcopy(P.REFERENCE_BREAKER)
     d["friction"] = {"stick_velocity": 1e-3} if "coulomb_friction" not in starting_effects else {
@@ -269,8 +266,6 @@ def hidden_effect_case(tmp_path, starting_effects, truth_values, seed):
                  marks=pytest.mark.slow),
 ], ids=["hidden_shaft_friction", "hidden_bellows_force"])
 def test_diagnosis_finds_a_hidden_effect_in_a_closing(tmp_path, starting, truth, seed, missing, parameter, rel):
-    from vcbmodel.diagnose import diagnose
-
     rig, meas = hidden_effect_case(tmp_path, starting, truth, seed=seed)
     d = diagnose(rig, meas, verbose=False)
     assert d.missing_effect == missing

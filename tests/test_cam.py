@@ -4,9 +4,9 @@ import math
 import numpy as np
 import pytest
 
-from vcbmodel.mechanics import cam_pin
-from vcbmodel.runner import simulate
-from vcbmodel.springs import lumped_chain
+from vcbmodel.laws.mechanics import cam_pin
+from vcbmodel.experiments.simulation import simulate
+from vcbmodel.laws.springs import lumped_chain
 
 FRICTION = {"mu_k": 0.13, "mu_s": 0.2, "stick_velocity": 1e-3, "stribeck_velocity": 0.1, "viscous": 0.05}
 MODELS = ["massless", "lumped-1", "lumped-2", "lumped-3"]
@@ -26,15 +26,15 @@ def test_exudyn_matches_independent_solve_over_35_ms(cam_rig, model, friction):
     exu = simulate(cam_rig, eff, FRICTION, spring_model=model, t_end=0.035)
     ref = simulate(cam_rig, eff, FRICTION, spring_model=model, t_end=0.035, backend="reference",
                    sample_times=exu.t)
-    err = np.max(np.abs(exu.angle - ref.angle))
+    err = np.max(np.abs(exu.measured - ref.measured))
     assert err < 1e-3
     assert err < 1e-4  # measured about 2e-5 rad: the RK4 step error at h = 1e-5 s
-    assert exu.angle[-1] - exu.angle[0] > 2.0  # the cam really closes (about 3 rad in 35 ms)
+    assert exu.measured[-1] - exu.measured[0] > 2.0  # the cam really closes (about 3 rad in 35 ms)
 
 
 def _energy(rig, result, model):
     cam, spring, g = rig.cam, rig.closing_spring, rig.gravity
-    th, w = result.angle, result.channels["shaft_velocity"]
+    th, w = result.measured, result.channels["shaft_velocity"]
     c = spring.count
     phi = th - cam.com_angle
     energy = 0.5 * cam.inertia_pivot * w**2 + cam.mass * g * (cam.pivot[1] + cam.com_distance * np.sin(phi))
@@ -77,7 +77,7 @@ def test_step_refinement_changes_curve_by_less_than_0_1_mrad(cam_rig, model):
     eff = effects_for(model, True)
     a = simulate(cam_rig, eff, FRICTION, spring_model=model, t_end=0.035)
     b = simulate(cam_rig, eff, FRICTION, spring_model=model, t_end=0.035, step=a.info["step"] / 2, sample_times=a.t)
-    assert np.max(np.abs(a.angle - b.angle)) < 1e-4
+    assert np.max(np.abs(a.measured - b.measured)) < 1e-4
 
 
 def test_reference_rig_matches_paper_forces(cam_rig):
@@ -89,7 +89,7 @@ def test_reference_rig_matches_paper_forces(cam_rig):
     assert force(cam.initial_angle) == pytest.approx(6000, rel=0.02)
     assert force(math.pi) == pytest.approx(1000, rel=0.02)
     r = simulate(cam_rig, spring_model="lumped-2", t_end=0.035)
-    t_pi = np.interp(math.pi, r.angle, r.t)
+    t_pi = np.interp(math.pi, r.measured, r.t)
     assert 0.02 < t_pi < 0.035
 
 
@@ -97,4 +97,4 @@ def test_spring_mass_slows_the_cam(cam_rig):
     """The paper's finding: the spring's own mass makes the cam turn less and later."""
     light = simulate(cam_rig, ("coulomb_friction",), {"mu_k": 0.13}, spring_model="massless", t_end=0.03)
     heavy = simulate(cam_rig, ("coulomb_friction", "spring_mass"), {"mu_k": 0.13}, spring_model="lumped-2", t_end=0.03)
-    assert heavy.angle[-1] < light.angle[-1] - 0.05
+    assert heavy.measured[-1] < light.measured[-1] - 0.05

@@ -8,9 +8,10 @@ import numpy as np
 import pytest
 
 from conftest import EXAMPLES, examples_available
-from vcbmodel.cli import main
+from vcbmodel.analysis.synthetic import synthetic_measurement
+from vcbmodel.app.cli import main
 from vcbmodel.errors import SimulationError
-from vcbmodel.rig import load_measurement
+from vcbmodel.records.measurement import load_measurement, write_measurement
 
 GOOD_CAM = Path(__file__).resolve().parent / "bad_rigs" / "good_cam.rig.json"
 
@@ -20,7 +21,7 @@ def test_simulate_writes_a_measurement_file(tmp_path, capsys):
     for model in ("massless", "lumped-2"):
         f = tmp_path / f"{model}.csv"
         assert main(["simulate", str(GOOD_CAM), "--spring-model", model, "-o", str(f)]) == 0
-        m = load_measurement(f, "cam_drop")
+        m = load_measurement(f, "cam_angle")
         assert m.t[-1] == pytest.approx(0.035)
         assert np.allclose(np.diff(m.t), 1 / 12000, atol=2e-7)  # times are written to 0.1 us
         assert np.all(np.isfinite(m.channels["cam_angle"]))
@@ -32,13 +33,16 @@ def test_simulate_writes_a_measurement_file(tmp_path, capsys):
 def test_simulate_to_stdout_with_overrides(capsys):
     assert main(["simulate", str(GOOD_CAM), "--effects", "", "--t-end", "0.01"]) == 0
     lines = capsys.readouterr().out.strip().splitlines()
-    assert lines[1] == "t,cam_angle" and len(lines) == 2 + 120 + 1
+    comments = [ln for ln in lines if ln.startswith("#")]
+    data = [ln for ln in lines if not ln.startswith("#")]
+    assert any("cam_angle in rad" in c for c in comments)  # the unit is stated
+    assert data[0] == "t,cam_angle" and len(data) == 1 + 120 + 1
 
 
 def test_solver_failure_exits_1_with_one_line(monkeypatch, capsys, tmp_path):
     def boom(*a, **k):
         raise SimulationError("the solution diverged (non-finite angle); reduce the step")
-    monkeypatch.setattr("vcbmodel.runner.simulate", boom)
+    monkeypatch.setattr("vcbmodel.app.cli.simulate", boom)
     assert main(["simulate", str(GOOD_CAM), "-o", str(tmp_path / "x.csv")]) == 1
     err = capsys.readouterr().err.strip().splitlines()
     assert len(err) == 1 and "diverged" in err[0]
@@ -64,7 +68,6 @@ def test_diagnose_json_and_plot(tmp_path):
 
 
 def test_identify_json(tmp_path, pendulum_rig):
-    from vcbmodel.synthetic import synthetic_measurement, write_measurement
     meas = synthetic_measurement(pendulum_rig, ("coulomb_friction",), {"mu_k": 0.12}, seed=3, t_end=2.0)
     f = tmp_path / "p.csv"
     write_measurement(meas, f)
@@ -86,5 +89,6 @@ def test_stdout_carries_only_the_csv(model, tmp_path):
                        capture_output=True, text=True, timeout=300)
     assert p.returncode == 0, p.stderr
     lines = p.stdout.splitlines()
-    assert lines[0].startswith("# ") and lines[1] == "t,cam_angle"
-    assert all(len(l.split(",")) == 2 and float(l.split(",")[1]) == float(l.split(",")[1]) for l in lines[2:])
+    data = [ln for ln in lines if not ln.startswith("# ")]
+    assert lines[0].startswith("# ") and data[0] == "t,cam_angle"
+    assert all(len(l.split(",")) == 2 and float(l.split(",")[1]) == float(l.split(",")[1]) for l in data[1:])

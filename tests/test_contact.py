@@ -4,7 +4,7 @@ import numpy as np
 import pytest
 from scipy.integrate import solve_ivp
 
-from vcbmodel.contact import hertz_contact_force
+from vcbmodel.laws.contact import hertz_contact_force
 
 
 def bounce(mass, stiffness, restitution, v0, exponent=1.5):

@@ -5,11 +5,14 @@ import numpy as np
 import pytest
 
 from conftest import EXAMPLES, examples_available
-from vcbmodel import effects as effects_module
-from vcbmodel.diagnose import BIC_MARGIN, _candidate_jobs, diagnose
-from vcbmodel.rig import load_measurement, load_rig
-from vcbmodel.synthetic import CASES, random_case
-from vcbmodel.signals import noise_estimate
+from vcbmodel.model import effects as effects_module
+from vcbmodel.analysis.diagnose import BIC_MARGIN, _candidate_jobs, diagnose
+from vcbmodel.experiments.loading import load_rig
+from vcbmodel.experiments.loading import load_record
+from vcbmodel.records.measurement import load_measurement
+from vcbmodel.analysis.synthetic import CASES, random_case
+from vcbmodel.records.signals import noise_estimate
+from vcbmodel.rig.spring_model import SpringModel
 
 
 def run_case(case, seed, tmp_path):
@@ -18,7 +21,7 @@ def run_case(case, seed, tmp_path):
     short = CASES[case][0] == "pendulum" and case != "pend_strib"
     rig_path, meas_path, truth = random_case(case, seed, tmp_path, t_end=3.0 if short else None)
     rig = load_rig(rig_path)
-    d = diagnose(rig, load_measurement(meas_path, rig.experiment), verbose=False)
+    d = diagnose(rig, load_record(meas_path, rig), verbose=False)
     return d, truth
 
 
@@ -86,12 +89,12 @@ def test_registering_an_effect_makes_it_a_candidate(monkeypatch, tmp_path):
         def off(self, spec, values, rig):
             pass
     registry = dict(effects_module.EFFECTS, shaft_backlash=Backlash())
-    monkeypatch.setattr("vcbmodel.diagnose.EFFECTS", registry)
+    monkeypatch.setattr("vcbmodel.analysis.diagnose.EFFECTS", registry)
     rig_path, meas_path, _ = random_case("cam_none", 3, tmp_path)
     rig = load_rig(rig_path)
 
     class Baseline:
-        effects, spring_model, values = ("coulomb_friction",), "massless", {"mu_k": 0.1}
+        effects, spring_model, values = ("coulomb_friction",), SpringModel(), {"mu_k": 0.1}
     jobs = _candidate_jobs(rig, load_measurement(meas_path), Baseline, [{}], 2e-3)
     assert "shaft_backlash" in {name for name, _, _ in jobs}
     assert "coulomb_friction" not in {name for name, _, _ in jobs}
@@ -102,7 +105,7 @@ def test_registering_an_effect_makes_it_a_candidate(monkeypatch, tmp_path):
 def test_examples_quick(name):
     answers = json.loads((EXAMPLES / "answers.json").read_text())
     rig = load_rig(EXAMPLES / f"{name}.rig.json")
-    d = diagnose(rig, load_measurement(EXAMPLES / f"{name}.csv", rig.experiment), verbose=False)
+    d = diagnose(rig, load_record(EXAMPLES / f"{name}.csv", rig), verbose=False)
     assert d.missing_effect == answers[name]["answer"]
 
 
@@ -112,7 +115,7 @@ def test_examples_quick(name):
 def test_examples_all(name):
     answers = json.loads((EXAMPLES / "answers.json").read_text())
     rig = load_rig(EXAMPLES / f"{name}.rig.json")
-    d = diagnose(rig, load_measurement(EXAMPLES / f"{name}.csv", rig.experiment), verbose=False)
+    d = diagnose(rig, load_record(EXAMPLES / f"{name}.csv", rig), verbose=False)
     assert d.missing_effect == answers[name]["answer"]
     if d.missing_effect:
         assert d.final.rms <= 0.5 * d.baseline.rms

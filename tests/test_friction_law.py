@@ -4,10 +4,10 @@ import math
 import numpy as np
 import pytest
 
-from vcbmodel.friction import (FrictionLaw, NumericOps, consistent_reaction, friction_torque, shaft_friction,
+from vcbmodel.laws.friction import (FrictionLaw, NumericOps, consistent_reaction, friction_torque, shaft_friction,
                                symbolic_ops, viscous_from_zeta, zeta_from_viscous)
-from vcbmodel.mechanics import cam_loads, pendulum_loads
-from vcbmodel.reference import friction_iterated
+from vcbmodel.laws.mechanics import cam_loads, pendulum_loads
+from vcbmodel.reference.solve import friction_iterated
 
 LAW = FrictionLaw(mu_s=0.2, mu_k=0.1, stick_velocity=1e-3, stribeck_velocity=0.1, viscous=0.5, radius=0.02)
 

@@ -5,10 +5,11 @@ import pytest
 
 from conftest import EXAMPLES, examples_available
 from vcbmodel import parameters as P
-from vcbmodel.fitting import Dataset, Parameter, fit, make_parameters
-from vcbmodel.identify import LAWS, identify
-from vcbmodel.rig import load_measurement, load_rig
-from vcbmodel.synthetic import synthetic_measurement
+from vcbmodel.analysis.fitting import Dataset, Parameter, fit, make_parameters
+from vcbmodel.analysis.identify import LAWS, identify
+from vcbmodel.experiments.loading import load_rig
+from vcbmodel.experiments.loading import load_record
+from vcbmodel.analysis.synthetic import synthetic_measurement
 
 
 @pytest.mark.skipif(not examples_available(), reason="shared example data not present")
@@ -18,7 +19,7 @@ def test_hybrid_law_recovers_example02_truth():
     from dataclasses import replace
     truth = json.loads((EXAMPLES / "answers.json").read_text())["example02"]
     rig = load_rig(EXAMPLES / "example02.rig.json")
-    meas = load_measurement(EXAMPLES / "example02.csv", rig.experiment)
+    meas = load_record(EXAMPLES / "example02.csv", rig)
     keep = meas.t <= 3.5
     meas = replace(meas, t=meas.t[keep], channels={k: v[keep] for k, v in meas.channels.items()})
     r = identify([(rig, meas)], "hybrid", verbose=False, polish=False)

@@ -7,7 +7,7 @@ import pytest
 from scipy.special import ellipk
 
 from vcbmodel.errors import SimulationError
-from vcbmodel.runner import simulate
+from vcbmodel.experiments.simulation import simulate
 
 FRICTION = {"mu_k": 0.13, "mu_s": 0.20, "stick_velocity": 1e-3, "stribeck_velocity": 0.1, "viscous": 0.6}
 COMBOS = [c for n in range(4) for c in itertools.combinations(("coulomb_friction", "stribeck", "viscous_friction"), n)]
@@ -20,22 +20,22 @@ def test_exudyn_matches_independent_solve_over_6_s(pendulum_rig, effects):
     exu = simulate(pendulum_rig, effects, FRICTION, t_end=6.0)
     ref = simulate(pendulum_rig, effects, FRICTION, t_end=6.0, backend="reference", method="rk4",
                    step=exu.info["step"], sample_times=exu.t)
-    assert np.max(np.abs(exu.angle - ref.angle)) < 1e-3
-    assert np.max(np.abs(exu.angle - ref.angle)) < 1e-8  # in fact to round-off: same equations
+    assert np.max(np.abs(exu.measured - ref.measured)) < 1e-3
+    assert np.max(np.abs(exu.measured - ref.measured)) < 1e-8  # in fact to round-off: same equations
 
 
 @pytest.mark.parametrize("effects", [(), ("viscous_friction",)])
 def test_smooth_cases_match_adaptive_dop853(pendulum_rig, effects):
     exu = simulate(pendulum_rig, effects, FRICTION, t_end=6.0)
     ref = simulate(pendulum_rig, effects, FRICTION, t_end=6.0, backend="reference", sample_times=exu.t)
-    assert np.max(np.abs(exu.angle - ref.angle)) < 1e-6
+    assert np.max(np.abs(exu.measured - ref.measured)) < 1e-6
 
 
 def test_python_and_compiled_user_functions_agree(pendulum_rig):
     effects = ("coulomb_friction", "stribeck", "viscous_friction")
     a = simulate(pendulum_rig, effects, FRICTION, t_end=3.0, user_function="symbolic")
     b = simulate(pendulum_rig, effects, FRICTION, t_end=3.0, user_function="python")
-    assert np.max(np.abs(a.angle - b.angle)) < 1e-10
+    assert np.max(np.abs(a.measured - b.measured)) < 1e-10
     assert np.max(np.abs(a.channels["friction_torque"] - b.channels["friction_torque"])) < 1e-8
 
 
@@ -43,7 +43,7 @@ def test_frictionless_energy_and_elliptic_period(pendulum_rig):
     """(b) energy conserved; period = 4 sqrt(I/(M g L)) K(sin^2(theta0/2))."""
     p, g = pendulum_rig.pendulum, pendulum_rig.gravity
     r = simulate(pendulum_rig, (), {}, t_end=6.0)
-    th, w = r.angle, r.channels["shaft_velocity"]
+    th, w = r.measured, r.channels["shaft_velocity"]
     energy = 0.5 * p.inertia * w**2 - p.mass * g * p.com_distance * np.cos(th)
     assert np.ptp(energy) / (p.mass * g * p.com_distance * (1 - math.cos(p.initial_angle))) < 1e-6
     # period from upward zero crossings of the velocity (turning points at +theta0)
@@ -61,7 +61,7 @@ def test_coulomb_amplitude_falls_by_the_analytic_amount(pendulum_rig):
     p, g, r_j = pendulum_rig.pendulum, pendulum_rig.gravity, pendulum_rig.shaft_radius
     mu = 0.05
     r = simulate(pendulum_rig, ("coulomb_friction",), {"mu_k": mu}, t_end=2.5)
-    th, w = r.angle, r.channels["shaft_velocity"]
+    th, w = r.measured, r.channels["shaft_velocity"]
     turns = 1 + np.nonzero(np.sign(w[2:]) * np.sign(w[1:-1]) < 0)[0]  # reversals after release
     amps = np.abs(th[turns[:4]])
     assert amps.size == 4
@@ -77,17 +77,17 @@ def test_pendulum_with_friction_above_gravity_stays_stuck(pendulum_rig):
     p, g = pendulum_rig.pendulum, pendulum_rig.gravity
     needed = p.mass * g * p.com_distance * math.sin(p.initial_angle) / (pendulum_rig.shaft_radius * p.mass * g)
     r = simulate(pendulum_rig, ("coulomb_friction",), {"mu_k": 1.2 * needed}, t_end=1.0)
-    assert np.max(np.abs(r.angle - p.initial_angle)) < 1e-12
+    assert np.max(np.abs(r.measured - p.initial_angle)) < 1e-12
     r = simulate(pendulum_rig, ("coulomb_friction",), {"mu_k": 0.8 * needed}, t_end=1.0)
-    assert np.max(np.abs(r.angle - p.initial_angle)) > 1e-3
+    assert np.max(np.abs(r.measured - p.initial_angle)) > 1e-3
 
 
 def test_step_refinement_converges(pendulum_rig):
     effects = ("coulomb_friction", "viscous_friction")
     runs = [simulate(pendulum_rig, effects, FRICTION, t_end=2.0, step=h) for h in (2e-4, 1e-4, 5e-5)]
     t = runs[-1].t[::20]
-    d1 = np.max(np.abs(runs[0].resample(t).angle - runs[2].resample(t).angle))
-    d2 = np.max(np.abs(runs[1].resample(t).angle - runs[2].resample(t).angle))
+    d1 = np.max(np.abs(runs[0].resample(t).measured - runs[2].resample(t).measured))
+    d2 = np.max(np.abs(runs[1].resample(t).measured - runs[2].resample(t).measured))
     assert d2 < 1e-4 and d1 < 1e-3
 
 

@@ -4,7 +4,7 @@ import math
 import numpy as np
 import pytest
 
-from vcbmodel.springs import chain_frequencies, fixed_fixed_frequencies, lumped_chain, string_frequencies
+from vcbmodel.laws.springs import chain_frequencies, fixed_fixed_frequencies, lumped_chain, string_frequencies
 
 K0, M0, L0 = 24230.0, 0.3364, 0.30
 

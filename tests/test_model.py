@@ -1,0 +1,58 @@
+"""The model layer: one spring-model value, the one rule for model values, the result type."""
+import json
+
+import numpy as np
+import pytest
+
+from vcbmodel import parameters as P
+from vcbmodel.errors import InputError
+from vcbmodel.experiments.loading import load_rig
+from vcbmodel.experiments.simulation import model_spec, simulate
+from vcbmodel.model.effects import consistent_effects
+from vcbmodel.model.values import model_values
+from vcbmodel.rig.spring_model import SpringModel
+
+
+@pytest.mark.parametrize("text,kind,n,convention", [
+    ("massless", "massless", 0, "exact"), ("lumped-3", "lumped", 3, "exact"), ("lumped-12:paper", "lumped", 12, "paper"),
+    ("lumped-2:uniform", "lumped", 2, "uniform"), ("ancf", "ancf", 0, "exact")])
+def test_spring_model_parses_in_one_place(text, kind, n, convention):
+    m = SpringModel.parse(text)
+    assert (m.kind, m.masses, m.convention) == (kind, n, convention)
+    assert SpringModel.parse(m.name, m.convention) == m  # round trip
+    assert SpringModel.parse("lumped-2", "paper").convention == "paper"  # a default convention applies
+    assert SpringModel.parse("lumped-2:exact", "paper").convention == "exact"  # the named one wins
+
+
+@pytest.mark.parametrize("text", ["lumped-0", "lumped-100", "lumped-2:fancy", "massless:paper", "beam", "", 3])
+def test_bad_spring_models_are_refused(text):
+    with pytest.raises(ValueError):
+        SpringModel.parse(text)
+
+
+def test_spring_mass_follows_the_spring_model():
+    assert consistent_effects(("coulomb_friction",), SpringModel.parse("lumped-2")) == ("coulomb_friction", "spring_mass")
+    assert consistent_effects(("spring_mass", "stribeck"), SpringModel()) == ("stribeck",)
+
+
+def test_values_given_over_rig_and_missing_values_refused(cam_rig, tmp_path):
+    # the rig gives mu_k = 0.13; a given value wins; a value nobody gives is refused, naming the rig field
+    assert model_values(cam_rig, ("coulomb_friction",))["mu_k"] == 0.13
+    assert model_values(cam_rig, ("coulomb_friction",), {"mu_k": 0.2})["mu_k"] == 0.2
+    with pytest.raises(InputError, match="friction.viscous"):
+        model_values(cam_rig, ("viscous_friction",))
+    assert model_values(cam_rig, ("viscous_friction",), for_fit=True)["viscous"] > 0  # fits start from a guess
+    with pytest.raises(InputError, match="friction.viscous"):
+        simulate(cam_rig, ("viscous_friction",), t_end=0.001)
+
+
+def test_result_carries_units_model_and_a_dataframe(cam_rig):
+    r = simulate(cam_rig, ("coulomb_friction",), spring_model="lumped-2:paper", t_end=0.002)
+    assert r.measured is r.channels["cam_angle"] and r.units["cam_angle"] == "rad"
+    assert r.units["shaft_velocity"] == "rad/s" and r.units["friction_torque"] == "N m"
+    assert r.units["spring_mass_1_x"] == "m" and r.units["spring_velocity_2_y"] == "m/s"
+    assert r.effects == ("coulomb_friction", "spring_mass") and r.spring_model == SpringModel("lumped", 2, "paper")
+    frame = r.to_dataframe()
+    assert frame.index.name == "t [s]" and "cam_angle [rad]" in frame.columns
+    np.testing.assert_array_equal(frame["cam_angle [rad]"].to_numpy(), r.measured)
+    assert model_spec(cam_rig).spring_model == SpringModel.parse("lumped-2")  # the rig's own model

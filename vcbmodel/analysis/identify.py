@@ -1,0 +1,110 @@
+"""Shaft friction identification from pendulum tests (paper section 2.2, Fig. 5).
+
+Two laws, as in the paper:
+
+- ``hybrid`` (case 1): Karnopp stick band + Stribeck + Coulomb + viscous; fitted
+  mu_s, mu_k, stick velocity w0, Stribeck velocity ws, viscous Cv (reported also as zeta).
+- ``stick-slip`` (case 2): Karnopp's stick-slip model only: static mu_s inside the stick
+  band, kinetic mu_k outside it, no Stribeck slope and no viscous term. In the spec's law
+  this is ``stribeck`` with ws = w0 (the Stribeck branch w0 < |w| < ws is empty).
+
+The fit is staged: trust-region least squares from several starts derived from the
+measured swing (the pendulum record's ``start_guesses``), then the paper's simplex
+(Nelder-Mead) from the best point; standard errors come from the Jacobian at the optimum.
+The error measure is the paper's: max |error| as a percentage of the first peak amplitude
+after release.
+"""
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+
+from ..errors import InputError
+from ..experiments import experiment_of
+from ..laws.friction import zeta_from_viscous
+from ..records.signals import first_peak_amplitude
+from ..rig.spring_model import SpringModel
+from .fitting import Dataset, FitResult, fit, make_parameters, staged_fit
+
+#: Simulations allowed to the simplex polish after the least-squares stage (it refines the
+#: least-squares optimum the way the paper's simplex would; 40 keeps identification < 60 s).
+SIMPLEX_BUDGET = 40
+
+MASSLESS = SpringModel()
+
+LAWS = {
+    "hybrid": {"effects": ("coulomb_friction", "stribeck", "viscous_friction"),
+               "vary": {"mu_k", "mu_s", "stribeck_velocity", "viscous", "stick_velocity"}},
+    "stick-slip": {"effects": ("coulomb_friction", "stribeck"),
+                   "vary": {"mu_k", "mu_s", "stick_velocity"}},
+}
+
+
+@dataclass
+class IdentifyResult:
+    law: str
+    fit: FitResult
+    datasets: list
+    first_peaks: list  # rad, per dataset
+
+    @property
+    def values(self):
+        v = dict(self.fit.values)
+        v.setdefault("viscous", 0.0)
+        v["mu_s"] = max(v["mu_s"], v["mu_k"])  # what the law uses (effects.ModelSpec.friction_law)
+        return v
+
+    def max_error_percent(self):
+        """max |error| / first peak amplitude after release, in %, worst dataset."""
+        return float(max(100 * np.max(np.abs(r)) / a for r, a in zip(self.fit.residuals, self.first_peaks)))
+
+    def zeta(self):
+        p, rig = self.datasets[0].rig.pendulum, self.datasets[0].rig
+        return zeta_from_viscous(self.values["viscous"], p.inertia, p.mass, rig.gravity, p.com_distance)
+
+    def to_json(self):
+        v = self.values
+        return {"law": self.law, "mu_s": v["mu_s"], "mu_k": v["mu_k"], "stick_velocity": v["stick_velocity"],
+                "stribeck_velocity": v["stribeck_velocity"], "viscous": v["viscous"], "zeta": self.zeta(),
+                "rms": self.fit.rms, "max_error_percent": self.max_error_percent(),
+                "stderr": {p.name: p.stderr for p in self.fit.parameters.values() if p.vary},
+                "at_bound": [p.name for p in self.fit.parameters.values() if p.at_bound()],
+                "aic": self.fit.aic, "bic": self.fit.bic, "noise_estimate": self.fit.sigma,
+                "measurements": [d.measurement.path for d in self.datasets]}
+
+    def report(self):
+        return (f"Friction identification, {self.law} law, {len(self.datasets)} measurement(s)\n"
+                f"  max |error| {self.max_error_percent():.2f} % of the first peak amplitude; zeta {self.zeta():.4g}\n"
+                + self.fit.report())
+
+
+def identify(pairs, law="hybrid", verbose=True, polish=True) -> IdentifyResult:
+    """Fit ``law`` to the (rig, measurement) pairs at once (shared friction parameters)."""
+    spec = LAWS[law]
+    datasets = [Dataset(rig, meas) for rig, meas in pairs]
+    rig0, meas0 = pairs[0]
+    guesses = experiment_of(rig0.experiment).start_guesses(rig0, meas0)
+    params = make_parameters(rig0, spec["effects"], initial=guesses[0], vary=spec["vary"])
+    if not any(p.vary for p in params.values()):
+        raise InputError(rig0.path, "friction", f"gives every value of the {law} law: nothing to fit "
+                         "(remove the values to identify from the rig's friction section)")
+    effects = spec["effects"]
+    if law == "stick-slip":  # ws follows w0: the Stribeck branch is empty
+        params["stribeck_velocity"].vary = False
+        params["stribeck_velocity"].tied_to = "stick_velocity"
+    scan = {"mu_s": (1.3, 2.0)} if law == "hybrid" else None  # mu_s as multiples of the mu_k guess
+    if scan:
+        scan = {"mu_s": tuple(f * guesses[0].get("mu_k", 0.1) for f in scan["mu_s"])}
+    result = staged_fit(datasets, effects, MASSLESS, params, starts=guesses[1:], verbose=verbose,
+                        label=f"{law} (least squares)", scan=scan)
+    if polish:
+        polished = fit(datasets, effects, MASSLESS, result.parameters, method="nelder-mead", verbose=verbose,
+                       label=f"{law} (simplex polish)", max_simulations=SIMPLEX_BUDGET)
+        if polished.chi2 <= result.chi2:
+            for name, p in polished.parameters.items():
+                p.stderr = result.parameters[name].stderr
+            polished.nfev += result.nfev
+            result = polished
+    peaks = [first_peak_amplitude(d.t, d.y) for d in datasets]
+    return IdentifyResult(law, result, datasets, peaks)

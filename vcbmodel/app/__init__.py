@@ -1,0 +1,4 @@
+"""The front door: the ``vcbmodel`` command and the figures.
+
+May import: everything in ``vcbmodel``.
+"""

@@ -1,0 +1,176 @@
+"""The ``vcbmodel`` command (docs/cli.md): simulate, identify, diagnose.
+
+Exit status: 0 success; 2 bad input (one line on stderr naming file and field, nothing
+written); 1 the simulation or fit failed (one line saying why). Output paths are checked
+before any work starts.
+"""
+from __future__ import annotations
+
+import argparse
+import io
+import json
+import math
+import os
+import sys
+import tempfile
+
+from .. import __version__
+from ..analysis.diagnose import diagnose
+from ..analysis.identify import identify
+from ..errors import InputError, SimulationError
+from ..experiments import experiment_of
+from ..experiments.loading import load_pair, load_rig, require_experiment
+from ..experiments.simulation import output_times, simulate
+from ..model.choice import parse_effects_option
+from ..rig.spring_model import SpringModel
+from .plots import plot_diagnosis, supported_image_formats
+
+
+class _Parser(argparse.ArgumentParser):
+    def error(self, message):  # argparse's own errors: one line, exit 2
+        print(f"vcbmodel: {message}", file=sys.stderr)
+        raise SystemExit(2)
+
+
+def build_parser():
+    p = _Parser(prog="vcbmodel", description="Spring-driven cam dynamics of vacuum circuit breakers (Exudyn). "
+                "Docs: docs/cli.md and docs/rig-format.md in the repository.")
+    p.add_argument("--version", action="version", version=f"vcbmodel {__version__}")
+    sub = p.add_subparsers(dest="command", parser_class=_Parser)
+
+    s = sub.add_parser("simulate", help="simulate a rig's experiment and write its measurement channels")
+    s.add_argument("rig", help="rig file NAME.rig.json")
+    s.add_argument("--spring-model", help="massless | lumped-N[:exact|paper|uniform] | ancf (overrides the rig's model)")
+    s.add_argument("--effects", help="comma-separated effect names (overrides the rig's model)")
+    s.add_argument("--t-end", type=float, help="simulated duration in s (default: the experiment's usual duration)")
+    s.add_argument("-o", "--output", help="output CSV (default: stdout)")
+
+    i = sub.add_parser("identify", help="fit the shaft friction law to pendulum measurements (paper section 2.2)")
+    i.add_argument("measurements", nargs="+", help="pendulum measurement files NAME.csv")
+    i.add_argument("--rig", help="rig file (default: each measurement's sibling NAME.rig.json)")
+    i.add_argument("--law", choices=("hybrid", "stick-slip"), default="hybrid",
+                   help="hybrid: Coulomb + Stribeck + viscous; stick-slip: Coulomb with stick band only")
+    i.add_argument("--json", action="store_true", help="print one JSON object")
+
+    d = sub.add_parser("diagnose", help="find the effect the rig's model is missing")
+    d.add_argument("measurement", help="measurement file NAME.csv")
+    d.add_argument("--rig", help="rig file (default: the sibling NAME.rig.json)")
+    d.add_argument("--json", action="store_true", help="print one JSON object")
+    d.add_argument("--plot", help="write a figure of the diagnosis (PNG, PDF or SVG by the file's suffix)")
+    d.add_argument("--processes", type=int, default=2, help="parallel candidate fits (default 2)")
+    return p
+
+
+def check_output(path, argname, formats=None):
+    """Refuse an output path that cannot be written, before any work; nothing is left behind."""
+    if path is None:
+        return
+    if os.path.isdir(path):
+        raise InputError(path, argname, "is a folder: give a file name")
+    folder = os.path.dirname(os.path.abspath(path))
+    if not os.path.isdir(folder):
+        raise InputError(path, argname, "the folder does not exist")
+    if formats is not None:
+        suffix = os.path.splitext(path)[1].lstrip(".").lower()
+        if suffix not in formats:
+            raise InputError(path, argname, f"unknown image format {suffix or '(none)'!r} (known: {', '.join(formats)})")
+    if os.path.exists(path) and not os.access(path, os.W_OK):
+        raise InputError(path, argname, "cannot be written (permission denied)")
+    try:
+        with tempfile.NamedTemporaryFile(dir=folder, prefix=".vcbmodel-check-"):
+            pass
+    except OSError as e:
+        raise InputError(path, argname, f"cannot be written here ({e.strerror or 'not writable'})") from None
+
+
+def envelope(rig, unit):
+    """What every ``--json`` output carries besides its results."""
+    return {"vcbmodel_version": __version__, "experiment": rig.experiment, "rig_name": rig.name,
+            "rig": rig.path, "units": unit}
+
+
+def cmd_simulate(args):
+    rig = load_rig(args.rig)
+    record = experiment_of(rig.experiment)
+    effects = rig.model.effects
+    if args.effects is not None:
+        effects = parse_effects_option(args.effects, rig.experiment)
+    try:
+        spring_model = SpringModel.parse(args.spring_model or rig.model.spring_model, rig.model.spring_model.convention)
+    except ValueError as e:
+        raise InputError("--spring-model", "spring_model", str(e)) from None
+    if not record.has_closing_spring and not spring_model.is_massless:
+        raise InputError("--spring-model", "spring_model", f"a {rig.experiment} test has no closing spring")
+    if args.t_end is not None:
+        if not (math.isfinite(args.t_end) and args.t_end > 0):
+            raise InputError("--t-end", "t_end", "must be a positive number of seconds")
+        record.check_duration(args.t_end, "--t-end", "t_end")
+    check_output(args.output, "-o")
+    t_end = args.t_end or record.default_duration
+    result = simulate(rig, effects, spring_model=spring_model, sample_times=output_times(rig, t_end))
+    buf = io.StringIO()
+    spec = result.spec
+    buf.write(f"# vcbmodel {__version__} simulate: {rig.name}; effects {','.join(spec.effects) or '(none)'}; "
+              f"spring model {spec.spring_model.label}; SIMULATED, not measured\n")
+    buf.write(f"# {record.measured_channel} in {record.unit}, t in s, {record.sample_rate:g} samples/s\n")
+    buf.write(f"t,{record.measured_channel}\n")
+    for t, y in zip(result.t, result.measured):
+        buf.write(f"{t:.7f},{y:.9g}\n")
+    if args.output:
+        with open(args.output, "w") as f:
+            f.write(buf.getvalue())
+    else:
+        sys.stdout.write(buf.getvalue())
+    return 0
+
+
+def cmd_identify(args):
+    pairs = [load_pair(m, args.rig) for m in args.measurements]
+    for rig, _ in pairs:
+        require_experiment(rig, "pendulum", "identify")
+    result = identify(pairs, law=args.law)
+    if args.json:
+        print(json.dumps({**envelope(pairs[0][0], {"angles": "rad", "velocities": "rad/s", "viscous": "N m s/rad",
+                                                   "rms": "rad", "max_error_percent": "%"}), **result.to_json()}))
+    else:
+        print(result.report())
+    return 0
+
+
+def cmd_diagnose(args):
+    rig, meas = load_pair(args.measurement, args.rig)
+    check_output(args.plot, "--plot", supported_image_formats())
+    d = diagnose(rig, meas, processes=max(1, args.processes))
+    if args.plot:
+        plot_diagnosis(d, args.plot)
+    if args.json:
+        print(json.dumps({**envelope(rig, {"rms": d.unit, "noise_estimate": d.unit, "window": "s"}), **d.to_json()}))
+    else:
+        print(d.report())
+    return 0
+
+
+COMMANDS = {"simulate": cmd_simulate, "identify": cmd_identify, "diagnose": cmd_diagnose}
+
+
+def main(argv=None):
+    parser = build_parser()
+    args = parser.parse_args(argv)
+    if args.command is None:
+        parser.print_help()
+        return 0
+    try:
+        return COMMANDS[args.command](args)
+    except InputError as e:
+        print(f"vcbmodel: bad input: {e}", file=sys.stderr)
+        return 2
+    except SimulationError as e:
+        print(f"vcbmodel: simulation failed: {e}", file=sys.stderr)
+        return 1
+    except KeyboardInterrupt:
+        print("vcbmodel: interrupted", file=sys.stderr)
+        return 1
+
+
+if __name__ == "__main__":
+    sys.exit(main())

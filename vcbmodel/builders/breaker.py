@@ -1,0 +1,174 @@
+"""Exudyn model of the whole breaker's closing (paper section 4, Fig. 11-12).
+
+Coordinates (all minimal, for explicit RK4 without constraints): the cam angle (the cam-drop
+model with its closing springs and shaft friction, :func:`.cam_drop.build_cam_drop`), the
+follower angle (``Node1D`` + ``ObjectRotationalMass1D`` at the follower pivot), and one
+``Node1D`` + ``ObjectMass1D`` per pole sliding on its vertical guide (the translational
+joint is the coordinate itself). The parts, each a function below, wrap the pure laws of
+:class:`vcbmodel.laws.breaker.BreakerLaws`:
+
+- :func:`add_follower`: the follower body and its output point F;
+- :func:`add_cam_roller_contact`: ``ObjectGenericODE2`` on (cam, follower) whose force user
+  function returns the contact's torques on both (Hertz + Lankarani-Nikravesh);
+- :func:`add_latch` (``LoadCoordinate`` on the cam with a time user function) and
+  :func:`add_opening_spring` (a plain ``ObjectConnectorSpringDamper``);
+- :func:`add_poles`: push rods with wipe springs (``ObjectConnectorSpringDamper`` F -> pole
+  pin), pole contacts (``ObjectConnectorCoordinateSpringDamper`` ground -> pole travel),
+  bellows force minus weight (constant ``LoadCoordinate``);
+- :func:`add_impact_latching`: each contact's impact speed (the damping's reference speed) is
+  latched by a pre-step function from the state at the start of the step in which the
+  contact begins.
+
+The shaft friction also sees the roller force and the latch torque (they load the journal).
+The follower's own weight is left out (a balanced main shaft).
+"""
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+import numpy as np
+
+from ..laws.breaker import BreakerLaws, massless_pull, push_rod_force
+from .cam_drop import build_cam_drop
+from .core import exudyn_modules
+
+
+@dataclass
+class Follower:
+    """Handles of the follower: its angle node and the marker at its output point F."""
+
+    node: int
+    mOutput: int
+
+
+def build_vcb_closing(rig, spec, law, chain=None, user_function="auto", ancf_elements=None):
+    """The whole breaker in Exudyn (module docstring); returns the model with ``laws`` and
+    ``initial`` (the static rest held by the latch) attached."""
+    laws = BreakerLaws.of_rig(rig, spec)
+    initial = laws.initial_state(massless_pull(rig.cam, rig.closing_spring))  # every spring model starts here
+    impact = np.zeros(rig.breaker.poles.count + 1)  # [cam-roller, pole 1..n] impact speeds (m/s)
+    follower_state = {}  # the follower's node and system, known once built (the cam's friction reads them)
+
+    def extra_loads(t, theta, omega):
+        phi, phi_dot = follower_state["read"]()
+        t_cam, _, fx, fy = laws.roller_loads(theta, omega, phi, phi_dot, impact[0])
+        return t_cam + laws.latch(t, initial.holding_torque), fx, fy
+
+    uf = "python" if user_function in ("auto", "symbolic") else user_function
+    model = build_cam_drop(rig, law, spec.spring_model, chain, uf, extra_loads=extra_loads, ancf_elements=ancf_elements)
+    follower = add_follower(model, rig.breaker.follower, initial.follower_angle)
+    follower_state["read"] = node_state_reader(model.mbs, follower.node)
+    cam_node = model.cam_body.shaft.node
+    add_cam_roller_contact(model, laws, cam_node, follower.node, impact)
+    add_latch(model, laws, initial.holding_torque)
+    add_opening_spring(model, laws, follower)
+    pole_nodes = add_poles(model, laws, follower, initial.pole_travel, impact)
+    add_impact_latching(model, laws, cam_node, follower.node, pole_nodes, impact)
+    model.laws, model.initial = laws, initial
+    return model
+
+
+def node_state_reader(mbs, node):
+    """A function returning (coordinate, velocity) of a 1-D node at the current RK stage."""
+    exu, _ = exudyn_modules()
+    coordinates, velocities = exu.OutputVariableType.Coordinates, exu.OutputVariableType.Coordinates_t
+    return lambda: (mbs.GetNodeOutput(node, coordinates), mbs.GetNodeOutput(node, velocities))
+
+
+def add_follower(model, f, phi0) -> Follower:
+    """The follower (inertia about its pivot) at angle ``phi0`` (rad), recorded as
+    ``follower_angle`` and ``follower_velocity``; F at ``output_arm``, ``output_angle``."""
+    exu, it = exudyn_modules()
+    mbs = model.mbs
+    nFollower = mbs.AddNode(it.Node1D(referenceCoordinates=[0.0], initialCoordinates=[phi0], initialVelocities=[0.0]))
+    oFollower = mbs.AddObject(it.ObjectRotationalMass1D(nodeNumber=nFollower, inertia=f.inertia,
+                                                        referencePosition=[f.pivot[0], f.pivot[1], 0.0]))
+    mF = mbs.AddMarker(it.MarkerBodyPosition(bodyNumber=oFollower, localPosition=[
+        f.output_arm * math.cos(f.output_angle), f.output_arm * math.sin(f.output_angle), 0.0]))
+    model.add_sensor("follower_angle", nFollower, "Coordinates")
+    model.add_sensor("follower_velocity", nFollower, "Coordinates_t")
+    return Follower(nFollower, mF)
+
+
+def add_cam_roller_contact(model, laws, cam_node, follower_node, impact):
+    """The cam-roller contact: torques on cam and follower from the contact force."""
+    _, it = exudyn_modules()
+
+    def roller_uf(mbs, t, itemNumber, q, q_t):
+        t_cam, t_fol, _, _ = laws.roller_loads(q[0], q_t[0], q[1], q_t[1], impact[0])
+        return [t_cam, t_fol]
+
+    model.mbs.AddObject(it.ObjectGenericODE2(nodeNumbers=[cam_node, follower_node], forceUserFunction=roller_uf,
+                                             visualization=it.VObjectGenericODE2(show=False)))
+
+
+def add_latch(model, laws, holding_torque):
+    """The closing latch's torque on the cam, released from t = 0."""
+    _, it = exudyn_modules()
+    model.mbs.AddLoad(it.LoadCoordinate(markerNumber=model.cam_body.shaft.mShaftCoordinate, load=0.0,
+                                        loadUserFunction=lambda mbs, t, load: laws.latch(t, holding_torque)))
+
+
+def add_opening_spring(model, laws, follower: Follower):
+    """Tension spring from its anchor below F to F."""
+    _, it = exudyn_modules()
+    mbs = model.mbs
+    ox, oy = laws.opening_anchor
+    mOpeningAnchor = mbs.AddMarker(it.MarkerBodyPosition(bodyNumber=model.cam_body.oGround, localPosition=[ox, oy, 0.0]))
+    mbs.AddObject(it.ObjectConnectorSpringDamper(markerNumbers=[mOpeningAnchor, follower.mOutput],
+                                                 stiffness=laws.b.opening_spring.stiffness,
+                                                 referenceLength=laws.opening_free_length, damping=0.0))
+
+
+def add_poles(model, laws, follower: Follower, travel0, impact):
+    """One body per pole on its vertical guide, pushed from F through its push rod and wipe
+    spring, stopped by its fixed contact; recorded as ``pole_i_travel`` and
+    ``pole_i_travel_velocity``. Returns the pole nodes."""
+    _, it = exudyn_modules()
+    mbs, poles = model.mbs, laws.b.poles
+    vertical = [[0.0, -1.0, 0.0], [1.0, 0.0, 0.0], [0.0, 0.0, 1.0]]  # local x (travel) along global y
+    mGroundCoordinate = model.cam_body.shaft.mGroundCoordinate
+
+    def rod_uf(mbs, t, itemNumber, deltaL, deltaL_t, stiffness, damping, force):
+        # deltaL = length - rest length: compression is -deltaL; tension positive
+        return -push_rod_force(-deltaL, -deltaL_t, poles)
+
+    nodes = []
+    for i in range(poles.count):
+        nPole = mbs.AddNode(it.Node1D(referenceCoordinates=[0.0], initialCoordinates=[travel0[i]], initialVelocities=[0.0]))
+        oPole = mbs.AddObject(it.ObjectMass1D(nodeNumber=nPole, mass=poles.moving_mass,
+                                              referencePosition=[laws.pin_rest[0], laws.pin_rest[1], 0.0],
+                                              referenceRotation=vertical))
+        mPolePin = mbs.AddMarker(it.MarkerBodyPosition(bodyNumber=oPole, localPosition=[0.0, 0.0, 0.0]))
+        mPoleTravel = mbs.AddMarker(it.MarkerNodeCoordinate(nodeNumber=nPole, coordinate=0))
+        mbs.AddObject(it.ObjectConnectorSpringDamper(markerNumbers=[follower.mOutput, mPolePin],
+                                                     referenceLength=poles.push_rod_length, springForceUserFunction=rod_uf))
+
+        def pole_uf(mbs, t, itemNumber, deltaL, deltaL_t, stiffness, damping, offset, i=i):
+            return laws.pole_contact(i, deltaL, deltaL_t, impact[i + 1])
+
+        mbs.AddObject(it.ObjectConnectorCoordinateSpringDamper(
+            markerNumbers=[mGroundCoordinate, mPoleTravel], springForceUserFunction=pole_uf,
+            visualization=it.VObjectConnectorCoordinateSpringDamper(show=False)))
+        mbs.AddLoad(it.LoadCoordinate(markerNumber=mPoleTravel, load=laws.pole_load))
+        model.add_sensor(f"pole_{i + 1}_travel", nPole, "Coordinates")
+        model.add_sensor(f"pole_{i + 1}_travel_velocity", nPole, "Coordinates_t")
+        nodes.append(nPole)
+    return nodes
+
+
+def add_impact_latching(model, laws, cam_node, follower_node, pole_nodes, impact):
+    """A pre-step function that latches each contact's impact speed (see
+    :meth:`BreakerLaws.latch_impact_speeds`) from the state at the start of the step."""
+    cam = node_state_reader(model.mbs, cam_node)
+    follower = node_state_reader(model.mbs, follower_node)
+    poles = [node_state_reader(model.mbs, n) for n in pole_nodes]
+
+    def latch_impact_speeds(mbs, t):
+        (theta, omega), (phi, phi_dot) = cam(), follower()
+        states = [p() for p in poles]
+        laws.latch_impact_speeds(impact, theta, omega, phi, phi_dot, [z for z, _ in states], [zd for _, zd in states])
+        return True
+
+    model.mbs.SetPreStepUserFunction(latch_impact_speeds)

@@ -1,0 +1,89 @@
+"""Exudyn model of the cam drop (paper section 3, eq. 9-13) with massless or lumped closing
+springs; :func:`build_cam_drop` also dispatches the ANCF spring (:mod:`.ancf`), so the
+spring-model decision is made here once for the cam drop and the whole breaker.
+
+Lumped spring masses are ``MassPoint2D`` joined by ``ObjectConnectorSpringDamper``; the
+``count`` identical springs act in the same plane, so one chain with ``count`` times the
+masses and stiffnesses represents them.
+"""
+from __future__ import annotations
+
+import math
+
+from ..laws.mechanics import cam_pin, massless_spring_force
+from .ancf import build_cam_drop_ancf
+from .core import ExudynModel, add_cam_body, add_cam_friction, exudyn_modules
+
+
+def build_cam_drop(rig, law, spring_model, chain=None, user_function="auto", extra_loads=None, ancf_elements=None):
+    """The cam of eq. 11-13 pulled at pin B by the closing springs of ``spring_model``
+    (:class:`vcbmodel.rig.spring_model.SpringModel`; ``chain``: the lumped chain,
+    :class:`vcbmodel.laws.springs.LumpedChain`). ``extra_loads``: see
+    :func:`vcbmodel.builders.core.add_cam_friction`. Sensors: ``angle``, ``velocity``,
+    ``friction_torque``, ``spring_mass_k`` and ``spring_velocity_k`` (lumped) or
+    ``ancf_node_k`` (ANCF)."""
+    if spring_model.kind == "ancf":
+        return build_cam_drop_ancf(rig, law, user_function, ancf_elements, extra_loads)
+    exu, it = exudyn_modules()
+    cam, spring = rig.cam, rig.closing_spring
+    model = ExudynModel()
+    mbs = model.mbs
+    body = model.cam_body = add_cam_body(model, rig)
+    c = spring.count
+    if chain is None:
+        mbs.AddObject(it.ObjectConnectorSpringDamper(markerNumbers=[body.mAnchor, body.mPin], stiffness=c * spring.stiffness,
+                                                     referenceLength=spring.free_length, damping=0.0))
+
+        def pin_force(theta, omega, ops):
+            bx, by = cam_pin(theta, cam, ops)
+            return massless_spring_force(bx, by, spring, ops)
+
+        uf = "symbolic" if user_function == "auto" and extra_loads is None else user_function
+    else:
+        pin_force = _add_chain(model, rig, body, chain)
+        uf = "python" if user_function == "auto" else user_function
+    if uf == "symbolic" and (chain is not None or extra_loads is not None):
+        raise ValueError("a lumped spring's or the breaker's friction needs the Python user function")
+    add_cam_friction(model, rig, law, body, pin_force, uf, extra_loads)
+    return model
+
+
+def _add_chain(model, rig, body, chain):
+    """The lumped chain O -> masses -> B; returns the pin-force function for the friction."""
+    exu, it = exudyn_modules()
+    cam, spring, g = rig.cam, rig.closing_spring, rig.gravity
+    mbs, c = model.mbs, spring.count
+    bx0, by0 = cam_pin(cam.initial_angle, cam)
+    ox, oy = spring.anchor
+    previous = body.mAnchor
+    nodes = []
+    for frac, m in zip(chain.equilibrium_fractions(), chain.masses):
+        nMass = mbs.AddNode(it.NodePoint2D(referenceCoordinates=[ox + frac * (bx0 - ox), oy + frac * (by0 - oy)]))
+        oMass = mbs.AddObject(it.MassPoint2D(nodeNumber=nMass, mass=c * m))
+        mMass = mbs.AddMarker(it.MarkerBodyPosition(bodyNumber=oMass, localPosition=[0.0, 0.0, 0.0]))
+        if spring.weight:
+            mbs.AddLoad(it.LoadForceVector(markerNumber=mMass, loadVector=[0.0, -c * m * g, 0.0]))
+        nodes.append(nMass)
+        k = len(nodes)
+        model.add_sensor(f"spring_mass_{k}", nMass, "Position")
+        model.add_sensor(f"spring_velocity_{k}", nMass, "Velocity")
+        mbs.AddObject(it.ObjectConnectorSpringDamper(markerNumbers=[previous, mMass], damping=0.0,
+                                                     stiffness=c * chain.stiffnesses[k - 1],
+                                                     referenceLength=chain.free_lengths[k - 1]))
+        previous = mMass
+    k_last, l_last = c * chain.stiffnesses[-1], chain.free_lengths[-1]
+    mbs.AddObject(it.ObjectConnectorSpringDamper(markerNumbers=[previous, body.mPin], damping=0.0,
+                                                 stiffness=k_last, referenceLength=l_last))
+    nLast = nodes[-1]
+    position = exu.OutputVariableType.Position
+
+    def pin_force(theta, omega, ops):
+        # last segment's pull on B, from the last mass's position at this RK stage
+        px, py = mbs.GetNodeOutput(nLast, position)[:2]
+        bx, by = cam_pin(theta, cam, ops)
+        dx, dy = bx - px, by - py
+        length = math.sqrt(dx * dx + dy * dy)
+        tension = k_last * (length - l_last)
+        return -tension * dx / length, -tension * dy / length
+
+    return pin_force

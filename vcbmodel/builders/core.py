@@ -1,0 +1,189 @@
+"""Parts every Exudyn builder shares: the lazy Exudyn import, the model with its solve, the
+shaft coordinate, the shaft-friction connector and the cam body.
+
+Coordinates are chosen for explicit Runge-Kutta (Exudyn's constraint elimination is wrong
+for mass-coupled coordinates): a shaft angle is a ``Node1D`` with an
+``ObjectRotationalMass1D`` (diagonal mass, no constraint), lever points are
+``MarkerBodyPosition`` on it. The shaft friction is an ``ObjectConnectorCoordinateSpringDamper``
+between ground and the shaft angle whose user function returns the friction torque of
+:func:`vcbmodel.laws.friction.shaft_friction`: compiled (Exudyn symbolic) when its inputs
+follow from the angle alone, a Python function otherwise.
+"""
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+import numpy as np
+
+from ..errors import SimulationError
+from ..laws.friction import NumericOps, shaft_friction, symbolic_ops
+from ..laws.mechanics import cam_loads
+
+_EXU = None
+
+
+def exudyn_modules():
+    """(exudyn, exudyn.itemInterface), imported on first use (the package loads without
+    Exudyn; only building a model needs it)."""
+    global _EXU
+    if _EXU is None:
+        import exudyn as exu
+        from exudyn import itemInterface as items
+        # Exudyn writes solver warnings and failure banners to stdout, which would corrupt
+        # `--json` output and CSV on stdout; failures reach the caller as SimulationError
+        exu.config.printToConsole = False
+        _EXU = (exu, items)
+    return _EXU
+
+
+class ExudynModel:
+    """A built system: container, system, named item handles and sensors."""
+
+    def __init__(self):
+        exu, _ = exudyn_modules()
+        self.SC = exu.SystemContainer()
+        self.mbs = self.SC.AddSystem()
+        self.sensors = {}
+        self.keep = []  # symbolic user functions must outlive the solve
+
+    def add_sensor(self, name, node, output):
+        """Store a node's output (``exu.OutputVariableType`` name) under ``name``."""
+        exu, it = exudyn_modules()
+        self.sensors[name] = self.mbs.AddSensor(it.SensorNode(
+            nodeNumber=node, outputVariableType=getattr(exu.OutputVariableType, output),
+            storeInternal=True, writeToFile=False))
+
+    def solve(self, t_end, step, sensor_period=None):
+        """Run explicit RK4 with a fixed step; returns {sensor name: array of (t, values...)}."""
+        exu, _ = exudyn_modules()
+        mbs = self.mbs
+        mbs.Assemble()
+        sim = exu.SimulationSettings()
+        ti = sim.timeIntegration
+        ti.endTime = t_end
+        ti.numberOfSteps = max(1, int(round(t_end / step)))
+        ti.verboseMode = 0
+        sim.solution.file.write = False
+        sim.solution.sensors.writePeriod = sensor_period or step
+        sim.show.computationTime = False
+        sim.show.statistics = False
+        try:
+            ok = mbs.SolveDynamic(sim, solverType=exu.DynamicSolverType.RK44)
+        except Exception as e:  # Exudyn raises on solver failure; keep the first line of its message
+            first = str(e).strip().splitlines()
+            raise SimulationError("Exudyn solver failed: " + " ".join(first[:2])[:300]) from None
+        if ok is False:
+            raise SimulationError("Exudyn solver reported failure")
+        out = {}
+        for name, s in self.sensors.items():
+            data = np.array(mbs.GetSensorStoredData(s))
+            if data.size == 0 or not np.all(np.isfinite(data)):
+                raise SimulationError(f"the solution diverged (non-finite {name}); reduce the step")
+            out[name] = data
+        self.SC.Reset()  # frees symbolic user functions (exudyn-notes: they leak otherwise)
+        return out
+
+
+@dataclass
+class Shaft:
+    """Handles of a shaft coordinate: node, body, and the coordinate markers of ground and
+    shaft (the friction connector's and coordinate loads' markers)."""
+
+    node: int
+    body: int
+    mGroundCoordinate: int
+    mShaftCoordinate: int
+
+
+def add_shaft(model, inertia, theta0, omega0, position=(0.0, 0.0)) -> Shaft:
+    """A rotating body on a fixed axis at ``position`` (m): angle (rad) and speed (rad/s)
+    recorded as ``angle`` and ``velocity``."""
+    exu, it = exudyn_modules()
+    mbs = model.mbs
+    nShaft = mbs.AddNode(it.Node1D(referenceCoordinates=[0.0], initialCoordinates=[theta0],
+                                   initialVelocities=[omega0]))
+    oShaft = mbs.AddObject(it.ObjectRotationalMass1D(nodeNumber=nShaft, inertia=inertia,
+                                                     referencePosition=[position[0], position[1], 0.0]))
+    nGround = mbs.AddNode(it.NodePointGround())
+    mGroundCoordinate = mbs.AddMarker(it.MarkerNodeCoordinate(nodeNumber=nGround, coordinate=0))
+    mShaftCoordinate = mbs.AddMarker(it.MarkerNodeCoordinate(nodeNumber=nShaft, coordinate=0))
+    model.add_sensor("angle", nShaft, "Coordinates")
+    model.add_sensor("velocity", nShaft, "Coordinates_t")
+    return Shaft(nShaft, oShaft, mGroundCoordinate, mShaftCoordinate)
+
+
+def add_friction_connector(model, shaft: Shaft, friction_of_state, user_function):
+    """Friction torque connector on the shaft; ``friction_of_state(t, theta, omega, ops)`` -> T_f
+    (N m). ``user_function``: 'symbolic' (compiled), 'python', or 'none' (no friction item).
+    The torque is recorded as ``friction_torque``."""
+    exu, it = exudyn_modules()
+    mbs = model.mbs
+    if user_function == "none":
+        return
+
+    def friction_torque_uf(mbs, t, itemNumber, deltaL, deltaL_t, stiffness, damping, offset):
+        return friction_of_state(t, deltaL, deltaL_t, ops_holder[0])
+
+    oFriction = mbs.AddObject(it.ObjectConnectorCoordinateSpringDamper(
+        markerNumbers=[shaft.mGroundCoordinate, shaft.mShaftCoordinate], stiffness=0.0, damping=0.0,
+        visualization=it.VObjectConnectorCoordinateSpringDamper(show=False)))
+    if user_function == "symbolic":
+        from exudyn.advancedUtilities import CreateSymbolicUserFunction  # Exudyn, lazily (see exudyn_modules)
+        ops_holder = [symbolic_ops()]
+        symbolic = CreateSymbolicUserFunction(mbs, friction_torque_uf, "springForceUserFunction", oFriction)
+        model.keep.append(symbolic)
+        mbs.SetObjectParameter(oFriction, "springForceUserFunction", symbolic)
+    elif user_function == "python":
+        ops_holder = [NumericOps]
+        mbs.SetObjectParameter(oFriction, "springForceUserFunction", friction_torque_uf)
+    else:
+        raise ValueError(f"unknown user_function {user_function!r}")
+    model.sensors["friction_torque"] = mbs.AddSensor(it.SensorObject(
+        objectNumber=oFriction, outputVariableType=exu.OutputVariableType.Force,
+        storeInternal=True, writeToFile=False))
+
+
+@dataclass
+class CamBody:
+    """Handles of the cam on its shaft at A (eq. 11-13): the shaft, the spring pin B, ground
+    and the springs' anchor O."""
+
+    shaft: Shaft
+    mPin: int
+    oGround: int
+    mAnchor: int
+
+
+def add_cam_body(model, rig) -> CamBody:
+    """The cam of eq. 11-13 on its shaft at A with its weight, the pin marker B and the anchor
+    O of the closing springs (shared by the lumped and ANCF builders)."""
+    exu, it = exudyn_modules()
+    cam, spring, g = rig.cam, rig.closing_spring, rig.gravity
+    mbs = model.mbs
+    shaft = add_shaft(model, cam.inertia_pivot, cam.initial_angle, cam.initial_velocity, cam.pivot)
+    mPin = mbs.AddMarker(it.MarkerBodyPosition(bodyNumber=shaft.body, localPosition=[cam.arm_length, 0.0, 0.0]))
+    mCamCom = mbs.AddMarker(it.MarkerBodyPosition(bodyNumber=shaft.body, localPosition=[
+        cam.com_distance * math.cos(-cam.com_angle), cam.com_distance * math.sin(-cam.com_angle), 0.0]))
+    mbs.AddLoad(it.LoadForceVector(markerNumber=mCamCom, loadVector=[0.0, -cam.mass * g, 0.0]))
+    oGround = mbs.AddObject(it.ObjectGround())
+    mAnchor = mbs.AddMarker(it.MarkerBodyPosition(bodyNumber=oGround, localPosition=[spring.anchor[0], spring.anchor[1], 0.0]))
+    return CamBody(shaft, mPin, oGround, mAnchor)
+
+
+def add_cam_friction(model, rig, law, body: CamBody, pin_force, user_function, extra_loads=None):
+    """The cam shaft's friction connector (eq. 11-13): ``pin_force(theta, omega, ops)`` is the
+    closing springs' pull (N) on pin B at the current Runge-Kutta stage; ``extra_loads(t, theta,
+    omega)`` -> (torque about A in N m, Fx, Fy in N) adds other loads on the cam (the whole
+    breaker's roller contact and latch) to the applied torque and the shaft reaction."""
+    cam, g = rig.cam, rig.gravity
+
+    def friction_of_state(t, theta, omega, ops):
+        fx, fy = pin_force(theta, omega, ops)
+        Tc, R0x, R0y, R1x, R1y = cam_loads(theta, omega, cam, fx, fy, g, ops)
+        if extra_loads is not None:
+            torque, ex, ey = extra_loads(t, theta, omega)
+            Tc, R0x, R0y = Tc + torque, R0x - ex, R0y - ey
+        return shaft_friction(omega, Tc, R0x, R0y, R1x, R1y, cam.inertia_pivot, law, ops)[0]
+
+    add_friction_connector(model, body.shaft, friction_of_state, user_function)

@@ -1,0 +1,25 @@
+"""Exudyn model of the pendulum test (paper section 2, eq. 1, 5, 6)."""
+from __future__ import annotations
+
+from ..laws.friction import shaft_friction
+from ..laws.mechanics import pendulum_loads
+from .core import ExudynModel, add_friction_connector, add_shaft, exudyn_modules
+
+
+def build_pendulum(rig, law, user_function="symbolic"):
+    """Pendulum of eq. 1 on the shaft coordinate; the weight M g acts at distance L.
+    ``user_function``: friction connector as 'symbolic' (compiled), 'python' or 'none'."""
+    exu, it = exudyn_modules()
+    p, g = rig.pendulum, rig.gravity
+    model = ExudynModel()
+    mbs = model.mbs
+    shaft = add_shaft(model, p.inertia, p.initial_angle, p.initial_velocity)
+    mWeight = mbs.AddMarker(it.MarkerBodyPosition(bodyNumber=shaft.body, localPosition=[0.0, -p.com_distance, 0.0]))
+    mbs.AddLoad(it.LoadForceVector(markerNumber=mWeight, loadVector=[0.0, -p.mass * g, 0.0]))
+
+    def friction_of_state(t, theta, omega, ops):
+        Tc, R0x, R0y, R1x, R1y = pendulum_loads(theta, omega, p.mass, p.com_distance, g, ops)
+        return shaft_friction(omega, Tc, R0x, R0y, R1x, R1y, p.inertia, law, ops)[0]
+
+    add_friction_connector(model, shaft, friction_of_state, "symbolic" if user_function == "auto" else user_function)
+    return model

@@ -1,0 +1,173 @@
+"""Evaluation of a whole-breaker closing from its recorded states: the channels (forces,
+penetrations, pressure angle replayed from the states), the figures of merit and the energy
+balance. Pure numpy on a :class:`vcbmodel.model.result.SimulationResult`; the forces come
+from :class:`vcbmodel.laws.breaker.BreakerLaws`, as in the Exudyn model.
+"""
+from __future__ import annotations
+
+import numpy as np
+from scipy.integrate import cumulative_trapezoid
+
+from ..laws.breaker import BreakerLaws, contact_energy, follower_displacement, pole_gaps, push_rod_energy
+from ..laws.springs import chain_for
+
+
+def closing_channels(data, rig, spec, info):
+    """Channels of a closing from sensor rows (either backend): cam and follower angles (rad)
+    and speeds (rad/s), ``follower_displacement`` (m, the measured channel), pole travels (m)
+    and speeds (m/s), spring points, shaft friction, and the contact forces of
+    :func:`contact_channels`."""
+    b = rig.breaker
+    ch = {"cam_angle": data["angle"][:, 1], "shaft_velocity": data["velocity"][:, 1],
+          "follower_angle": data["follower_angle"][:, 1], "follower_velocity": data["follower_velocity"][:, 1]}
+    if "friction_torque" in data:
+        ch["friction_torque"] = -data["friction_torque"][:, 1]
+    ch["follower_displacement"] = follower_displacement(ch["follower_angle"], b.follower, info["initial"].follower_angle)
+    n = b.poles.count
+    for i in range(n):
+        ch[f"pole_{i + 1}_travel"] = data[f"pole_{i + 1}_travel"][:, 1]
+        ch[f"pole_{i + 1}_velocity"] = data[f"pole_{i + 1}_travel_velocity"][:, 1]
+    for name, d in data.items():
+        if name.startswith(("spring_mass_", "spring_velocity_", "ancf_node_")):
+            ch[name + "_x"], ch[name + "_y"] = d[:, 1], d[:, 2]
+    ch.update(contact_channels(BreakerLaws.of_rig(rig, spec), ch, n))
+    return ch
+
+
+def contact_channels(laws, ch, n):
+    """Cam-roller force, pole contact forces and rod forces (N), penetrations (m), with the
+    impact speeds replayed over the samples (exact when sampled at every step)."""
+    m = len(ch["cam_angle"])
+    impact = np.zeros(n + 1)
+    out = {"cam_roller_force": np.zeros(m), "cam_roller_penetration": np.zeros(m),
+           "cam_roller_penetration_rate": np.zeros(m),
+           "cam_roller_damping_force": np.zeros(m), "pressure_angle": np.zeros(m)}
+    for i in range(n):
+        for key in ("contact_force", "contact_damping_force", "rod_force", "rod_compression", "rod_rate"):
+            out[f"pole_{i + 1}_{key}"] = np.zeros(m)
+    law = laws.b.contact
+    for j in range(m):
+        th, w, phi, phid = ch["cam_angle"][j], ch["shaft_velocity"][j], ch["follower_angle"][j], ch["follower_velocity"][j]
+        zs = [(ch[f"pole_{i + 1}_travel"][j], ch[f"pole_{i + 1}_velocity"][j]) for i in range(n)]
+        c = laws.latch_impact_speeds(impact, th, w, phi, phid, [z for z, _ in zs], [zd for _, zd in zs])
+        force = laws.roller(th, w, phi, phid, impact[0])[1]
+        out["cam_roller_force"][j] = force
+        out["cam_roller_penetration"][j] = c.penetration
+        out["cam_roller_penetration_rate"][j] = c.penetration_rate
+        out["pressure_angle"][j] = c.pressure_angle
+        elastic = law.cam_roller_stiffness * max(c.penetration, 0.0) ** law.exponent
+        out["cam_roller_damping_force"][j] = force - elastic if force > 0 else 0.0
+        for i, (z, zd) in enumerate(zs):
+            f = laws.pole_contact(i, z, zd, impact[i + 1])
+            pen = z - laws.gaps[i]
+            out[f"pole_{i + 1}_contact_force"][j] = f
+            out[f"pole_{i + 1}_contact_damping_force"][j] = f - law.pole_stiffness * pen ** law.exponent if f > 0 else 0.0
+            s, rate, _, rod = laws.rod(phi, phid, z, zd)
+            out[f"pole_{i + 1}_rod_force"][j] = rod
+            out[f"pole_{i + 1}_rod_compression"][j] = s
+            out[f"pole_{i + 1}_rod_rate"][j] = rate
+    return out
+
+
+def energy_balance(result, rig):
+    """Energy bookkeeping of a closing (J), from the recorded states (massless or lumped spring).
+
+    The closing springs' chain follows from the result's spring model (ANCF: not covered).
+    Returns a dict of time series: ``kinetic``, ``potential`` (closing springs, cam weight,
+    opening spring, push rods and wipe springs, contacts, pole loads), ``dissipated`` (shaft
+    friction, contact damping, rod damping), ``latch_work`` and ``residual`` =
+    E(t) + dissipated - latch_work - E(0), which is zero for an exact solution.
+    """
+    ch, t = result.channels, result.t
+    laws = BreakerLaws.of_rig(rig, result.spec)
+    chain = chain_for(rig.closing_spring, result.spec.spring_model)
+    b, cam, spring, g = rig.breaker, rig.cam, rig.closing_spring, rig.gravity
+    n, c = b.poles.count, spring.count
+    th, w, phi, phid = ch["cam_angle"], ch["shaft_velocity"], ch["follower_angle"], ch["follower_velocity"]
+    kinetic = 0.5 * cam.inertia_pivot * w**2 + 0.5 * b.follower.inertia * phid**2
+    bx, by = cam.pivot[0] + cam.arm_length * np.cos(th), cam.pivot[1] + cam.arm_length * np.sin(th)
+    if chain is None:
+        length = np.hypot(bx - spring.anchor[0], by - spring.anchor[1])
+        springs = 0.5 * c * spring.stiffness * (length - spring.free_length) ** 2
+    else:
+        pts = [np.stack([np.full_like(th, spring.anchor[0]), np.full_like(th, spring.anchor[1])])]
+        for k, m in enumerate(chain.masses, start=1):
+            pts.append(np.stack([ch[f"spring_mass_{k}_x"], ch[f"spring_mass_{k}_y"]]))
+            kinetic = kinetic + 0.5 * c * m * (ch[f"spring_velocity_{k}_x"] ** 2 + ch[f"spring_velocity_{k}_y"] ** 2)
+        pts.append(np.stack([bx, by]))
+        springs = sum(0.5 * c * k * (np.hypot(*(p1 - p0)) - l0) ** 2
+                      for p0, p1, k, l0 in zip(pts[:-1], pts[1:], chain.stiffnesses, chain.free_lengths))
+    cam_weight = cam.mass * g * cam.com_distance * np.sin(th - cam.com_angle)
+    opening = np.array([0.5 * b.opening_spring.stiffness * (laws.opening(p)[0] / b.opening_spring.stiffness) ** 2
+                        for p in phi])
+    law = b.contact
+    contacts = np.array([contact_energy(p, law.cam_roller_stiffness, law.exponent) for p in ch["cam_roller_penetration"]])
+    rods = np.zeros_like(th)
+    poles = np.zeros_like(th)
+    dissipation = np.zeros_like(th)
+    if "friction_torque" in ch:  # the channel is the friction's torque on the cam (opposes w)
+        dissipation -= ch["friction_torque"] * w
+    dissipation += ch["cam_roller_damping_force"] * ch["cam_roller_penetration_rate"]
+    for i in range(n):
+        z, zd = ch[f"pole_{i + 1}_travel"], ch[f"pole_{i + 1}_velocity"]
+        kinetic = kinetic + 0.5 * b.poles.moving_mass * zd**2
+        rods += np.array([push_rod_energy(s, b.poles) for s in ch[f"pole_{i + 1}_rod_compression"]])
+        contacts += np.array([contact_energy(zz - laws.gaps[i], law.pole_stiffness, law.exponent) for zz in z])
+        poles -= laws.pole_load * z
+        dissipation += ch[f"pole_{i + 1}_contact_damping_force"] * zd
+        dissipation += b.poles.rod_damping * ch[f"pole_{i + 1}_rod_rate"] ** 2
+    holding = result.info["initial"].holding_torque
+    latch_work = cumulative_trapezoid(np.array([laws.latch(tt, holding) for tt in t]) * w, t, initial=0.0)
+    potential = springs + cam_weight + opening + rods + contacts + poles
+    dissipated = cumulative_trapezoid(dissipation, t, initial=0.0)
+    total = kinetic + potential
+    return {"t": t, "kinetic": kinetic, "potential": potential, "closing_springs": springs, "opening_spring": opening,
+            "wipe_and_rods": rods, "contacts": contacts, "dissipated": dissipated, "latch_work": latch_work,
+            "residual": total + dissipated - latch_work - total[0],
+            "spring_energy_released": springs[0] - springs}
+
+
+def figures_of_merit(result, rig):
+    """Closing figures of merit from a result (SI units; times from the latch release)."""
+    ch, t = result.channels, result.t
+    b = rig.breaker
+    gaps = pole_gaps(b.poles)
+    touches, speeds, bounces, bounce_times = [], [], [], []
+    for i, gap in enumerate(gaps):
+        z, zd = ch[f"pole_{i + 1}_travel"], ch[f"pole_{i + 1}_velocity"]
+        closed = z > gap
+        if not closed.any():
+            touches.append(None)
+            speeds.append(None)
+            bounces.append(0)
+            bounce_times.append(0.0)
+            continue
+        k = int(np.argmax(closed))
+        frac = (gap - z[k - 1]) / (z[k] - z[k - 1]) if k > 0 else 0.0
+        touches.append(float(t[k - 1] + frac * (t[k] - t[k - 1])) if k > 0 else float(t[0]))
+        speeds.append(float(zd[k - 1] + frac * (zd[k] - zd[k - 1])) if k > 0 else float(zd[0]))
+        opens = np.nonzero(closed[k:-1] & ~closed[k + 1:])[0]  # separations after the first touch
+        bounces.append(int(opens.size))
+        if opens.size:
+            recloses = np.nonzero(~closed[k:-1] & closed[k + 1:])[0]
+            bounce_times.append(float(t[k + recloses[-1] + 1] - touches[-1]) if recloses.size else float(t[-1] - touches[-1]))
+        else:
+            bounce_times.append(0.0)
+    travel = ch["follower_displacement"]
+    done = [x for x in touches if x is not None]
+    at_touch = float(np.interp(min(done), t, travel)) if done else float("nan")
+    return {
+        "closing_time_s": max(done) if len(done) == len(gaps) else None,
+        "first_touch_s": min(done) if done else None,
+        "pole_spread_s": (max(done) - min(done)) if len(done) == len(gaps) else None,
+        "touch_speed_m_s": float(np.mean([s for s in speeds if s is not None])) if done else None,
+        "bounce_count": int(max(bounces)),
+        "bounce_duration_s": float(max(bounce_times)),
+        "final_travel_m": float(travel[-1]),
+        "overtravel_m": float(np.max(travel) - at_touch) if done else None,  # follower travel after first touch
+        "overshoot_m": float(np.max(travel) - travel[-1]),
+        "peak_cam_roller_force_N": float(np.max(ch["cam_roller_force"])),
+        "roller_lift_off_s": float(np.sum(np.diff(t) * (ch["cam_roller_force"][1:] <= 0.0))),
+        "max_pressure_angle_deg": float(np.degrees(np.max(ch["pressure_angle"]))),
+        "per_pole": {"touch_s": touches, "touch_speed_m_s": speeds, "bounces": bounces, "bounce_duration_s": bounce_times},
+    }

@@ -1,0 +1,80 @@
+"""Loading a rig file: the common sections here, the experiment's own through its record.
+
+Everything is validated on load; any fault raises :class:`~vcbmodel.errors.InputError` naming
+the file and the field. Keys starting with ``_`` are free comments.
+"""
+from __future__ import annotations
+
+import json
+from pathlib import Path
+
+from ..errors import InputError
+from ..model.choice import read_model
+from ..model.values import rig_values
+from ..records.measurement import load_measurement, sibling_rig_path
+from ..rig.data import Rig
+from ..rig.reader import Reader, read_json
+from ..rig.sections import read_friction
+from .base import EXPERIMENTS
+
+FORMAT = "vcb-rig/1"
+COMMON_KEYS = ("format", "name", "experiment", "gravity", "shaft", "friction", "model")
+
+
+def load_rig(path) -> Rig:
+    """Read and check a ``vcb-rig/1`` file (docs/rig-format.md)."""
+    path = str(path)
+    return rig_from_data(read_json(path), path)
+
+
+def rig_from_data(data, path="(rig)") -> Rig:
+    """Check a rig's JSON object (as read from ``path``) and build the :class:`Rig`."""
+    rd = Reader(path)
+    if not isinstance(data, dict):
+        rd.fail("(top level)", "must be a JSON object")
+    if data.get("format") != FORMAT:
+        rd.fail("format", f"must be {FORMAT!r}, got {json.dumps(data.get('format'))[:40]}")
+    name = data.get("experiment")
+    if name not in EXPERIMENTS:
+        rd.fail("experiment", f"must be one of {', '.join(EXPERIMENTS)}, got {json.dumps(name)[:40]}")
+    record = EXPERIMENTS[name]
+    rd.known_keys(data, COMMON_KEYS + record.sections)
+    gravity = rd.number(data, "gravity", nonnegative=True, default=9.81)
+    radius = rd.number(rd.section(data, "shaft", known=("radius",)), "radius", "shaft.", nonnegative=True)
+    friction = read_friction(rd, data)
+    model = read_model(rd, data, name)
+    if not record.has_closing_spring and not model.spring_model.is_massless:
+        rd.fail("model.spring_model", f"a {name} test has no closing spring: use 'massless'")
+    sections = record.read_sections(rd, data)
+    title = data.get("name", Path(path).name.replace(".rig.json", ""))
+    if not isinstance(title, str):
+        rd.fail("name", "must be a string")
+    rig = Rig(path=path, name=title, experiment=name, gravity=gravity, shaft_radius=radius, friction=friction,
+              model=model, sections=sections, data=data)
+    rig_values(rig)  # the effects check the values the rig gives (e.g. zeta on a pendulum only)
+    return rig
+
+
+def load_record(measurement_path, rig):
+    """A measurement file for ``rig``: it must carry the experiment's channel and a plausible
+    time axis (seconds)."""
+    record = EXPERIMENTS[rig.experiment]
+    meas = load_measurement(measurement_path, record.measured_channel, known_channels())
+    record.check_duration(float(meas.t[-1] - meas.t[0]), meas.path, "column 't'")
+    return meas
+
+
+def known_channels():
+    """Channel names a measurement file may carry: every experiment's measured channel."""
+    return tuple(dict.fromkeys(r.measured_channel for r in EXPERIMENTS.values()))
+
+
+def load_pair(measurement_path, rig_path=None):
+    """(rig, measurement): the rig defaults to the measurement's sibling ``NAME.rig.json``."""
+    rig = load_rig(rig_path or sibling_rig_path(measurement_path))
+    return rig, load_record(measurement_path, rig)
+
+
+def require_experiment(rig, name, command):
+    if rig.experiment != name:
+        raise InputError(rig.path, "experiment", f"{command} needs a {name} rig, got {rig.experiment}")

@@ -1,0 +1,91 @@
+"""The pendulum test (paper section 2): a weight on a link swings on the cam shaft."""
+from __future__ import annotations
+
+import math
+
+import numpy as np
+
+from .. import parameters as P
+from ..builders.pendulum import build_pendulum
+from ..records.signals import decay_shape, first_peak_amplitude, motion_end_time, swing_peaks, swing_spans
+from ..rig.sections import read_pendulum
+from .base import Experiment, shaft_channels
+
+
+def build(rig, spec, law, chain, user_function, ancf_elements):
+    return build_pendulum(rig, law, user_function)
+
+
+def channels(data, rig, spec, info):
+    return shaft_channels(data, "pendulum_angle")
+
+
+def default_step(rig, law):
+    """At most PENDULUM_STEP and small enough that one step at the release acceleration
+    changes the speed by 1.5 w0, less than the width 2 w0 of the stick band, so a reversing
+    shaft cannot jump over it."""
+    p = rig.pendulum
+    acc = p.mass * rig.gravity * p.com_distance * max(abs(math.sin(p.initial_angle)), 1e-3) / p.inertia
+    acc = max(acc, abs(p.initial_velocity) * 2 * math.pi / 1.0)
+    return float(min(P.PENDULUM_STEP, max(1.5 * law.stick_velocity / acc, 1e-5)))
+
+
+def figures_of_merit(result, rig):
+    """``first_peak_rad``: amplitude of the first extreme after release; ``stop_time_s``:
+    when the shaft last moved faster than the stick band."""
+    w = result.channels["shaft_velocity"]
+    moving = np.nonzero(np.abs(w) > result.spec.stick_velocity)[0]
+    return {"first_peak_rad": first_peak_amplitude(result.t, result.measured),
+            "stop_time_s": float(result.t[moving[-1]]) if moving.size else 0.0}
+
+
+def start_guesses(rig, measurement):
+    """Starting values from the measured swing.
+
+    While the pendulum swings clearly, the span between successive extremes shrinks at
+    ``ds/dt = -4 T_f/(M g L T) - lambda s``: a Coulomb torque T_f ~ mu_k r M g takes a constant
+    4 T_f/(M g L) per half period T/2, a viscous torque gives the rate lambda = Cv / (2 I).
+    A linear regression of the span decrements on the span separates the two. Starts: the
+    regression, all of the decay as Coulomb, all of it as viscous.
+    """
+    p = rig.pendulum
+    y = measurement.channel("pendulum_angle")
+    mid, spans, gaps = swing_spans(measurement.t, y)
+    if spans.size < 3:
+        return [{}]
+    half_period = float(np.median(gaps))
+    rate_of_change = np.diff(spans) / np.diff(mid)
+    s_mid = 0.5 * (spans[1:] + spans[:-1])
+    coulomb_rate, lam = (-np.polyfit(s_mid, rate_of_change, 1)[::-1]) if s_mid.size >= 2 else (0.0, 0.0)
+    to_mu = half_period * p.com_distance / (4 * rig.shaft_radius)  # span decrement rate -> mu_k
+    total = float(-np.polyfit(mid, spans, 1)[0])  # everything as Coulomb
+    lam_all = max(float(-np.polyfit(mid, np.log(spans), 1)[0]), 0.0)  # everything as viscous
+    both = {"mu_k": max(float(coulomb_rate), 0.0) * to_mu, "viscous": 2 * max(float(lam), 0.0) * p.inertia}
+    both["mu_s"] = 1.5 * both["mu_k"]
+    return [both,
+            {"mu_k": max(total, 0.0) * to_mu, "viscous": 0.0, "mu_s": 1.5 * max(total, 0.0) * to_mu},
+            {"mu_k": 0.0, "viscous": 2 * lam_all * p.inertia, "mu_s": 0.0}]
+
+
+def swinging_part(t, y, sigma):
+    """After a free swing sticks, the stuck angle depends discontinuously on the friction:
+    fits take the swinging part first (None when the swing never stops within the record)."""
+    t_stop = motion_end_time(t, y, sigma)
+    return t_stop if t_stop < 0.9 * t[-1] else None
+
+
+def signature(rig, measurement, model_curve, residual, sigma):
+    """How the measured amplitude decays and when the swing stops, measured vs model."""
+    t, y = measurement.t, measurement.channel("pendulum_angle")
+    tp, ap = swing_peaks(t, y)
+    return {"amplitude_decay": decay_shape(tp, ap), "measured_stop_time_s": motion_end_time(t, y, sigma),
+            "model_stop_time_s": motion_end_time(t, model_curve, sigma)}
+
+
+PENDULUM = Experiment(
+    name="pendulum", description="pendulum free swing on the cam shaft (paper section 2, eq. 1-6)",
+    measured_channel="pendulum_angle", unit="rad", sections=("pendulum",), read_sections=read_pendulum,
+    # potentiometer at 1 kHz, sigma 0.5 mrad (the example data's sensor)
+    sample_rate=1000.0, noise_sigma=0.5e-3, default_duration=P.PENDULUM_T_END, max_duration=600.0,
+    build=build, channels=channels, step=default_step, figures_of_merit=figures_of_merit,
+    start_guesses=start_guesses, swinging_part=swinging_part, signature=signature)

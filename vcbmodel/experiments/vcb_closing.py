@@ -1,0 +1,27 @@
+"""The whole breaker's closing (paper section 4, Fig. 11-12): latch release to contacts closed."""
+from __future__ import annotations
+
+from .. import parameters as P
+from ..builders.breaker import build_vcb_closing
+from ..rig.sections import read_closing
+from .base import Experiment
+from .cam_drop import spring_signature
+from .closing_evaluation import closing_channels, figures_of_merit
+
+
+def build(rig, spec, law, chain, user_function, ancf_elements):
+    return build_vcb_closing(rig, spec, law, chain, user_function, ancf_elements)
+
+
+def default_step(rig, law):
+    return P.BREAKER_STEP
+
+
+VCB_CLOSING = Experiment(
+    name="vcb_closing", description="whole-breaker closing: cam, roller follower, push rods, poles (paper section 4)",
+    measured_channel="follower_displacement", unit="m", sections=("cam", "closing_spring", "breaker"),
+    read_sections=read_closing,
+    # the cam drop's camera (12 kHz) filming the follower: about 0.1 mm resolved over a 100 mm field
+    sample_rate=12000.0, noise_sigma=5e-5, default_duration=P.BREAKER_T_END, max_duration=1.0,
+    build=build, channels=closing_channels, step=default_step, figures_of_merit=figures_of_merit,
+    has_closing_spring=True, signature=spring_signature)

@@ -1,0 +1,75 @@
+"""Loads and shaft reactions of the two experiments, as pure functions.
+
+Each function returns the applied torque ``T_c`` (N m, about the shaft, without friction)
+and the shaft reaction written as ``R = R0 + R1 theta''`` (R0 in N, R1 in N s^2/rad), the
+inputs of :func:`vcbmodel.friction.shaft_friction`. ``ops`` selects float or Exudyn
+symbolic arithmetic, so the Exudyn user functions evaluate exactly these formulas.
+"""
+from __future__ import annotations
+
+from .friction import NumericOps
+
+
+def pendulum_loads(theta, omega, mass, com_distance, gravity, ops=NumericOps):
+    """Pendulum (paper eq. 1, 5, 6): T_c = -M g L sin(theta).
+
+    The reaction is expressed in the link frame: normal F_om = M g cos(th) + M L th'^2,
+    tangential F_ot = M g sin(th) + M L th'' (eq. 6). Returns (T_c, R0x, R0y, R1x, R1y).
+    """
+    M, L, g = mass, com_distance, gravity
+    s, c = ops.sin(theta), ops.cos(theta)
+    return -M * g * L * s, M * g * c + M * L * omega * omega, M * g * s, 0.0, M * L
+
+
+def cam_pin(theta, cam, ops=NumericOps):
+    """Spring pin B = A + l_AB (cos th, sin th) (m)."""
+    return (cam.pivot[0] + cam.arm_length * ops.cos(theta),
+            cam.pivot[1] + cam.arm_length * ops.sin(theta))
+
+
+def massless_spring_force(bx, by, spring, ops=NumericOps):
+    """Pull (N) of ``spring.count`` massless tension springs on pin B, along B -> O."""
+    dx, dy = bx - spring.anchor[0], by - spring.anchor[1]
+    length = ops.sqrt(dx * dx + dy * dy)
+    tension = spring.count * spring.stiffness * (length - spring.free_length)
+    return -tension * dx / length, -tension * dy / length
+
+
+def cam_weight_torque(theta, cam, gravity, ops=NumericOps):
+    """Torque (N m) of the cam's weight about A: -m_c g l_g cos(theta - psi) (eq. 12)."""
+    return -cam.mass * gravity * cam.com_distance * ops.cos(theta - cam.com_angle)
+
+
+def cam_loads(theta, omega, cam, spring_force_x, spring_force_y, gravity, ops=NumericOps, pin_mass=0.0,
+              pin_weight=False):
+    """Cam (paper eq. 11-13) with a force (N) on pin B from the closing springs.
+
+    T_c = r_AB x F_s - m_c g l_g cos(th - psi) (eq. 12). The shaft's reaction on the cam is
+    R = m_c a_G - F_s - m_c g_vec with a_G = th'' e_z x r_G - th'^2 r_G (eq. 13, with the
+    centripetal term th'^2). ``pin_mass`` (kg): the springs' mass riding on pin B (spec
+    "lumped_convention"), moving with the cam: it adds m_pin a_B to the reaction and, with
+    ``pin_weight``, its weight to the torque and the reaction; its inertia m_pin l_AB^2 belongs
+    in the cam's inertia (:func:`cam_inertia`). Returns (T_c, R0x, R0y, R1x, R1y).
+    """
+    ca, sa = ops.cos(theta), ops.sin(theta)
+    rbx, rby = cam.arm_length * ca, cam.arm_length * sa
+    phi = theta - cam.com_angle
+    rgx, rgy = cam.com_distance * ops.cos(phi), cam.com_distance * ops.sin(phi)
+    mc, g = cam.mass, gravity
+    torque = rbx * spring_force_y - rby * spring_force_x + cam_weight_torque(theta, cam, g, ops)
+    R0x = -mc * omega * omega * rgx - spring_force_x
+    R0y = -mc * omega * omega * rgy - spring_force_y + mc * g
+    R1x, R1y = -mc * rgy, mc * rgx
+    if pin_mass:
+        R0x = R0x - pin_mass * omega * omega * rbx
+        R0y = R0y - pin_mass * omega * omega * rby
+        R1x, R1y = R1x - pin_mass * rby, R1y + pin_mass * rbx
+        if pin_weight:
+            torque = torque - pin_mass * g * rbx
+            R0y = R0y + pin_mass * g
+    return torque, R0x, R0y, R1x, R1y
+
+
+def cam_inertia(cam, pin_mass=0.0):
+    """Inertia (kg m^2) of the cam about A with the springs' pin mass: I_c + m_c l_g^2 + m_pin l_AB^2."""
+    return cam.inertia_pivot + pin_mass * cam.arm_length**2

@@ -1,0 +1,61 @@
+"""Reading the rig's ``model`` section and effect lists given on the command line."""
+from __future__ import annotations
+
+import json
+
+from ..errors import InputError
+from ..rig.data import ModelChoice
+from ..rig.reader import did_you_mean
+from ..rig.spring_model import SpringModel
+from .effects import EFFECTS
+
+MODEL_KEYS = ("effects", "spring_model", "lumped_convention")
+
+
+def check_effect_names(effects, experiment, fail):
+    """Refuse unknown, inapplicable or repeated effect names through ``fail(message)``."""
+    for e in effects:
+        if e not in EFFECTS:
+            fail(f"unknown effect {e!r}{did_you_mean(e, EFFECTS)} (known: {', '.join(EFFECTS)})")
+        if experiment not in EFFECTS[e].experiments:
+            fail(f"effect {e!r} does not apply to a {experiment} test")
+    if len(set(effects)) != len(effects):
+        fail("lists an effect twice")
+
+
+def read_model(rd, data, experiment):
+    """The rig's ``model``: a :class:`vcbmodel.rig.data.ModelChoice`."""
+    m = rd.section(data, "model")
+    rd.known_keys(m, MODEL_KEYS, "model.")
+    effects = m.get("effects", [])
+    if not isinstance(effects, list) or not all(isinstance(e, str) for e in effects):
+        rd.fail("model.effects", "must be a list of effect names")
+    check_effect_names(effects, experiment, lambda msg: rd.fail("model.effects", msg))
+    convention = m.get("lumped_convention", "exact")
+    if not isinstance(convention, str) or ":" in convention:
+        rd.fail("model.lumped_convention", f"must be exact, paper or uniform, got {json.dumps(convention)}")
+    try:
+        SpringModel.parse("massless", convention)
+    except ValueError:
+        rd.fail("model.lumped_convention", f"must be exact, paper or uniform, got {json.dumps(convention)}")
+    text = m.get("spring_model", "massless")
+    try:
+        if not isinstance(text, str) or ":" in text:
+            raise ValueError(f"must be massless, lumped-N (N = 1..99) or ancf, got {json.dumps(text)}")
+        spring_model = SpringModel.parse(text, convention)
+    except ValueError as e:
+        rd.fail("model.spring_model", str(e))
+    if ("spring_mass" in effects) != (not spring_model.is_massless):
+        rd.fail("model.effects", "'spring_mass' must be listed exactly when spring_model is not 'massless'")
+    return ModelChoice(tuple(effects), spring_model)
+
+
+def parse_effects_option(text, experiment, source="--effects"):
+    """Effects given on the command line: comma-separated, spaces allowed."""
+    effects = [e.strip() for e in text.split(",") if e.strip()]
+
+    def fail(message):
+        raise InputError(source, "effects", message)
+
+    check_effect_names(effects, experiment, fail)
+    return tuple(effects)

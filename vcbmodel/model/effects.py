@@ -1,0 +1,218 @@
+"""The registry of model effects (spec "Effect names").
+
+Each effect is a component with an *on* and an *off* variant; the model is assembled by
+visiting every registered effect in order and letting the chosen variant contribute its
+part (PyBaMM-style: "off" is a real component that contributes zero, not an ``if`` in a
+builder). Each effect owns its contract: the experiments it applies to, its parameters
+(:class:`ParameterSpec`: fit bounds and start, and the rig field a value may come from),
+and, for ``spring_mass``, the variants the diagnosis tries. The diagnosis loops over
+:data:`EFFECTS`, so a new effect is one entry here.
+"""
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+
+from ..errors import InputError
+from ..laws.friction import FrictionLaw, viscous_from_zeta
+from ..parameters import DEFAULT_SPRING_MASS_MODEL, DEFAULT_STICK_VELOCITY
+from ..rig.spring_model import SpringModel
+
+
+@dataclass(frozen=True)
+class ParameterSpec:
+    name: str
+    initial: float  # starting guess for a fit (fits only: never a model value)
+    min: float
+    max: float
+    unit: str
+    rig_field: str  # dotted path of the rig field that may give the value
+    vary: bool = True  # varied by the diagnosis unless the rig gives the value
+    log: bool = False  # fit on a log scale (positive, spans decades)
+    scan: tuple = ()  # coarse values tried before a fit when the effect is newly added
+    default: float | None = None  # documented value used when the rig gives none (None: required)
+
+
+@dataclass
+class ModelSpec:
+    """What one simulation runs with beyond the rig: the effects, the friction law's values,
+    the spring model and the breaker's effect values."""
+
+    effects: tuple = ()
+    mu_s: float = 0.0  # -
+    mu_k: float = 0.0  # -
+    stick_velocity: float = DEFAULT_STICK_VELOCITY  # rad/s
+    stribeck_velocity: float = 0.0  # rad/s
+    viscous: float = 0.0  # N m s/rad
+    spring_model: SpringModel = field(default_factory=SpringModel)
+    restitution: float = 1.0  # whole breaker: contacts' coefficient of restitution (1: elastic)
+    bellows_force: float = 0.0  # whole breaker: atmospheric force on each pole's bellows (N)
+
+    def friction_law(self, radius):
+        return FrictionLaw(mu_s=max(self.mu_s, self.mu_k), mu_k=self.mu_k, stick_velocity=self.stick_velocity,
+                           stribeck_velocity=self.stribeck_velocity, viscous=self.viscous, radius=radius)
+
+
+class Effect:
+    """An effect component: ``parameters`` it owns, the ``experiments`` it applies to, what
+    it contributes when on/off, and which of its values a rig gives."""
+
+    name = ""
+    description = ""
+    parameters: tuple = ()
+    experiments = ("pendulum", "cam_drop", "vcb_closing")
+    variants: tuple = ()  # alternative model structures the diagnosis tries (spring models)
+
+    def on(self, spec: ModelSpec, values: dict, rig) -> None:
+        raise NotImplementedError
+
+    def off(self, spec: ModelSpec, values: dict, rig) -> None:
+        raise NotImplementedError
+
+    def rig_values(self, rig) -> dict:
+        """The values of this effect's parameters that the rig gives (by ``rig_field``)."""
+        out = {}
+        for p in self.parameters:
+            section, _, key = p.rig_field.rpartition(".")
+            if section == "friction" and key in rig.friction:
+                out[p.name] = rig.friction[key]
+        return out
+
+
+def _friction(name, initial, lo, hi, unit, **kw):
+    return ParameterSpec(name, initial, lo, hi, unit, f"friction.{name}", **kw)
+
+
+class CoulombFriction(Effect):
+    name = "coulomb_friction"
+    description = "dry shaft friction mu_k r Fn with a stick band (passive sticking)"
+    parameters = (_friction("mu_k", 0.1, 0.0, 1.0, "-", scan=(0.03, 0.08, 0.15, 0.3)),
+                  _friction("stick_velocity", DEFAULT_STICK_VELOCITY, 2e-4, 0.02, "rad/s", vary=False, log=True,
+                            default=DEFAULT_STICK_VELOCITY))
+
+    def on(self, spec, values, rig):
+        spec.mu_k = spec.mu_s = values["mu_k"]
+        spec.stick_velocity = values["stick_velocity"]
+
+    def off(self, spec, values, rig):
+        spec.mu_k = spec.mu_s = 0.0
+
+
+class Stribeck(Effect):
+    name = "stribeck"
+    description = "static friction mu_s > mu_k, falling linearly to mu_k at the Stribeck velocity"
+    parameters = (_friction("mu_s", 0.2, 0.0, 1.5, "-", scan=(0.15, 0.25, 0.4)),
+                  _friction("stribeck_velocity", 0.1, 0.003, 2.0, "rad/s", log=True, scan=(0.03, 0.1, 0.3)))
+
+    def on(self, spec, values, rig):
+        spec.mu_s = max(values["mu_s"], spec.mu_k)
+        spec.stribeck_velocity = values["stribeck_velocity"]
+
+    def off(self, spec, values, rig):
+        spec.mu_s = spec.mu_k
+        spec.stribeck_velocity = 0.0
+
+
+class ViscousFriction(Effect):
+    name = "viscous_friction"
+    description = "viscous shaft torque Cv w"
+    parameters = (_friction("viscous", 0.3, 0.0, 20.0, "N m s/rad", scan=(0.1, 0.4, 1.2, 4.0)),)
+
+    def on(self, spec, values, rig):
+        spec.viscous = values["viscous"]
+
+    def off(self, spec, values, rig):
+        spec.viscous = 0.0
+
+    def rig_values(self, rig):
+        """``viscous``, or for a pendulum its damping ratio ``zeta`` (Cv = 2 zeta sqrt(I M g L))."""
+        out = super().rig_values(rig)
+        if "zeta" in rig.friction and "viscous" not in out:
+            if rig.pendulum is None:
+                raise InputError(rig.path, "friction.zeta", "a damping ratio applies to pendulum rigs only: "
+                                 "give friction.viscous (N m s/rad)")
+            p = rig.pendulum
+            out["viscous"] = viscous_from_zeta(rig.friction["zeta"], p.inertia, p.mass, rig.gravity, p.com_distance)
+        return out
+
+
+class SpringMass(Effect):
+    name = "spring_mass"
+    description = "the closing spring's own inertia (surge, lateral motion) as a mass model"
+    parameters = ()
+    experiments = ("cam_drop", "vcb_closing")
+    #: mass models the diagnosis tries when adding this effect (a discrete choice, no fitted
+    #: parameter); the best by BIC is kept. Cheapest first: a candidate that explains the data
+    #: within the noise stops the rest.
+    variants = tuple(SpringModel.parse(s) for s in ("lumped-1", "lumped-2", "lumped-3", "lumped-1:paper",
+                                                     "lumped-2:paper", "lumped-3:paper", "ancf"))
+
+    def on(self, spec, values, rig):
+        chosen = rig.model.spring_model
+        spec.spring_model = chosen if not chosen.is_massless else SpringModel.parse(
+            DEFAULT_SPRING_MASS_MODEL, chosen.convention)
+
+    def off(self, spec, values, rig):
+        spec.spring_model = SpringModel("massless", 0, rig.model.spring_model.convention)
+
+
+class BreakerScalarEffect(Effect):
+    """A whole-breaker effect that sets one model field from its one parameter, whose value
+    a rig may give in its ``breaker`` section; off sets ``off_value``."""
+
+    field = ""
+    off_value = 0.0
+    experiments = ("vcb_closing",)
+
+    def on(self, spec, values, rig):
+        setattr(spec, self.field, values[self.field])
+
+    def off(self, spec, values, rig):
+        setattr(spec, self.field, self.off_value)
+
+    def rig_values(self, rig):
+        obj = rig.breaker
+        for key in self.parameters[0].rig_field.split(".")[1:]:
+            obj = getattr(obj, key, None)
+        return {} if obj is None else {self.field: obj}
+
+
+class ContactDamping(BreakerScalarEffect):
+    name = "contact_damping"
+    description = ("energy lost in the cam-roller and pole contact impacts: Lankarani-Nikravesh hysteresis "
+                   "damping with restitution e < 1 (off: elastic Hertz contacts)")
+    parameters = (ParameterSpec("restitution", 0.8, 0.3, 1.0, "-", "breaker.contact.restitution", scan=(0.5, 0.7, 0.9)),)
+    field, off_value = "restitution", 1.0
+
+
+class BellowsForce(BreakerScalarEffect):
+    name = "bellows_force"
+    description = ("atmospheric pressure on each vacuum interrupter's bellows, pushing the moving contact closed "
+                   "(100-400 N for medium-voltage interrupters)")
+    parameters = (ParameterSpec("bellows_force", 150.0, 0.0, 600.0, "N", "breaker.poles.bellows_force",
+                                scan=(50.0, 150.0, 300.0)),)
+    field = "bellows_force"
+
+
+# Order matters: Stribeck's "off" copies mu_k, so Coulomb comes first.
+EFFECTS = {e.name: e for e in (CoulombFriction(), Stribeck(), ViscousFriction(), SpringMass(), ContactDamping(),
+                               BellowsForce())}
+
+
+def parameter_specs(effects, registry=None):
+    """The parameter specs owned by the listed effects, in registry order."""
+    return [p for name, e in (registry or EFFECTS).items() if name in effects for p in e.parameters]
+
+
+def consistent_effects(effects, spring_model: SpringModel):
+    """``effects`` with ``spring_mass`` listed exactly when the spring model is not massless
+    (spec "Effect names"), in registry order."""
+    wanted = set(effects) - {"spring_mass"} | ({"spring_mass"} if not spring_model.is_massless else set())
+    return tuple(e for e in EFFECTS if e in wanted) + tuple(e for e in effects if e not in EFFECTS)
+
+
+def assemble(rig, effects, values) -> ModelSpec:
+    """Visit every registered effect; the on/off variant contributes its part."""
+    spec = ModelSpec(effects=tuple(effects))
+    for name, effect in EFFECTS.items():
+        (effect.on if name in effects else effect.off)(spec, values, rig)
+    return spec

@@ -1,0 +1,186 @@
+"""Reading rig files: bytes -> JSON -> typed, checked values, every fault one line.
+
+Keys starting with ``_`` are free comments wherever they appear.
+
+:func:`read_json` turns a file into a JSON object or raises :class:`InputError` (not UTF-8,
+UTF-16, binary, malformed, nested too deeply, NaN/Infinity, numbers out of range).
+:class:`Reader` gives typed access to it with errors naming the dotted field, and refuses
+unknown keys with a "did you mean" hint. Section readers (:mod:`vcbmodel.rig.sections`) and
+the rig loader (:mod:`vcbmodel.experiments.loading`) use it.
+"""
+from __future__ import annotations
+
+import difflib
+import json
+import math
+from pathlib import Path
+
+from ..errors import InputError
+
+#: Largest magnitude accepted for any number in a rig (SI units): beyond it a value is a typo
+#: or an overflow, and would make the solver run into inf/NaN (the stiffest value in use,
+#: a Hertz contact constant, is about 1e11).
+LARGEST_NUMBER = 1e15
+#: Deepest JSON nesting accepted (a rig needs 4 levels).
+MAX_DEPTH = 32
+UTF8_BOM = b"\xef\xbb\xbf"
+
+
+def decode_text(path, raw):
+    """The text of a file's bytes: UTF-8, with or without a byte-order mark. UTF-16 and binary
+    files are refused with a one-line error."""
+    if raw.startswith(UTF8_BOM):
+        raw = raw[len(UTF8_BOM):]
+    if raw.startswith((b"\xff\xfe", b"\xfe\xff")):
+        raise InputError(path, "file", "is UTF-16 encoded: save it as UTF-8")
+    if b"\x00" in raw:
+        raise InputError(path, "file", "is binary, not a text file")
+    try:
+        return raw.decode("utf-8")
+    except UnicodeDecodeError as e:
+        line = raw[:e.start].count(b"\n") + 1
+        raise InputError(path, f"line {line}", "is not UTF-8 text") from None
+
+
+def read_bytes(path):
+    try:
+        return Path(path).read_bytes()
+    except IsADirectoryError:
+        raise InputError(path, "file", "is a folder, not a file") from None
+    except OSError as e:
+        raise InputError(path, "file", f"cannot read: {e.strerror}") from None
+
+
+def _depth(obj, level=0):
+    if level > MAX_DEPTH:
+        return level
+    if isinstance(obj, dict):
+        return max([_depth(v, level + 1) for v in obj.values()], default=level)
+    if isinstance(obj, list):
+        return max([_depth(v, level + 1) for v in obj], default=level)
+    return level
+
+
+def read_json(path):
+    """Parse a JSON file (see module docstring)."""
+    path = str(path)
+    text = decode_text(path, read_bytes(path))
+    # a cheap guard before the parser recurses: count the opening brackets' nesting
+    level = deepest = 0
+    for ch in text:
+        if ch in "[{":
+            level += 1
+            if level > deepest:
+                deepest = level
+                if deepest > MAX_DEPTH:
+                    raise InputError(path, "JSON", f"nested more than {MAX_DEPTH} levels deep")
+        elif ch in "]}":
+            level -= 1
+
+    def bad_constant(name):
+        raise ValueError(f"{name} is not a valid JSON number")
+
+    try:  # a number out of range (1e400) reads as inf: Reader.value refuses it, naming the field
+        return json.loads(text, parse_constant=bad_constant)
+    except json.JSONDecodeError as e:
+        raise InputError(path, f"line {e.lineno}", f"malformed JSON: {e.msg}") from None
+    except (ValueError, RecursionError) as e:
+        raise InputError(path, "JSON", str(e) or "cannot be parsed") from None
+
+
+def did_you_mean(name, known):
+    close = difflib.get_close_matches(name, list(known), n=1, cutoff=0.6)
+    return f" (did you mean {close[0]!r}?)" if close else ""
+
+
+class Reader:
+    """Typed access into a parsed rig with errors naming the dotted field (``cam.mass``)."""
+
+    def __init__(self, path):
+        self.path = str(path)
+
+    def fail(self, fieldname, message):
+        raise InputError(self.path, fieldname, message)
+
+    def known_keys(self, obj, known, prefix=""):
+        """Refuse keys of ``obj`` not in ``known``, naming the first unknown one; keys starting
+        with ``_`` are free comments."""
+        for key in obj:
+            if key not in known and not key.startswith("_"):
+                self.fail(prefix + key, f"unknown field{did_you_mean(key, known)}; known: {', '.join(known)}")
+
+    def section(self, obj, key, prefix="", known=None):
+        name = prefix + key
+        if key not in obj:
+            self.fail(name, "missing")
+        if not isinstance(obj[key], dict):
+            self.fail(name, "must be an object")
+        if known is not None:
+            self.known_keys(obj[key], known, name + ".")
+        return obj[key]
+
+    def optional_section(self, obj, key, prefix="", known=None):
+        if key not in obj:
+            return {}
+        return self.section(obj, key, prefix, known)
+
+    def number(self, obj, key, prefix="", *, positive=False, nonnegative=False, default=None):
+        name = prefix + key
+        if key not in obj:
+            if default is not None:
+                return default
+            self.fail(name, "missing")
+        return self.value(obj[key], name, positive=positive, nonnegative=nonnegative)
+
+    def value(self, v, name, *, positive=False, nonnegative=False):
+        if isinstance(v, bool) or not isinstance(v, (int, float)):
+            self.fail(name, f"must be a number, got {json.dumps(v)[:40]}")
+        try:
+            v = float(v)
+        except OverflowError:
+            self.fail(name, "is out of range")
+        if not math.isfinite(v):
+            self.fail(name, "must be finite")
+        if abs(v) > LARGEST_NUMBER:
+            self.fail(name, f"is implausibly large ({v:g}; values are in SI units)")
+        if positive and not v > 0:
+            self.fail(name, f"must be positive, got {v:g}")
+        if nonnegative and v < 0:
+            self.fail(name, f"must not be negative, got {v:g}")
+        return v
+
+    def count(self, obj, key, prefix="", default=None):
+        """A whole, positive number (a count)."""
+        v = self.number(obj, key, prefix, positive=True, default=default)
+        if v != int(v):
+            self.fail(prefix + key, "must be a whole number")
+        return int(v)
+
+    def boolean(self, obj, key, prefix="", default=False):
+        v = obj.get(key, default)
+        if not isinstance(v, bool):
+            self.fail(prefix + key, "must be true or false")
+        return v
+
+    def text(self, obj, key, prefix="", default=None):
+        v = obj.get(key, default)
+        if not isinstance(v, str):
+            self.fail(prefix + key, "must be a string")
+        return v
+
+    def point(self, obj, key, prefix=""):
+        name = prefix + key
+        if key not in obj:
+            self.fail(name, "missing")
+        v = obj[key]
+        if not isinstance(v, list) or len(v) != 2:
+            self.fail(name, "must be a list of two numbers [x, y]")
+        return tuple(self.value(x, name) for x in v)
+
+    def numbers(self, obj, key, prefix, count, default):
+        """A list of ``count`` numbers."""
+        name = prefix + key
+        v = obj.get(key, default)
+        if not isinstance(v, list) or len(v) != count:
+            self.fail(name, f"must be a list of {count} numbers")
+        return tuple(self.value(x, name) for x in v)

@@ -1,0 +1,168 @@
+"""Readers of a rig file's sections: JSON object in, checked dataclass out.
+
+Each reader takes the public :class:`vcbmodel.rig.reader.Reader` (errors name the dotted
+field) and the file's JSON object. The experiment records (:mod:`vcbmodel.experiments`) say
+which readers their rig needs. Keys starting with ``_`` are free comments and are ignored.
+"""
+from __future__ import annotations
+
+import math
+
+from ..laws.breaker import TWO_PI, pitch_radius, rest_geometry
+from ..laws.mechanics import cam_pin
+from .data import (Breaker, Cam, CamProfile, ClosingSpring, ContactLaw, Follower, OpeningSpring, Pendulum,
+                   Poles)
+
+FRICTION_KEYS = ("mu_s", "mu_k", "stick_velocity", "stribeck_velocity", "viscous", "zeta")
+PENDULUM_KEYS = ("mass", "inertia", "com_distance", "initial_angle", "initial_velocity")
+CAM_KEYS = ("mass", "inertia_com", "com_distance", "com_angle", "pivot", "arm_length", "initial_angle",
+            "initial_velocity")
+SPRING_KEYS = ("count", "stiffness", "mass", "free_length", "anchor", "wire_diameter", "coil_diameter",
+               "active_coils", "shear_modulus", "weight")
+
+
+def without_comments(obj):
+    return {k: v for k, v in obj.items() if not k.startswith("_")}
+
+
+def read_friction(rd, data):
+    """The friction values the rig gives (subset of FRICTION_KEYS), checked."""
+    f = without_comments(rd.optional_section(data, "friction"))
+    rd.known_keys(f, FRICTION_KEYS, "friction.")
+    friction = {key: rd.number(f, key, "friction.", nonnegative=True) for key in f}
+    if "mu_s" in friction and "mu_k" in friction and friction["mu_s"] < friction["mu_k"]:
+        rd.fail("friction.mu_s", "must not be smaller than friction.mu_k")
+    return friction
+
+
+def read_pendulum(rd, data):
+    p = without_comments(rd.section(data, "pendulum", known=PENDULUM_KEYS))
+    pre = "pendulum."
+    pendulum = Pendulum(
+        mass=rd.number(p, "mass", pre, positive=True), inertia=rd.number(p, "inertia", pre, positive=True),
+        com_distance=rd.number(p, "com_distance", pre, positive=True),
+        initial_angle=rd.number(p, "initial_angle", pre), initial_velocity=rd.number(p, "initial_velocity", pre, default=0.0))
+    if pendulum.inertia < 0.99 * pendulum.mass * pendulum.com_distance**2:  # 1 %: rounded data
+        rd.fail("pendulum.inertia", "smaller than mass * com_distance^2: not a physical body")
+    if abs(pendulum.initial_angle) >= math.pi:
+        rd.fail("pendulum.initial_angle", "must lie within (-pi, pi) rad of hanging straight down")
+    return {"pendulum": pendulum}
+
+
+def read_cam(rd, data):
+    c = without_comments(rd.section(data, "cam", known=CAM_KEYS))
+    pre = "cam."
+    cam = Cam(
+        mass=rd.number(c, "mass", pre, positive=True), inertia_com=rd.number(c, "inertia_com", pre, nonnegative=True),
+        com_distance=rd.number(c, "com_distance", pre, nonnegative=True),
+        com_angle=rd.number(c, "com_angle", pre, default=0.0), pivot=rd.point(c, "pivot", pre),
+        arm_length=rd.number(c, "arm_length", pre, positive=True), initial_angle=rd.number(c, "initial_angle", pre),
+        initial_velocity=rd.number(c, "initial_velocity", pre, default=0.0))
+    if cam.inertia_pivot <= 0:
+        rd.fail("cam.inertia_com", "the cam has no inertia about its shaft")
+    return {"cam": cam}
+
+
+def read_closing_spring(rd, data, cam):
+    s = without_comments(rd.section(data, "closing_spring", known=SPRING_KEYS))
+    pre = "closing_spring."
+    optional = {k: rd.number(s, k, pre, positive=True)
+                for k in ("wire_diameter", "coil_diameter", "active_coils", "shear_modulus") if k in s}
+    spring = ClosingSpring(
+        count=rd.count(s, "count", pre, default=2.0), stiffness=rd.number(s, "stiffness", pre, positive=True),
+        mass=rd.number(s, "mass", pre, positive=True), free_length=rd.number(s, "free_length", pre, positive=True),
+        anchor=rd.point(s, "anchor", pre), weight=rd.boolean(s, "weight", pre), **optional)
+    bx, by = cam_pin(cam.initial_angle, cam)
+    if math.hypot(bx - spring.anchor[0], by - spring.anchor[1]) <= spring.free_length:
+        rd.fail("closing_spring.free_length", "the spring is not stretched at the start: a tension spring must be charged")
+    return {"closing_spring": spring}
+
+
+def read_cam_and_spring(rd, data):
+    """``cam`` and ``closing_spring`` (cam drop; the whole breaker's cam too)."""
+    sections = read_cam(rd, data)
+    sections.update(read_closing_spring(rd, data, sections["cam"]))
+    return sections
+
+
+BREAKER_KEYS = {
+    "": ("cam_profile", "roller_radius", "follower", "poles", "opening_spring", "contact", "latch"),
+    "cam_profile": ("base_radius", "lift", "rise_start", "rise_end", "return_start", "return_end"),
+    "follower": ("pivot", "inertia", "roller_arm", "output_arm", "output_angle", "rest_angle"),
+    "poles": ("count", "moving_mass", "contact_gap", "gap_offsets", "push_rod_length", "wipe_preload", "wipe_rate",
+              "rod_stiffness", "rod_damping", "bellows_force"),
+    "opening_spring": ("stiffness", "preload", "length"),
+    "contact": ("cam_roller_stiffness", "pole_stiffness", "exponent", "restitution", "min_impact_speed"),
+    "latch": ("release_time",),
+}
+
+
+def read_breaker(rd, data, cam) -> Breaker:
+    """Parse and check the ``breaker`` section of a ``vcb_closing`` rig, and that the roller
+    rests on the cam's base circle at ``cam.initial_angle``."""
+    b = without_comments(rd.section(data, "breaker", known=BREAKER_KEYS[""]))
+
+    def part(key, optional=False):
+        known = BREAKER_KEYS[key]
+        section = rd.optional_section(b, key, "breaker.", known) if optional else rd.section(b, key, "breaker.", known)
+        return without_comments(section), f"breaker.{key}."
+
+    cp, p = part("cam_profile")
+    profile = CamProfile(
+        base_radius=rd.number(cp, "base_radius", p, positive=True), lift=rd.number(cp, "lift", p, positive=True),
+        rise_start=rd.number(cp, "rise_start", p), rise_end=rd.number(cp, "rise_end", p),
+        return_start=rd.number(cp, "return_start", p), return_end=rd.number(cp, "return_end", p))
+    angles = (profile.rise_start, profile.rise_end, profile.return_start, profile.return_end)
+    if not all(a < b_ for a, b_ in zip(angles, angles[1:])) or angles[3] > angles[0] + TWO_PI:
+        rd.fail(p + "rise_start", "need rise_start < rise_end < return_start < return_end <= rise_start + 2 pi")
+    fo, p = part("follower")
+    follower = Follower(pivot=rd.point(fo, "pivot", p), inertia=rd.number(fo, "inertia", p, positive=True),
+                        roller_arm=rd.number(fo, "roller_arm", p, positive=True),
+                        output_arm=rd.number(fo, "output_arm", p, positive=True),
+                        output_angle=rd.number(fo, "output_angle", p, default=0.0),
+                        rest_angle=rd.number(fo, "rest_angle", p))
+    po, p = part("poles")
+    count = rd.count(po, "count", p, default=3.0)
+    offsets = rd.numbers(po, "gap_offsets", p, count, [0.0] * count)
+    poles = Poles(count=count, moving_mass=rd.number(po, "moving_mass", p, positive=True),
+                  contact_gap=rd.number(po, "contact_gap", p, positive=True), gap_offsets=offsets,
+                  push_rod_length=rd.number(po, "push_rod_length", p, positive=True),
+                  wipe_preload=rd.number(po, "wipe_preload", p, nonnegative=True),
+                  wipe_rate=rd.number(po, "wipe_rate", p, positive=True),
+                  rod_stiffness=rd.number(po, "rod_stiffness", p, positive=True),
+                  rod_damping=rd.number(po, "rod_damping", p, nonnegative=True),
+                  bellows_force=rd.number(po, "bellows_force", p, nonnegative=True) if "bellows_force" in po else None)
+    if min(poles.contact_gap + o for o in poles.gap_offsets) <= 0:
+        rd.fail(p + "gap_offsets", "make a pole's gap zero or negative")
+    os_, p = part("opening_spring")
+    opening = OpeningSpring(stiffness=rd.number(os_, "stiffness", p, positive=True),
+                            preload=rd.number(os_, "preload", p, nonnegative=True),
+                            length=rd.number(os_, "length", p, positive=True))
+    if opening.preload / opening.stiffness >= opening.length:
+        rd.fail(p + "preload", "stretches the spring beyond twice its length: free length would be <= 0")
+    co, p = part("contact")
+    contact = ContactLaw(cam_roller_stiffness=rd.number(co, "cam_roller_stiffness", p, positive=True),
+                         pole_stiffness=rd.number(co, "pole_stiffness", p, positive=True),
+                         exponent=rd.number(co, "exponent", p, positive=True, default=1.5),
+                         restitution=rd.number(co, "restitution", p, positive=True) if "restitution" in co else None,
+                         min_impact_speed=rd.number(co, "min_impact_speed", p, positive=True, default=0.05))
+    if contact.restitution is not None and contact.restitution > 1.0:
+        rd.fail(p + "restitution", f"must be in (0, 1], got {contact.restitution:g}")
+    latch, p = part("latch", optional=True)
+    release = rd.number(latch, "release_time", p, nonnegative=True, default=0.0)
+    breaker = Breaker(profile, rd.number(b, "roller_radius", "breaker.", positive=True), follower, poles, opening,
+                      contact, release)
+    try:
+        rest_geometry(breaker, cam.pivot)
+    except ValueError as e:
+        rd.fail("breaker.follower.pivot", str(e))
+    if pitch_radius(cam.initial_angle, profile, breaker.roller_radius)[0] > profile.base_radius + breaker.roller_radius + 1e-12:
+        rd.fail("cam.initial_angle", "the roller is not on the cam's base circle at the start (breaker open)")
+    return breaker
+
+
+def read_closing(rd, data):
+    """``cam``, ``closing_spring`` and ``breaker`` of a ``vcb_closing`` rig."""
+    sections = read_cam_and_spring(rd, data)
+    sections["breaker"] = read_breaker(rd, data, sections["cam"])
+    return sections
