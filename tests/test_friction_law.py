@@ -1,10 +1,11 @@
 """Layer 1: the friction law and the reaction coupling as pure functions, at fixed numbers."""
 import math
+from dataclasses import replace
 
 import numpy as np
 import pytest
 
-from vcbmodel.laws.friction import (FrictionLaw, NumericOps, consistent_reaction, friction_torque, shaft_friction,
+from vcbmodel.laws.friction import (FrictionLaw, NumericOps, consistent_reaction, friction_torque, shaft_friction, stuck_torque,
                                symbolic_ops, viscous_from_zeta, zeta_from_viscous)
 from vcbmodel.laws.mechanics import cam_loads, pendulum_loads
 from vcbmodel.reference.solve import friction_iterated
@@ -12,11 +13,28 @@ from vcbmodel.reference.solve import friction_iterated
 LAW = FrictionLaw(mu_s=0.2, mu_k=0.1, stick_velocity=1e-3, stribeck_velocity=0.1, viscous=0.5, radius=0.02)
 
 
-def test_stick_band_holds_below_static_limit():
+def test_literal_stick_band_holds_below_static_limit():
+    literal = replace(LAW, sticking="literal")
     # |Tc| = 1 < mu_s r Fn = 0.2 * 0.02 * 600 = 2.4: friction balances the torque exactly
-    assert friction_torque(5e-4, -1.0, 600.0, LAW) == -1.0
+    assert friction_torque(5e-4, -1.0, 600.0, literal) == -1.0
     # above the static limit: the static friction torque, with the sign of Tc
-    assert friction_torque(-5e-4, 3.0, 600.0, LAW) == pytest.approx(2.4)
+    assert friction_torque(-5e-4, 3.0, 600.0, literal) == pytest.approx(2.4)
+
+
+def test_passive_band_opposes_motion_and_stuck_state_stops_the_shaft():
+    # a shaft that cannot stick slips against its motion (never along it), from rest along Tc
+    assert friction_torque(5e-4, -3.0, 600.0, LAW) == pytest.approx(2.4)
+    assert friction_torque(0.0, -3.0, 600.0, LAW) == pytest.approx(-2.4)
+    # stuck: theta'' = (Tc - Tf)/I = -w/tau; never along the motion; capped at mu_s r Fn
+    I, tau = 2.74, LAW.stick_time
+    Tf, Fn = stuck_torque(5e-4, 1.0, (600.0, 0.0), (0.0, 0.0), I, LAW)
+    assert (1.0 - Tf) / I == pytest.approx(-5e-4 / tau) and Fn == 600.0
+    assert stuck_torque(1e-5, -1.0, (600.0, 0.0), (0.0, 0.0), I, LAW)[0] == 0.0  # would push it along
+    assert stuck_torque(2e-3, 2.0, (600.0, 0.0), (0.0, 0.0), I, LAW)[0] == pytest.approx(2.4)  # capped
+    for w in np.linspace(-1e-3, 1e-3, 41):
+        for Tc in np.linspace(-2.4, 2.4, 13):
+            Tf, _ = shaft_friction(w, Tc, 600.0, 0.0, 0.0, 0.0, I, LAW)
+            assert Tf * w >= 0.0  # friction never does positive work
 
 
 def test_stribeck_branch_falls_linearly():

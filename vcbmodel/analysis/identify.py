@@ -22,7 +22,7 @@ import numpy as np
 
 from ..errors import InputError
 from ..experiments import experiment_of
-from ..laws.friction import zeta_from_viscous
+from ..laws.friction import effective_static, zeta_from_viscous
 from ..records.signals import first_peak_amplitude
 from ..rig.spring_model import SpringModel
 from .fitting import Dataset, FitResult, fit, make_parameters, staged_fit
@@ -52,7 +52,7 @@ class IdentifyResult:
     def values(self):
         v = dict(self.fit.values)
         v.setdefault("viscous", 0.0)
-        v["mu_s"] = max(v["mu_s"], v["mu_k"])  # what the law uses (effects.ModelSpec.friction_law)
+        v["mu_s"] = effective_static(v["mu_s"], v["mu_k"])  # what the law uses
         return v
 
     def max_error_percent(self):

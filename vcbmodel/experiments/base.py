@@ -28,7 +28,7 @@ class Experiment:
     - ``build(rig, spec, law, chain, user_function, ancf_elements) -> ExudynModel``;
     - ``channels(data, rig, spec, info) -> {name: array}`` from the sensors' rows (t, values...)
       of either backend (Exudyn or :func:`vcbmodel.reference.solve.simulate_reference`);
-    - ``step(rig, law)``: default fixed RK4 step (s);
+    - ``step(rig)``: default fixed RK4 step (s);
     - ``figures_of_merit(result, rig) -> dict`` (SI units; names end in their unit);
     - ``start_guesses(rig, measurement)``: starting-value dicts for fits, from the data;
     - ``swinging_part(t, y, sigma)``: end time (s) of the part a staged fit fits first, or None;

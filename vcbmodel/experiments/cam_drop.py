@@ -20,7 +20,7 @@ def channels(data, rig, spec, info):
     return shaft_channels(data, "cam_angle")
 
 
-def default_step(rig, law):
+def default_step(rig):
     return P.CAM_STEP
 
 

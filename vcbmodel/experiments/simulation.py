@@ -43,7 +43,7 @@ def ancf_step(elements=None):
 
 def simulate(rig: Rig, effects=None, values=None, *, spring_model=None, t_end=None, sample_times=None,
              backend="exudyn", user_function="auto", step=None, method="DOP853",
-             ancf_elements=None) -> SimulationResult:
+             ancf_elements=None, sticking=None) -> SimulationResult:
     """Simulate the rig's experiment.
 
     Parameters
@@ -60,16 +60,18 @@ def simulate(rig: Rig, effects=None, values=None, *, spring_model=None, t_end=No
     step : integration step (s), default from the experiment's record.
     method : reference backend only: ``DOP853`` (adaptive; ``step`` caps it) or ``rk4``.
     ancf_elements : elements of the ``ancf`` spring (default parameters.ANCF_ELEMENTS).
+    sticking : ``passive`` (default, or the rig's ``friction.sticking``) or ``literal``.
     """
     record = experiment_of(rig.experiment)
     spec = model_spec(rig, effects, values, spring_model)
+    if sticking is not None:
+        spec.sticking = sticking
     if t_end is None:
         t_end = float(sample_times[-1]) if sample_times is not None else record.default_duration
-    law = spec.friction_law(rig.shaft_radius)
     chain = chain_for(rig.closing_spring, spec.spring_model) if record.has_closing_spring else None
     if backend == "exudyn":
         if step is None:
-            step = ancf_step(ancf_elements) if spec.spring_model.kind == "ancf" else record.step(rig, law)
+            step = ancf_step(ancf_elements) if spec.spring_model.kind == "ancf" else record.step(rig)
         period = None
         if sample_times is not None and len(sample_times) > 2:
             # uniform samples from t = 0 (a sensor's rate): shrink the step to divide the sample
@@ -79,10 +81,12 @@ def simulate(rig: Rig, effects=None, values=None, *, spring_model=None, t_end=No
             if uniform and abs(sample_times[0] / spacing - round(sample_times[0] / spacing)) < 1e-6:
                 k = math.ceil(spacing / step - 1e-9)
                 step, period = spacing / k, spacing
+        law = spec.friction_law(rig.shaft_radius, step)
         model = record.build(rig, spec, law, chain, user_function, ancf_elements)
         data = model.solve(t_end, step, period)
         info = {"backend": "exudyn", "step": step, "initial": getattr(model, "initial", None)}
     elif backend == "reference":
+        law = spec.friction_law(rig.shaft_radius, step if method == "rk4" else 0.0)
         data, info = simulate_reference(rig, spec, law, chain, t_end, method, step)
     else:
         raise ValueError(f"unknown backend {backend!r}")

@@ -13,7 +13,7 @@ def build(rig, spec, law, chain, user_function, ancf_elements):
     return build_vcb_closing(rig, spec, law, chain, user_function, ancf_elements)
 
 
-def default_step(rig, law):
+def default_step(rig):
     return P.BREAKER_STEP
 
 

@@ -6,7 +6,7 @@ velocities in rad/s, lengths in m, inertia in kg m^2.
 
 The law (spec "The shaft friction law", paper eq. 2-4 with eq. 3 read as T_f = T_s):
 
-- stick band ``|w| <= w0``:  ``T_f = min(|T_c|, mu_s r F_n) sign(T_c)``
+- stick band ``|w| <= w0``:  ``T_f = min(|T_c|, mu_s r F_n) sign(T_c)`` (read literally)
 - Stribeck branch ``w0 < |w| < ws``:  ``T_f = (mu_s - (mu_s - mu_k)|w|/ws) r F_n sign(w)``
 - otherwise:  ``T_f = mu_k r F_n sign(w) + C_v (w - ws' sign(w))``
 
@@ -16,11 +16,35 @@ Writing the reaction as ``R = R0 + R1 * theta''`` (both 2-vectors, linear in the
 acceleration) and ``theta'' = (T_c - T_f) / I`` with ``T_f = c F_n + d`` on each branch,
 ``|R| = F_n`` is a quadratic in ``F_n`` with the closed-form positive root used in
 :func:`consistent_reaction`. No iteration and no lag: the result is exact for the branch.
+
+Passive sticking (spec, revised). Read literally, the stick band lets a shaft that enters it
+with a small speed keep that speed: it creeps at up to w0 forever, uphill, with friction doing
+positive work. The default ``sticking="passive"`` completes the band with a stuck state
+realised as a velocity-restoring torque (Karnopp with a restoring term): inside the band,
+where static friction can hold the applied torque (``|T_c| <= mu_s r F_n`` at rest), the
+friction is the torque that brings the shaft to rest with time constant ``stick_time`` tau,
+
+    T_f = T_c + I w / tau   (so theta'' = -w / tau),
+
+limited to the static capacity mu_s r F_n, and set to zero where it would push the shaft
+along (``T_f w < 0``: friction never does positive work; below :data:`REST_SPEED`, round-off,
+the shaft counts as at rest). A shaft that enters the band stops
+within a few tau and then stays: its angle moves by at most w0 tau. Outside the band, or when
+static friction cannot hold T_c, the slip branches apply, with the band's friction opposing
+the motion (``mu_s r F_n sign(w)``, breaking away in the direction of T_c from rest).
+``sticking="literal"`` keeps the band as written, for comparison. With an explicit fixed step
+h the passive band is widened to ``max(w0, 2 h mu_s r F_n / I)``: near rest the shaft's speed
+changes by at most (|T_c| + mu_s r F_n) h / I per step, so a reversing shaft always lands in the
+band instead of jumping over it, whatever the step (the stuck state then moves the angle by at
+most that speed times tau). The step must stay below about 2.8 tau (stability of the restoring
+term).
 """
 from __future__ import annotations
 
 import math
 from dataclasses import dataclass
+
+from ..parameters import STICK_TIME
 
 
 class NumericOps:
@@ -81,6 +105,11 @@ class FrictionLaw:
     stribeck_velocity : ws (rad/s); 0 without ``stribeck`` (the branch never applies).
     viscous : Cv (N m s/rad); 0 without ``viscous_friction``.
     radius : journal radius r (m).
+    sticking : ``passive`` (a stuck shaft stays at rest; default) or ``literal`` (the band as written).
+    stick_time : tau (s), time constant of the passive stuck state's restoring torque.
+    step : the explicit integrator's fixed step (s), 0 for an adaptive one: a passive band catches
+        a reversing shaft whose speed changes by up to 2 h mu_s r F_n / I in one step (module
+        docstring), so the step need not be sized to the band.
     """
 
     mu_s: float = 0.0
@@ -89,6 +118,24 @@ class FrictionLaw:
     stribeck_velocity: float = 0.0
     viscous: float = 0.0
     radius: float = 0.02
+    sticking: str = "passive"
+    stick_time: float = STICK_TIME
+    step: float = 0.0
+
+    def __post_init__(self):
+        # the static coefficient is never below the kinetic one (spec: without stribeck, mu_s = mu_k)
+        object.__setattr__(self, "mu_s", effective_static(self.mu_s, self.mu_k))
+
+
+#: Speed (rad/s) below which a stuck shaft counts as at rest: round-off between the applied
+#: torque in the model and in the law (1e-15 relative) leaves |w| ~ 1e-17; treating it as motion
+#: would switch the holding torque off. Friction power there is below |T_c| x 1e-9 W.
+REST_SPEED = 1e-9
+
+
+def effective_static(mu_s, mu_k):
+    """The static coefficient the law uses: mu_s, but never below mu_k (-)."""
+    return mu_s if mu_s > mu_k else mu_k
 
 
 def viscous_from_zeta(zeta, inertia, mass, gravity, com_distance):
@@ -135,7 +182,7 @@ def shaft_friction(w, applied_torque, R0x, R0y, R1x, R1y, inertia, law: Friction
     R0x, R0y : shaft reaction force at zero angular acceleration (N) (eq. 5-6, eq. 13).
     R1x, R1y : change of the reaction per unit angular acceleration (N s^2/rad).
     inertia : the inertia that multiplies theta'' in the equation of motion (kg m^2).
-    law : :class:`FrictionLaw`.
+    law : :class:`FrictionLaw` (``sticking``: passive or literal, module docstring).
     ops : :class:`NumericOps` or :func:`symbolic_ops` (same formula compiled by Exudyn).
 
     Returns ``(T_f, F_n)``; the equation of motion is ``I theta'' = T_c - T_f``.
@@ -144,9 +191,14 @@ def shaft_friction(w, applied_torque, R0x, R0y, R1x, R1y, inertia, law: Friction
     s = ops.sign(w)
     absw = ops.abs(w)
     ws = law.stribeck_velocity
-    in_band = absw <= law.stick_velocity
+    Fn_rest = ops.sqrt(R0x * R0x + R0y * R0y)  # the reaction with the shaft at rest (theta'' = 0)
+    band_width = law.stick_velocity
+    if law.sticking != "literal" and law.step > 0.0:  # catch a reversal within one step (docstring)
+        caught = 2.0 * law.step * law.mu_s * r * Fn_rest / inertia
+        band_width = ops.where(caught > band_width, caught, band_width)
+    in_band = absw <= band_width
     in_strib = absw < ws
-    # Each branch is T_f = c F_n + d; pick (c, d) first so F_n is solved once.
+    # Each slip branch is T_f = c F_n + d; pick (c, d) first so F_n is solved once.
     # Branches whose parameters are zero are left out here, in Python, so the compiled
     # expression stays small (the law is unchanged: they would contribute nothing).
     sTc = ops.sign(applied_torque)
@@ -154,7 +206,11 @@ def shaft_friction(w, applied_torque, R0x, R0y, R1x, R1y, inertia, law: Friction
     if ws > 0.0:
         mu_stribeck = law.mu_s - (law.mu_s - law.mu_k) * absw / ws
         outside = ops.where(in_strib, mu_stribeck * s, outside)
-    c = r * ops.where(in_band, law.mu_s * sTc, outside)
+    if law.sticking == "literal":
+        band = law.mu_s * sTc
+    else:  # oppose the motion; from rest, break away in the direction of T_c
+        band = law.mu_s * ops.where(absw > 0.0, s, sTc)
+    c = r * ops.where(in_band, band, outside)
     if law.viscous == 0.0:
         d = 0.0
     elif ws > 0.0:
@@ -162,26 +218,62 @@ def shaft_friction(w, applied_torque, R0x, R0y, R1x, R1y, inertia, law: Friction
     else:
         d = ops.where(in_band, 0.0, law.viscous * w)
     Fn_slip = consistent_reaction(R0x, R0y, R1x, R1y, applied_torque, inertia, c, d, ops)
-    # stick band: the shaft holds (theta'' = 0, F_n = |R0|) if static friction can take T_c
-    Fn_stick = ops.sqrt(R0x * R0x + R0y * R0y)
-    holds = in_band * (ops.abs(applied_torque) <= law.mu_s * r * Fn_stick)
-    Tf = ops.where(holds, applied_torque, c * Fn_slip + d)
-    Fn = ops.where(holds, Fn_stick, Fn_slip)
-    return Tf, Fn
+    # stick band: can static friction hold T_c with the shaft at rest (theta'' = 0, F_n = |R0|)?
+    holds = in_band * (ops.abs(applied_torque) <= law.mu_s * r * Fn_rest)
+    if law.sticking == "literal":
+        Tf = ops.where(holds, applied_torque, c * Fn_slip + d)
+        return Tf, ops.where(holds, Fn_rest, Fn_slip)
+    # passive stuck state: the torque that stops the shaft (theta'' = -w/tau), within the static
+    # capacity at that acceleration, and never along the motion
+    tau = law.stick_time
+    restoring = applied_torque + inertia * w / tau
+    Rx, Ry = R0x - R1x * w / tau, R0y - R1y * w / tau
+    Fn_stop = ops.sqrt(Rx * Rx + Ry * Ry)
+    capacity = law.mu_s * r * Fn_stop
+    stuck = ops.where(ops.abs(restoring) <= capacity, restoring, capacity * ops.sign(restoring))
+    stuck = ops.where((restoring * w < 0.0) * (absw > REST_SPEED), 0.0, stuck)
+    Tf = ops.where(holds, stuck, c * Fn_slip + d)
+    return Tf, ops.where(holds, Fn_stop, Fn_slip)
 
 
-def friction_torque(w, applied_torque, reaction, law: FrictionLaw):
-    """The spec's friction law at a *given* shaft reaction F_n (N): T_f in N m.
+def band_width(law, Fn_rest, inertia):
+    """Half-width (rad/s) of the stick band: w0, widened for the passive law with a fixed step
+    to the speed change one step can make near rest (module docstring)."""
+    if law.sticking == "literal" or law.step <= 0.0:
+        return law.stick_velocity
+    return max(law.stick_velocity, 2.0 * law.step * law.mu_s * law.radius * Fn_rest / inertia)
 
-    This is the law as written (paper eq. 2-4, eq. 3 read as T_f = T_s), without the
-    coupling of F_n to the acceleration; :func:`shaft_friction` solves that coupling in
-    closed form, the reference solver (:mod:`vcbmodel.reference.solve`) by fixed-point iteration.
+
+def friction_torque(w, applied_torque, reaction, law: FrictionLaw, band=None):
+    """The spec's slip law at a *given* shaft reaction F_n (N): T_f in N m.
+
+    This is the law as written (paper eq. 2-4, eq. 3 read as T_f = T_s), without the coupling
+    of F_n to the acceleration and without the passive stuck state (:func:`shaft_friction`
+    solves the coupling in closed form; the reference solvers by iteration or root finding).
+    ``band``: the stick band's half-width (rad/s), default w0. Inside it the literal law gives
+    min(|T_c|, mu_s r F_n) sign(T_c); the passive law, for a shaft that cannot stick there,
+    mu_s r F_n opposing the motion (from rest: in the direction of T_c).
     """
     r, absw = law.radius, abs(w)
     s = NumericOps.sign(w)
-    if absw <= law.stick_velocity:
-        return min(abs(applied_torque), law.mu_s * r * reaction) * NumericOps.sign(applied_torque)
+    if absw <= (law.stick_velocity if band is None else band):
+        if law.sticking == "literal":
+            return min(abs(applied_torque), law.mu_s * r * reaction) * NumericOps.sign(applied_torque)
+        return law.mu_s * r * reaction * (s if w != 0.0 else NumericOps.sign(applied_torque))
     ws = law.stribeck_velocity
     if absw < ws:
         return (law.mu_s - (law.mu_s - law.mu_k) * absw / ws) * r * reaction * s
     return law.mu_k * r * reaction * s + law.viscous * (w - ws * s)
+
+
+def stuck_torque(w, applied_torque, R0, R1, inertia, law: FrictionLaw):
+    """The passive stuck state (module docstring): (T_f in N m, F_n in N) for a shaft in the
+    band whose applied torque static friction can hold; written out plainly (no ``ops``)."""
+    tau = law.stick_time
+    acc = -w / tau
+    Fn = math.hypot(R0[0] + R1[0] * acc, R0[1] + R1[1] * acc)
+    restoring = applied_torque + inertia * w / tau
+    if restoring * w < 0.0 and abs(w) > REST_SPEED:
+        return 0.0, Fn
+    capacity = law.mu_s * law.radius * Fn
+    return max(-capacity, min(capacity, restoring)), Fn

@@ -13,7 +13,7 @@ from __future__ import annotations
 from dataclasses import dataclass, field
 
 from ..errors import InputError
-from ..laws.friction import FrictionLaw, viscous_from_zeta
+from ..laws.friction import FrictionLaw, effective_static, viscous_from_zeta
 from ..parameters import DEFAULT_SPRING_MASS_MODEL, DEFAULT_STICK_VELOCITY
 from ..rig.spring_model import SpringModel
 
@@ -44,12 +44,16 @@ class ModelSpec:
     stribeck_velocity: float = 0.0  # rad/s
     viscous: float = 0.0  # N m s/rad
     spring_model: SpringModel = field(default_factory=SpringModel)
+    sticking: str = "passive"  # passive | literal (spec "Sticking is passive")
     restitution: float = 1.0  # whole breaker: contacts' coefficient of restitution (1: elastic)
     bellows_force: float = 0.0  # whole breaker: atmospheric force on each pole's bellows (N)
 
-    def friction_law(self, radius):
-        return FrictionLaw(mu_s=max(self.mu_s, self.mu_k), mu_k=self.mu_k, stick_velocity=self.stick_velocity,
-                           stribeck_velocity=self.stribeck_velocity, viscous=self.viscous, radius=radius)
+    def friction_law(self, radius, step=0.0):
+        """The shaft friction law with journal radius ``radius`` (m), for an integrator with
+        fixed step ``step`` (s; 0: adaptive)."""
+        return FrictionLaw(mu_s=self.mu_s, mu_k=self.mu_k, stick_velocity=self.stick_velocity,
+                           stribeck_velocity=self.stribeck_velocity, viscous=self.viscous, radius=radius, step=step,
+                           sticking=self.sticking)
 
 
 class Effect:
@@ -104,7 +108,7 @@ class Stribeck(Effect):
                   _friction("stribeck_velocity", 0.1, 0.003, 2.0, "rad/s", log=True, scan=(0.03, 0.1, 0.3)))
 
     def on(self, spec, values, rig):
-        spec.mu_s = max(values["mu_s"], spec.mu_k)
+        spec.mu_s = effective_static(values["mu_s"], spec.mu_k)
         spec.stribeck_velocity = values["stribeck_velocity"]
 
     def off(self, spec, values, rig):
@@ -212,7 +216,7 @@ def consistent_effects(effects, spring_model: SpringModel):
 
 def assemble(rig, effects, values) -> ModelSpec:
     """Visit every registered effect; the on/off variant contributes its part."""
-    spec = ModelSpec(effects=tuple(effects))
+    spec = ModelSpec(effects=tuple(effects), sticking=rig.friction.get("sticking", "passive"))
     for name, effect in EFFECTS.items():
         (effect.on if name in effects else effect.off)(spec, values, rig)
     return spec

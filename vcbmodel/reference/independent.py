@@ -160,7 +160,13 @@ def _coupled_acceleration(a_free, b0, k, v, R0, R1):
     def g(a):
         return a - a_free + b0 * (k * math.hypot(R0[0] + R1[0] * a, R0[1] + R1[1] * a) + v)
 
-    return brentq(g, a_c - D, a_c + D, xtol=1e-15 * (abs(a_c) + D), rtol=1e-15, maxiter=200)
+    lo, hi = a_c - D, a_c + D
+    for _ in range(60):  # round-off can leave the analytic bracket a hair too tight: widen it
+        if g(lo) <= 0.0 <= g(hi):
+            break
+        D *= 2.0
+        lo, hi = a_c - D, a_c + D
+    return brentq(g, lo, hi, xtol=1e-15 * (abs(a_c) + D), rtol=1e-15, maxiter=200)
 
 
 # ----------------------------------------------------------------------------------------------

@@ -21,19 +21,26 @@ from scipy.integrate import solve_ivp
 
 from ..errors import SimulationError
 from ..laws.breaker import BreakerLaws, massless_pull
-from ..laws.friction import friction_torque
-from ..laws.mechanics import cam_loads, cam_pin, pendulum_loads
+from ..laws.friction import band_width, friction_torque, stuck_torque
+from ..laws.mechanics import cam_inertia, cam_loads, cam_pin, pendulum_loads
+from . import independent
 
 
 def friction_iterated(w, applied_torque, R0, R1, inertia, law, tol=1e-12, max_iter=100):
-    """(T_f, F_n) by fixed-point iteration F_n -> T_f -> theta'' -> R -> F_n."""
+    """(T_f, F_n): the stick test at rest, the passive stuck state, or the slip law with the
+    reaction found by fixed-point iteration F_n -> T_f -> theta'' -> R -> F_n."""
     Fn = math.hypot(*R0)
+    band = band_width(law, Fn, inertia)
+    if abs(w) <= band and abs(applied_torque) <= law.mu_s * law.radius * Fn:
+        if law.sticking == "literal":
+            return applied_torque, Fn
+        return stuck_torque(w, applied_torque, R0, R1, inertia, law)
     for _ in range(max_iter):
-        Tf = friction_torque(w, applied_torque, Fn, law)
+        Tf = friction_torque(w, applied_torque, Fn, law, band)
         acc = (applied_torque - Tf) / inertia
         Fn_new = math.hypot(R0[0] + R1[0] * acc, R0[1] + R1[1] * acc)
         if abs(Fn_new - Fn) <= tol * max(1.0, Fn):
-            return friction_torque(w, applied_torque, Fn_new, law), Fn_new
+            return friction_torque(w, applied_torque, Fn_new, law, band), Fn_new
         Fn = Fn_new
     raise SimulationError("reference: the reaction-force iteration did not converge")
 
@@ -142,24 +149,68 @@ def rk4(rhs, y0, t_end, step, pre_step=None):
     return np.linspace(0.0, t_end, n + 1), Y
 
 
+def friction_values(law):
+    """The friction law's values as the independent reference takes them."""
+    return {"mu_s": law.mu_s, "mu_k": law.mu_k, "stick_velocity": law.stick_velocity,
+            "stribeck_velocity": law.stribeck_velocity, "viscous": law.viscous}
+
+
+def _independent(rig, law, chain, t_end, step):
+    """Pendulum and cam drop from :mod:`vcbmodel.reference.independent` (shares no law with the
+    model; event-driven sticking), as sensor rows sampled every ``step`` (default 1e-4 s)."""
+    t = np.linspace(0.0, t_end, int(round(t_end / (step or 1e-4))) + 1)
+    friction = friction_values(law)
+    if rig.experiment == "pendulum":
+        p = rig.pendulum
+        out = independent.pendulum(p.mass, p.inertia, p.com_distance, rig.gravity, rig.shaft_radius, friction,
+                                   p.initial_angle, p.initial_velocity, t)
+    else:
+        cam, spring = rig.cam, rig.closing_spring
+        chain_data = None
+        if chain is not None:
+            O, B = np.array(spring.anchor), np.array(cam_pin(cam.initial_angle, cam))
+            positions = O[None, :] + chain.equilibrium_fractions()[:, None] * (B - O)[None, :]
+            chain_data = {"masses": list(chain.masses), "stiffnesses": list(chain.stiffnesses),
+                          "free_lengths": list(chain.free_lengths), "positions": positions, "pin_mass": chain.pin_mass}
+        out = independent.cam_drop(
+            {"mass": cam.mass, "inertia_com": cam.inertia_com, "com_distance": cam.com_distance,
+             "com_angle": cam.com_angle, "pivot": tuple(cam.pivot), "arm_length": cam.arm_length,
+             "initial_angle": cam.initial_angle, "initial_velocity": cam.initial_velocity},
+            {"count": spring.count, "anchor": tuple(spring.anchor), "stiffness": spring.stiffness,
+             "free_length": spring.free_length, "chain": chain_data, "weight": spring.weight},
+            rig.gravity, rig.shaft_radius, friction, t)
+
+    def rows(*columns):
+        return np.column_stack([t, *columns])
+
+    data = {"angle": rows(out["theta"]), "velocity": rows(out["omega"]),
+            "friction_torque": rows(-out["friction_torque"])}
+    for i in range(out["mass_positions"].shape[1] if "mass_positions" in out else 0):
+        data[f"spring_mass_{i + 1}"] = rows(out["mass_positions"][:, i, 0], out["mass_positions"][:, i, 1])
+        data[f"spring_velocity_{i + 1}"] = rows(out["mass_velocities"][:, i, 0], out["mass_velocities"][:, i, 1])
+    return data, {"backend": "reference", "method": "independent (sympy Lagrange, event-driven sticking)",
+                  "stuck": out["stuck"]}
+
+
 def simulate_reference(rig, spec, law, chain, t_end, method="DOP853", step=None):
     """Solve without Exudyn. Returns (data, info): ``data`` maps the Exudyn builders' sensor
     names (``angle``, ``velocity``, ``spring_mass_k``, ``spring_velocity_k``, ``follower_angle``,
     ``pole_i_travel``, ...) to arrays of rows (t, values...), so the experiments assemble
-    channels from either backend the same way; ``info`` holds the breaker's initial state."""
-    extension = None
-    if rig.experiment == "pendulum":
-        rhs, y0 = pendulum_rhs(rig, law)
-    elif rig.experiment == "vcb_closing":
-        extension = BreakerExtension(rig, spec)
-        rhs, y0 = cam_rhs(rig, law, chain, extension)
-        extension.offset = len(y0) - len(extension.y0)
-        if method != "rk4" and spec.restitution < 1.0:
-            raise ValueError("the breaker's contact damping needs the fixed-step reference (method='rk4')")
-    else:
-        rhs, y0 = cam_rhs(rig, law, chain)
+    channels from either backend the same way; ``info`` holds the breaker's initial state.
+
+    Pendulum and cam drop: the independent solve (:mod:`vcbmodel.reference.independent`);
+    ``method`` and ``step`` only set the output sampling. The whole breaker: the hand-written
+    equations below with the model's laws (a wiring check), adaptive or fixed-step RK4.
+    """
+    if rig.experiment != "vcb_closing":
+        return _independent(rig, law, chain, t_end, step)
+    extension = BreakerExtension(rig, spec)
+    rhs, y0 = cam_rhs(rig, law, chain, extension)
+    extension.offset = len(y0) - len(extension.y0)
+    if method != "rk4" and spec.restitution < 1.0:
+        raise ValueError("the breaker's contact damping needs the fixed-step reference (method='rk4')")
     if method == "rk4":
-        t, Y = rk4(rhs, y0, t_end, step, extension.pre_step if extension is not None else None)
+        t, Y = rk4(rhs, y0, t_end, step, extension.pre_step)
     else:
         sol = solve_ivp(rhs, (0.0, t_end), y0, method=method, rtol=1e-10, atol=1e-12,
                         max_step=step or np.inf, dense_output=True)
@@ -174,17 +225,14 @@ def simulate_reference(rig, spec, law, chain, t_end, method="DOP853", step=None)
         return np.column_stack([t, *columns])
 
     data = {"angle": rows(Y[:, 0]), "velocity": rows(Y[:, 1])}
-    n_cam = len(y0) - (len(extension.y0) if extension is not None else 0)
+    n_cam = len(y0) - len(extension.y0)
     n = (n_cam - 2) // 4
     for i in range(n):
         data[f"spring_mass_{i + 1}"] = rows(Y[:, 2 + 2 * i], Y[:, 3 + 2 * i])
         data[f"spring_velocity_{i + 1}"] = rows(Y[:, 2 + 2 * n + 2 * i], Y[:, 3 + 2 * n + 2 * i])
-    info = {"backend": "reference", "method": method}
-    if extension is not None:
-        o, poles = extension.offset, extension.n
-        data["follower_angle"], data["follower_velocity"] = rows(Y[:, o]), rows(Y[:, o + 1 + poles])
-        for i in range(poles):
-            data[f"pole_{i + 1}_travel"] = rows(Y[:, o + 1 + i])
-            data[f"pole_{i + 1}_travel_velocity"] = rows(Y[:, o + 2 + poles + i])
-        info["initial"] = extension.initial
-    return data, info
+    o, poles = extension.offset, extension.n
+    data["follower_angle"], data["follower_velocity"] = rows(Y[:, o]), rows(Y[:, o + 1 + poles])
+    for i in range(poles):
+        data[f"pole_{i + 1}_travel"] = rows(Y[:, o + 1 + i])
+        data[f"pole_{i + 1}_travel_velocity"] = rows(Y[:, o + 2 + poles + i])
+    return data, {"backend": "reference", "method": method, "initial": extension.initial}

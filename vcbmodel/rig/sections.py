@@ -13,7 +13,8 @@ from ..laws.mechanics import cam_pin
 from .data import (Breaker, Cam, CamProfile, ClosingSpring, ContactLaw, Follower, OpeningSpring, Pendulum,
                    Poles)
 
-FRICTION_KEYS = ("mu_s", "mu_k", "stick_velocity", "stribeck_velocity", "viscous", "zeta")
+FRICTION_KEYS = ("mu_s", "mu_k", "stick_velocity", "stribeck_velocity", "viscous", "zeta", "sticking")
+STICKING = ("passive", "literal")
 PENDULUM_KEYS = ("mass", "inertia", "com_distance", "initial_angle", "initial_velocity")
 CAM_KEYS = ("mass", "inertia_com", "com_distance", "com_angle", "pivot", "arm_length", "initial_angle",
             "initial_velocity")
@@ -29,7 +30,11 @@ def read_friction(rd, data):
     """The friction values the rig gives (subset of FRICTION_KEYS), checked."""
     f = without_comments(rd.optional_section(data, "friction"))
     rd.known_keys(f, FRICTION_KEYS, "friction.")
-    friction = {key: rd.number(f, key, "friction.", nonnegative=True) for key in f}
+    friction = {key: rd.number(f, key, "friction.", nonnegative=True) for key in f if key != "sticking"}
+    if "sticking" in f:
+        if f["sticking"] not in STICKING:
+            rd.fail("friction.sticking", f"must be one of {', '.join(STICKING)}")
+        friction["sticking"] = f["sticking"]
     if "mu_s" in friction and "mu_k" in friction and friction["mu_s"] < friction["mu_k"]:
         rd.fail("friction.mu_s", "must not be smaller than friction.mu_k")
     return friction
