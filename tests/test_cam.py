@@ -45,11 +45,12 @@ def _energy(rig, result, model):
         return energy + 0.5 * c * spring.stiffness * (d - spring.free_length) ** 2
     n = int(model.split("-")[1])
     chain = lumped_chain(n, spring.stiffness, spring.mass, spring.free_length)
+    energy = energy + 0.5 * c * chain.pin_mass * (w * cam.arm_length) ** 2  # the pin's share rides on B
     pts = [np.stack([np.full_like(th, O[0]), np.full_like(th, O[1])], 1)]
     for i in range(n):
         x, y = result.channels[f"spring_mass_{i + 1}_x"], result.channels[f"spring_mass_{i + 1}_y"]
         pts.append(np.stack([x, y], 1))
-        vx, vy = np.gradient(x, result.t), np.gradient(y, result.t)
+        vx, vy = result.channels[f"spring_velocity_{i + 1}_x"], result.channels[f"spring_velocity_{i + 1}_y"]
         energy = energy + 0.5 * c * chain.masses[i] * (vx**2 + vy**2)
     pts.append(np.stack([bx, by], 1))
     for i in range(n + 1):
@@ -63,12 +64,13 @@ def test_frictionless_energy_is_conserved(cam_rig, model):
     """(b) cam, springs, spring masses and gravity: energy constant to 0.1 % of the released spring energy."""
     eff = effects_for(model, False)
     r = simulate(cam_rig, eff, {}, spring_model=model, t_end=0.035)
-    e = _energy(cam_rig, r, model)[1:-1]  # np.gradient is one-sided at the ends
+    e = _energy(cam_rig, r, model)
     released = 0.5 * cam_rig.closing_spring.count * cam_rig.closing_spring.stiffness * (0.2464**2 - 0.05**2)
     assert np.ptp(e) / released < 1e-3
+    assert np.ptp(e) / released < 1e-6  # measured: RK4 at 1e-5 s conserves it to 1e-8
     # and friction does take energy out
     rf = simulate(cam_rig, ("coulomb_friction",) + eff, {"mu_k": 0.13}, spring_model=model, t_end=0.035)
-    assert _energy(cam_rig, rf, model)[-2] < e[0] - 1.0
+    assert _energy(cam_rig, rf, model)[-1] < e[0] - 1.0
 
 
 @pytest.mark.parametrize("model", ["massless", "lumped-3"])

@@ -76,3 +76,36 @@ def test_uniform_chain_converges_to_the_continuum():
         end_masses.append(np.sum(c.masses * c.equilibrium_fractions() ** 2) / M0)
     assert errors[0] > errors[1] > errors[2] and errors[2] < 1e-3
     assert end_masses[0] < end_masses[1] < end_masses[2] and end_masses[2] == pytest.approx(1 / 3, rel=0.1)
+
+
+@pytest.mark.parametrize("n", [1, 2, 3, 5, 10, 20])
+def test_exact_convention_carries_the_whole_mass_and_rayleighs_pin_mass(n):
+    """Revised spec: the mass the harmonic chain lacks sits at the ends; total m0; the
+    quasi-static mass at the pin sum m_i f_i^2 + m_pin = m0/3 (Rayleigh)."""
+    c = lumped_chain(n, K0, M0, L0, "exact")
+    assert c.total_mass == pytest.approx(M0, rel=1e-12)
+    assert c.quasi_static_pin_mass == pytest.approx(M0 / 3, rel=1e-12)
+    assert 0 < c.pin_mass < M0 / 3 and c.anchor_mass > 0
+    np.testing.assert_allclose(c.natural_frequencies(), math.pi * math.sqrt(K0 / M0) * np.arange(1, n + 1), rtol=1e-9)
+
+
+@pytest.mark.parametrize("n", [1, 4, 20])
+def test_uniform_convention_puts_half_a_segment_at_each_end(n):
+    c = lumped_chain(n, K0, M0, L0, "uniform")
+    assert c.pin_mass == c.anchor_mass == pytest.approx(M0 / (2 * (n + 1)))
+    assert c.total_mass == pytest.approx(M0) and c.series_stiffness == pytest.approx(K0)
+    # the consistent discretisation's quasi-static pin mass tends to m0/3 from above:
+    # sum (i/N)^2 / N + 1/(2N) = 1/3 + 1/(6 N^2) with N = n + 1 segments
+    assert c.quasi_static_pin_mass / M0 - 1 / 3 == pytest.approx(1 / (6 * (n + 1) ** 2), rel=1e-9)
+
+
+def test_paper_convention_puts_nothing_at_the_ends_and_drifts_away_as_n_grows():
+    """The paper's w1 = 2 sqrt(k0/m0) with harmonic overtones holds more and more mass as n
+    grows (1.33 m0 at n = 2, 2.1 m0 at n = 20): it does not converge to the continuum."""
+    totals = []
+    for n in (1, 2, 3, 5, 10, 20):
+        c = lumped_chain(n, K0, M0, L0, "paper")
+        assert c.pin_mass == 0.0 and c.anchor_mass == 0.0
+        totals.append(c.total_mass / M0)
+    assert totals[0] == pytest.approx(1.0) and totals[1] == pytest.approx(4 / 3)
+    assert all(a < b for a, b in zip(totals, totals[1:])) and totals[-1] > 2.0

@@ -1,4 +1,4 @@
-"""The ``vcbmodel`` command (docs/cli.md): simulate, identify, diagnose.
+"""The ``vcbmodel`` command (docs/cli.md): simulate, identify, diagnose, sweep.
 
 Exit status: 0 success; 2 bad input (one line on stderr naming file and field, nothing
 written); 1 the simulation or fit failed (one line saying why). Output paths are checked
@@ -17,6 +17,7 @@ import tempfile
 from .. import __version__
 from ..analysis.diagnose import diagnose
 from ..analysis.identify import identify
+from ..analysis.sweep import DEFAULT_SEED, SAMPLING, sweep
 from ..errors import InputError, SimulationError
 from ..experiments import experiment_of
 from ..experiments.loading import load_pair, load_rig, require_experiment
@@ -58,6 +59,24 @@ def build_parser():
     d.add_argument("--json", action="store_true", help="print one JSON object")
     d.add_argument("--plot", help="write a figure of the diagnosis (PNG, PDF or SVG by the file's suffix)")
     d.add_argument("--processes", type=int, default=2, help="parallel candidate fits (default 2)")
+
+    w = sub.add_parser("sweep", help="run the rig's experiment over a grid or random draws of rig fields: one row per run",
+                       description="Runs the rig's experiment (its model) once per parameter set and writes one CSV row "
+                       "per run: run, each varied PATH, the experiment's figures of merit, status. Grids LO:HI:N make the "
+                       f"full product; distributions are drawn by {SAMPLING['lhs']} sampling, seeded (default seed "
+                       f"{DEFAULT_SEED}). Rows are written as runs finish; --resume skips runs already in -o.")
+    w.add_argument("rig", help="rig file NAME.rig.json")
+    w.add_argument("--vary", action="append", required=True, metavar="PATH=SPEC",
+                   help="dotted rig field (friction.mu_k, breaker.poles.gap_offsets.1, ...) = LO:HI:N (grid), "
+                   "normal:MEAN:SD or uniform:LO:HI (random draws); repeat for several fields")
+    w.add_argument("--samples", type=int, help="number of random draws (distributions only)")
+    w.add_argument("--seed", type=int, help=f"seed of the random draws (default {DEFAULT_SEED}: repeatable)")
+    where = w.add_mutually_exclusive_group()
+    where.add_argument("--workers", type=int, help="local processes (default: all cores)")
+    where.add_argument("--scheduler", metavar="ADDRESS",
+                       help="address of a running Dask cluster's scheduler (tcp://HOST:8786) to run on instead")
+    w.add_argument("-o", "--output", help="output CSV, written as runs finish (default: stdout)")
+    w.add_argument("--resume", action="store_true", help="keep the runs already in -o and run the rest")
     return p
 
 
@@ -150,7 +169,17 @@ def cmd_diagnose(args):
     return 0
 
 
-COMMANDS = {"simulate": cmd_simulate, "identify": cmd_identify, "diagnose": cmd_diagnose}
+def cmd_sweep(args):
+    if args.resume and not args.output:
+        raise InputError("--resume", "output", "needs -o OUT.csv (the file to resume)")
+    check_output(args.output, "-o")
+    table = sweep(args.rig, args.vary, samples=args.samples, seed=args.seed, workers=args.workers,
+                  scheduler=args.scheduler, output=args.output, stream=None if args.output else sys.stdout,
+                  resume=args.resume)
+    return 0 if len(table) else 1
+
+
+COMMANDS = {"simulate": cmd_simulate, "identify": cmd_identify, "diagnose": cmd_diagnose, "sweep": cmd_sweep}
 
 
 def main(argv=None):

@@ -28,8 +28,8 @@ def build_cam_drop(rig, law, spring_model, chain=None, user_function="auto", ext
     cam, spring = rig.cam, rig.closing_spring
     model = ExudynModel()
     mbs = model.mbs
-    body = model.cam_body = add_cam_body(model, rig)
     c = spring.count
+    body = model.cam_body = add_cam_body(model, rig, c * chain.pin_mass if chain is not None else 0.0)
     if chain is None:
         mbs.AddObject(it.ObjectConnectorSpringDamper(markerNumbers=[body.mAnchor, body.mPin], stiffness=c * spring.stiffness,
                                                      referenceLength=spring.free_length, damping=0.0))

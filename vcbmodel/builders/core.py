@@ -18,7 +18,7 @@ import numpy as np
 
 from ..errors import SimulationError
 from ..laws.friction import NumericOps, shaft_friction, symbolic_ops
-from ..laws.mechanics import cam_loads
+from ..laws.mechanics import cam_inertia, cam_loads
 
 _EXU = None
 
@@ -153,37 +153,44 @@ class CamBody:
     mPin: int
     oGround: int
     mAnchor: int
+    pin_mass: float = 0.0  # kg riding on B (all springs)
 
 
-def add_cam_body(model, rig) -> CamBody:
+def add_cam_body(model, rig, pin_mass=0.0) -> CamBody:
     """The cam of eq. 11-13 on its shaft at A with its weight, the pin marker B and the anchor
-    O of the closing springs (shared by the lumped and ANCF builders)."""
+    O of the closing springs (shared by the lumped and ANCF builders). ``pin_mass`` (kg, all
+    springs): the springs' mass riding on B; it adds m_pin l_AB^2 to the cam's inertia and, when
+    the spring masses carry weight, its weight at B."""
     exu, it = exudyn_modules()
     cam, spring, g = rig.cam, rig.closing_spring, rig.gravity
     mbs = model.mbs
-    shaft = add_shaft(model, cam.inertia_pivot, cam.initial_angle, cam.initial_velocity, cam.pivot)
+    shaft = add_shaft(model, cam_inertia(cam, pin_mass), cam.initial_angle, cam.initial_velocity, cam.pivot)
     mPin = mbs.AddMarker(it.MarkerBodyPosition(bodyNumber=shaft.body, localPosition=[cam.arm_length, 0.0, 0.0]))
     mCamCom = mbs.AddMarker(it.MarkerBodyPosition(bodyNumber=shaft.body, localPosition=[
         cam.com_distance * math.cos(-cam.com_angle), cam.com_distance * math.sin(-cam.com_angle), 0.0]))
     mbs.AddLoad(it.LoadForceVector(markerNumber=mCamCom, loadVector=[0.0, -cam.mass * g, 0.0]))
+    if pin_mass and spring.weight:
+        mbs.AddLoad(it.LoadForceVector(markerNumber=mPin, loadVector=[0.0, -pin_mass * g, 0.0]))
     oGround = mbs.AddObject(it.ObjectGround())
     mAnchor = mbs.AddMarker(it.MarkerBodyPosition(bodyNumber=oGround, localPosition=[spring.anchor[0], spring.anchor[1], 0.0]))
-    return CamBody(shaft, mPin, oGround, mAnchor)
+    return CamBody(shaft, mPin, oGround, mAnchor, pin_mass)
 
 
 def add_cam_friction(model, rig, law, body: CamBody, pin_force, user_function, extra_loads=None):
     """The cam shaft's friction connector (eq. 11-13): ``pin_force(theta, omega, ops)`` is the
     closing springs' pull (N) on pin B at the current Runge-Kutta stage; ``extra_loads(t, theta,
     omega)`` -> (torque about A in N m, Fx, Fy in N) adds other loads on the cam (the whole
-    breaker's roller contact and latch) to the applied torque and the shaft reaction."""
-    cam, g = rig.cam, rig.gravity
+    breaker's roller contact and latch) to the applied torque and the shaft reaction. The
+    springs' pin mass (``body.pin_mass``) rides on the cam: inertia, reaction, weight."""
+    cam, g, pin, weight = rig.cam, rig.gravity, body.pin_mass, rig.closing_spring.weight
+    inertia = cam_inertia(cam, pin)
 
     def friction_of_state(t, theta, omega, ops):
         fx, fy = pin_force(theta, omega, ops)
-        Tc, R0x, R0y, R1x, R1y = cam_loads(theta, omega, cam, fx, fy, g, ops)
+        Tc, R0x, R0y, R1x, R1y = cam_loads(theta, omega, cam, fx, fy, g, ops, pin, weight)
         if extra_loads is not None:
             torque, ex, ey = extra_loads(t, theta, omega)
             Tc, R0x, R0y = Tc + torque, R0x - ex, R0y - ey
-        return shaft_friction(omega, Tc, R0x, R0y, R1x, R1y, cam.inertia_pivot, law, ops)[0]
+        return shaft_friction(omega, Tc, R0x, R0y, R1x, R1y, inertia, law, ops)[0]
 
     add_friction_connector(model, body.shaft, friction_of_state, user_function)

@@ -73,6 +73,8 @@ def cam_rhs(rig, law, chain=None, extension=None):
     pos0 = O[None, :] + fractions[:, None] * (B0 - O)[None, :]
     y0 = np.concatenate([[cam.initial_angle, cam.initial_velocity], pos0.ravel(), np.zeros(2 * n)])
     weight = spring.weight
+    pin = c * chain.pin_mass if chain is not None else 0.0
+    inertia = cam_inertia(cam, pin)
     n_cam = len(y0)
     if extension is not None:
         y0 = np.concatenate([y0, extension.y0])
@@ -90,14 +92,14 @@ def cam_rhs(rig, law, chain=None, extension=None):
         if weight and n:
             acc_pts[:, 1] -= g
         fx, fy = -f_seg[-1]  # pull of the last segment on B
-        Tc, R0x, R0y, R1x, R1y = cam_loads(th, w, cam, fx, fy, g)
+        Tc, R0x, R0y, R1x, R1y = cam_loads(th, w, cam, fx, fy, g, pin_mass=pin, pin_weight=weight)
         tail = []
         if extension is not None:
             (torque, ex, ey), tail = extension.loads_and_rates(t, th, w, y[n_cam:])
             Tc, R0x, R0y = Tc + torque, R0x - ex, R0y - ey
-        Tf, _ = friction_iterated(w, Tc, (R0x, R0y), (R1x, R1y), cam.inertia_pivot, law)
+        Tf, _ = friction_iterated(w, Tc, (R0x, R0y), (R1x, R1y), inertia, law)
         vel = y[2 + 2 * n:n_cam]
-        return np.concatenate([[w, (Tc - Tf) / cam.inertia_pivot], vel, acc_pts.ravel(), tail])
+        return np.concatenate([[w, (Tc - Tf) / inertia], vel, acc_pts.ravel(), tail])
 
     return rhs, y0
 
