@@ -283,8 +283,8 @@ def check_paths(data, paths, rig_path, experiment):
             except InputError as e:
                 if "unknown field" in str(e) and path.startswith(e.field):
                     hint = str(e).split("unknown field", 1)[1].split(";")[0]
-                    raise InputError(rig_path, path, f"unknown field of a {experiment} rig{hint} "
-                                     f"(at {e.field})") from None
+                    at = f" (at {e.field})" if e.field != path else ""
+                    raise InputError(rig_path, path, f"unknown field of a {experiment} rig{hint}{at}") from None
             continue
         if isinstance(value, bool) or not isinstance(value, (int, float)):
             raise InputError(rig_path, path, f"is not a number ({type(value).__name__}): only numeric fields can be varied")

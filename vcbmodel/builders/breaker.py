@@ -9,7 +9,8 @@ joint is the coordinate itself). The parts, each a function below, wrap the pure
 
 - :func:`add_follower`: the follower body and its output point F;
 - :func:`add_cam_roller_contact`: ``ObjectGenericODE2`` on (cam, follower) whose force user
-  function returns the contact's torques on both (Hertz + Lankarani-Nikravesh);
+  function returns the contact's torques on both (the rig's contact law: Hertz point or line
+  contact, Lankarani-Nikravesh or Hunt-Crossley damping);
 - :func:`add_latch` (``LoadCoordinate`` on the cam with a time user function) and
   :func:`add_opening_spring` (a plain ``ObjectConnectorSpringDamper``);
 - :func:`add_poles`: push rods with wipe springs (``ObjectConnectorSpringDamper`` F -> pole
@@ -19,7 +20,9 @@ joint is the coordinate itself). The parts, each a function below, wrap the pure
   latched by a pre-step function from the state at the start of the step in which the
   contact begins.
 
-The shaft friction also sees the roller force and the latch torque (they load the journal).
+The shaft friction also sees the roller force and the latch force (they load the journal): the
+latch holds the cam with a force at its latch point (:meth:`BreakerLaws.latch_loads`), not with
+a pure couple.
 The follower's own weight is left out (a balanced main shaft).
 """
 from __future__ import annotations
@@ -46,14 +49,16 @@ def build_vcb_closing(rig, spec, law, chain=None, user_function="auto", ancf_ele
     """The whole breaker in Exudyn (module docstring); returns the model with ``laws`` and
     ``initial`` (the static rest held by the latch) attached."""
     laws = BreakerLaws.of_rig(rig, spec)
-    initial = laws.initial_state(massless_pull(rig.cam, rig.closing_spring))  # every spring model starts here
+    # every spring model starts from the massless springs' pull (a lumped chain starts stretched
+    # along O-B in its static equilibrium, which pulls the same)
+    initial = laws.initial_state(massless_pull(rig.cam, rig.closing_spring), pin_weight_torque(rig, chain))
     impact = np.zeros(rig.breaker.poles.count + 1)  # [cam-roller, pole 1..n] impact speeds (m/s)
     follower_state = {}  # the follower's node and system, known once built (the cam's friction reads them)
 
     def extra_loads(t, theta, omega):
+        # the roller and the latch load the cam: torque about A and force (both enter the shaft reaction)
         phi, phi_dot = follower_state["read"]()
-        t_cam, _, fx, fy = laws.roller_loads(theta, omega, phi, phi_dot, impact[0])
-        return t_cam + laws.latch(t, initial.holding_torque), fx, fy
+        return laws.cam_loads(t, theta, omega, phi, phi_dot, initial.holding_torque, impact[0])
 
     uf = "python" if user_function in ("auto", "symbolic") else user_function
     model = build_cam_drop(rig, law, spec.spring_model, chain, uf, extra_loads=extra_loads, ancf_elements=ancf_elements)
@@ -67,6 +72,16 @@ def build_vcb_closing(rig, spec, law, chain=None, user_function="auto", ancf_ele
     add_impact_latching(model, laws, cam_node, follower.node, pole_nodes, impact)
     model.laws, model.initial = laws, initial
     return model
+
+
+def pin_weight_torque(rig, chain):
+    """Torque (N m) about A of the weight of the springs' pin mass (``chain.pin_mass``, riding on
+    B) at the start, when the springs carry weight; 0 otherwise."""
+    pin_mass = getattr(chain, "pin_mass", 0.0) if chain is not None else 0.0
+    if not (pin_mass and rig.closing_spring.weight):
+        return 0.0
+    cam = rig.cam
+    return -rig.closing_spring.count * pin_mass * rig.gravity * cam.arm_length * math.cos(cam.initial_angle)
 
 
 def node_state_reader(mbs, node):

@@ -18,7 +18,8 @@ from .core import ExudynModel, add_cam_body, add_cam_friction, exudyn_modules
 def build_cam_drop(rig, law, spring_model, chain=None, user_function="auto", extra_loads=None, ancf_elements=None):
     """The cam of eq. 11-13 pulled at pin B by the closing springs of ``spring_model``
     (:class:`vcbmodel.rig.spring_model.SpringModel`; ``chain``: the lumped chain,
-    :class:`vcbmodel.laws.springs.LumpedChain`). ``extra_loads``: see
+    :class:`vcbmodel.laws.springs.LumpedChain`; ``ancf_elements``: the ANCF spring's element count
+    or :class:`~vcbmodel.builders.ancf.AncfOptions`). ``extra_loads``: see
     :func:`vcbmodel.builders.core.add_cam_friction`. Sensors: ``angle``, ``velocity``,
     ``friction_torque``, ``spring_mass_k`` and ``spring_velocity_k`` (lumped) or
     ``ancf_node_k`` (ANCF)."""

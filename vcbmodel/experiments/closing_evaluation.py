@@ -8,7 +8,7 @@ from __future__ import annotations
 import numpy as np
 from scipy.integrate import cumulative_trapezoid
 
-from ..laws.breaker import BreakerLaws, contact_energy, follower_displacement, pole_gaps, push_rod_energy
+from ..laws.breaker import BreakerLaws, follower_displacement, pole_gaps, push_rod_energy
 from ..laws.springs import chain_for
 
 
@@ -45,7 +45,6 @@ def contact_channels(laws, ch, n):
     for i in range(n):
         for key in ("contact_force", "contact_damping_force", "rod_force", "rod_compression", "rod_rate"):
             out[f"pole_{i + 1}_{key}"] = np.zeros(m)
-    law = laws.b.contact
     for j in range(m):
         th, w, phi, phid = ch["cam_angle"][j], ch["shaft_velocity"][j], ch["follower_angle"][j], ch["follower_velocity"][j]
         zs = [(ch[f"pole_{i + 1}_travel"][j], ch[f"pole_{i + 1}_velocity"][j]) for i in range(n)]
@@ -55,13 +54,13 @@ def contact_channels(laws, ch, n):
         out["cam_roller_penetration"][j] = c.penetration
         out["cam_roller_penetration_rate"][j] = c.penetration_rate
         out["pressure_angle"][j] = c.pressure_angle
-        elastic = law.cam_roller_stiffness * max(c.penetration, 0.0) ** law.exponent
-        out["cam_roller_damping_force"][j] = force - elastic if force > 0 else 0.0
+        # damping force = total - elastic (with the clip at zero: -elastic while the roller leaves)
+        out["cam_roller_damping_force"][j] = force - laws.roller_elastic(c.penetration) if c.penetration > 0 else 0.0
         for i, (z, zd) in enumerate(zs):
             f = laws.pole_contact(i, z, zd, impact[i + 1])
             pen = z - laws.gaps[i]
             out[f"pole_{i + 1}_contact_force"][j] = f
-            out[f"pole_{i + 1}_contact_damping_force"][j] = f - law.pole_stiffness * pen ** law.exponent if f > 0 else 0.0
+            out[f"pole_{i + 1}_contact_damping_force"][j] = f - laws.pole_elastic(pen) if pen > 0 else 0.0
             s, rate, _, rod = laws.rod(phi, phid, z, zd)
             out[f"pole_{i + 1}_rod_force"][j] = rod
             out[f"pole_{i + 1}_rod_compression"][j] = s
@@ -72,7 +71,9 @@ def contact_channels(laws, ch, n):
 def energy_balance(result, rig):
     """Energy bookkeeping of a closing (J), from the recorded states (massless or lumped spring).
 
-    The closing springs' chain follows from the result's spring model (ANCF: not covered).
+    The closing springs' chain follows from the result's spring model (ANCF: not covered); a
+    chain's ``pin_mass`` rides on B with the cam (kinetic energy 0.5 count m_pin (omega l_AB)^2;
+    with ``closing_spring.weight`` the spring and pin masses' weight is potential energy).
     Returns a dict of time series: ``kinetic``, ``potential`` (closing springs, cam weight,
     opening spring, push rods and wipe springs, contacts, pole loads), ``dissipated`` (shaft
     friction, contact damping, rod damping), ``latch_work`` and ``residual`` =
@@ -86,22 +87,28 @@ def energy_balance(result, rig):
     th, w, phi, phid = ch["cam_angle"], ch["shaft_velocity"], ch["follower_angle"], ch["follower_velocity"]
     kinetic = 0.5 * cam.inertia_pivot * w**2 + 0.5 * b.follower.inertia * phid**2
     bx, by = cam.pivot[0] + cam.arm_length * np.cos(th), cam.pivot[1] + cam.arm_length * np.sin(th)
+    weights = np.zeros_like(th)  # spring and pin masses' weight (closing_spring.weight)
     if chain is None:
         length = np.hypot(bx - spring.anchor[0], by - spring.anchor[1])
         springs = 0.5 * c * spring.stiffness * (length - spring.free_length) ** 2
     else:
+        pin_mass = getattr(chain, "pin_mass", 0.0)
+        kinetic = kinetic + 0.5 * c * pin_mass * (w * cam.arm_length) ** 2
+        if spring.weight:
+            weights = weights + c * pin_mass * g * by
         pts = [np.stack([np.full_like(th, spring.anchor[0]), np.full_like(th, spring.anchor[1])])]
         for k, m in enumerate(chain.masses, start=1):
             pts.append(np.stack([ch[f"spring_mass_{k}_x"], ch[f"spring_mass_{k}_y"]]))
             kinetic = kinetic + 0.5 * c * m * (ch[f"spring_velocity_{k}_x"] ** 2 + ch[f"spring_velocity_{k}_y"] ** 2)
+            if spring.weight:
+                weights = weights + c * m * g * ch[f"spring_mass_{k}_y"]
         pts.append(np.stack([bx, by]))
         springs = sum(0.5 * c * k * (np.hypot(*(p1 - p0)) - l0) ** 2
                       for p0, p1, k, l0 in zip(pts[:-1], pts[1:], chain.stiffnesses, chain.free_lengths))
     cam_weight = cam.mass * g * cam.com_distance * np.sin(th - cam.com_angle)
     opening = np.array([0.5 * b.opening_spring.stiffness * (laws.opening(p)[0] / b.opening_spring.stiffness) ** 2
                         for p in phi])
-    law = b.contact
-    contacts = np.array([contact_energy(p, law.cam_roller_stiffness, law.exponent) for p in ch["cam_roller_penetration"]])
+    contacts = np.array([laws.roller_energy(p) for p in ch["cam_roller_penetration"]])
     rods = np.zeros_like(th)
     poles = np.zeros_like(th)
     dissipation = np.zeros_like(th)
@@ -112,13 +119,13 @@ def energy_balance(result, rig):
         z, zd = ch[f"pole_{i + 1}_travel"], ch[f"pole_{i + 1}_velocity"]
         kinetic = kinetic + 0.5 * b.poles.moving_mass * zd**2
         rods += np.array([push_rod_energy(s, b.poles) for s in ch[f"pole_{i + 1}_rod_compression"]])
-        contacts += np.array([contact_energy(zz - laws.gaps[i], law.pole_stiffness, law.exponent) for zz in z])
+        contacts += np.array([laws.pole_energy(zz - laws.gaps[i]) for zz in z])
         poles -= laws.pole_load * z
         dissipation += ch[f"pole_{i + 1}_contact_damping_force"] * zd
         dissipation += b.poles.rod_damping * ch[f"pole_{i + 1}_rod_rate"] ** 2
     holding = result.info["initial"].holding_torque
     latch_work = cumulative_trapezoid(np.array([laws.latch(tt, holding) for tt in t]) * w, t, initial=0.0)
-    potential = springs + cam_weight + opening + rods + contacts + poles
+    potential = springs + cam_weight + weights + opening + rods + contacts + poles
     dissipated = cumulative_trapezoid(dissipation, t, initial=0.0)
     total = kinetic + potential
     return {"t": t, "kinetic": kinetic, "potential": potential, "closing_springs": springs, "opening_spring": opening,
@@ -156,6 +163,13 @@ def figures_of_merit(result, rig):
     travel = ch["follower_displacement"]
     done = [x for x in touches if x is not None]
     at_touch = float(np.interp(min(done), t, travel)) if done else float("nan")
+    force = ch["cam_roller_force"]
+    off = force <= 0.0
+    first_off = None  # first sample at which the roller has left the cam, interpolated like the touches
+    if off.any():
+        k = int(np.argmax(off))
+        first_off = float(t[k]) if k == 0 else float(t[k - 1] + force[k - 1] / (force[k - 1] - force[k]) * (t[k] - t[k - 1]))
+    before = t <= min(done) if done else np.ones_like(t, bool)
     return {
         "closing_time_s": max(done) if len(done) == len(gaps) else None,
         "first_touch_s": min(done) if done else None,
@@ -167,7 +181,12 @@ def figures_of_merit(result, rig):
         "overtravel_m": float(np.max(travel) - at_touch) if done else None,  # follower travel after first touch
         "overshoot_m": float(np.max(travel) - travel[-1]),
         "peak_cam_roller_force_N": float(np.max(ch["cam_roller_force"])),
-        "roller_lift_off_s": float(np.sum(np.diff(t) * (ch["cam_roller_force"][1:] <= 0.0))),
+        "roller_lift_off_s": float(np.sum(np.diff(t) * off[1:])),  # total time off the cam
+        # when the roller first leaves the cam, relative to the first touch (negative: a follower
+        # jump before the contacts touch); None: it never leaves
+        "roller_first_lift_off_s": (first_off - min(done) if done else first_off) if first_off is not None else None,
+        # the smallest roller force from the latch release to the first touch: the margin against a jump
+        "min_cam_roller_force_before_touch_N": float(np.min(force[before])),
         "max_pressure_angle_deg": float(np.degrees(np.max(ch["pressure_angle"]))),
         "per_pole": {"touch_s": touches, "touch_speed_m_s": speeds, "bounces": bounces, "bounce_duration_s": bounce_times},
     }

@@ -7,6 +7,7 @@ import math
 import numpy as np
 
 from .. import parameters as P
+from ..builders.ancf import AncfOptions
 from ..laws.springs import chain_for
 from ..model.effects import ModelSpec, assemble, consistent_effects
 from ..model.result import SimulationResult
@@ -35,15 +36,9 @@ def output_times(rig, t_end):
     return np.arange(n + 1) * dt
 
 
-def ancf_step(elements=None):
-    """RK4 step (s) for the ANCF spring: ANCF_STEP up to ANCF_ELEMENTS elements, shorter in
-    proportion above (the fastest element modes scale with the number of elements)."""
-    return P.ANCF_STEP * min(1.0, P.ANCF_ELEMENTS / (elements or P.ANCF_ELEMENTS))
-
-
 def simulate(rig: Rig, effects=None, values=None, *, spring_model=None, t_end=None, sample_times=None,
              backend="exudyn", user_function="auto", step=None, method="DOP853",
-             ancf_elements=None, sticking=None) -> SimulationResult:
+             ancf_elements=None, ancf_tie_stiffness=None, sticking=None) -> SimulationResult:
     """Simulate the rig's experiment.
 
     Parameters
@@ -60,6 +55,8 @@ def simulate(rig: Rig, effects=None, values=None, *, spring_model=None, t_end=No
     step : integration step (s), default from the experiment's record.
     method : reference backend only: ``DOP853`` (adaptive; ``step`` caps it) or ``rk4``.
     ancf_elements : elements of the ``ancf`` spring (default parameters.ANCF_ELEMENTS).
+    ancf_tie_stiffness : its end ties' stiffness per spring (N/m, default ANCF_PENALTY_STIFFNESS);
+        :func:`simulate_rigid_ties` extrapolates to rigid ties.
     sticking : ``passive`` (default, or the rig's ``friction.sticking``) or ``literal``.
     """
     record = experiment_of(rig.experiment)
@@ -69,9 +66,11 @@ def simulate(rig: Rig, effects=None, values=None, *, spring_model=None, t_end=No
     if t_end is None:
         t_end = float(sample_times[-1]) if sample_times is not None else record.default_duration
     chain = chain_for(rig.closing_spring, spec.spring_model) if record.has_closing_spring else None
+    ancf = AncfOptions(elements=ancf_elements or P.ANCF_ELEMENTS,
+                       penalty_stiffness=ancf_tie_stiffness or P.ANCF_PENALTY_STIFFNESS)
     if backend == "exudyn":
         if step is None:
-            step = ancf_step(ancf_elements) if spec.spring_model.kind == "ancf" else record.step(rig)
+            step = ancf.step() if spec.spring_model.kind == "ancf" else record.step(rig)
         period = None
         if sample_times is not None and len(sample_times) > 2:
             # uniform samples from t = 0 (a sensor's rate): shrink the step to divide the sample
@@ -82,7 +81,7 @@ def simulate(rig: Rig, effects=None, values=None, *, spring_model=None, t_end=No
                 k = math.ceil(spacing / step - 1e-9)
                 step, period = spacing / k, spacing
         law = spec.friction_law(rig.shaft_radius, step)
-        model = record.build(rig, spec, law, chain, user_function, ancf_elements)
+        model = record.build(rig, spec, law, chain, user_function, ancf)
         data = model.solve(t_end, step, period)
         info = {"backend": "exudyn", "step": step, "initial": getattr(model, "initial", None)}
     elif backend == "reference":
@@ -95,3 +94,23 @@ def simulate(rig: Rig, effects=None, values=None, *, spring_model=None, t_end=No
     if sample_times is not None:
         result = result.resample(sample_times)
     return result
+
+
+def extrapolate_ties(value_1, value_2, k1, k2):
+    """Richardson extrapolation to rigid ties, value(k) = value_inf + c / k:
+    value_inf = (k2 value_2 - k1 value_1) / (k2 - k1)."""
+    return (k2 * np.asarray(value_2) - k1 * np.asarray(value_1)) / (k2 - k1)
+
+
+def simulate_rigid_ties(rig, effects=None, values=None, *, sample_times, stiffnesses=(1e8, 1e9), **options):
+    """The rig with an ANCF spring whose end ties are extrapolated to infinite stiffness: two
+    runs with tie stiffnesses ``stiffnesses`` (N/m per spring) combined channel by channel by
+    :func:`extrapolate_ties` (the truth of the spring studies; about 4x one run). ``options``
+    go to :func:`simulate` (``ancf_elements``, ...)."""
+    k1, k2 = stiffnesses
+    runs = [simulate(rig, effects, values, spring_model="ancf", sample_times=sample_times, ancf_tie_stiffness=k,
+                     **options) for k in (k1, k2)]
+    a, b = runs
+    channels = {name: extrapolate_ties(a.channels[name], b.channels[name], k1, k2) for name in b.channels}
+    info = dict(b.info, ties=f"extrapolated to rigid from {k1:g} and {k2:g} N/m")
+    return SimulationResult(b.t, channels, b.experiment, b.measured_channel, b.spec, info, b.units)

@@ -29,7 +29,7 @@ import numpy as np
 from scipy.optimize import brentq
 
 from ..errors import SimulationError
-from .contact import hertz_contact_force
+from .contact import LINE_EXPONENT, hertz_contact_force, hunt_crossley_force, palmgren_line_stiffness
 from .mechanics import cam_pin, cam_weight_torque, massless_spring_force
 
 TWO_PI = 2.0 * math.pi
@@ -178,6 +178,37 @@ def contact_energy(penetration, stiffness, exponent):
     return stiffness * max(penetration, 0.0) ** (exponent + 1.0) / (exponent + 1.0)
 
 
+@dataclass(frozen=True)
+class CamRollerLaw:
+    """How the cam-roller contact is modelled (rig fields ``breaker.contact.cam_roller_law``,
+    ``roller_width``, ``cam_roller_damping``, ``cam_roller_damping_factor``; see
+    :mod:`vcbmodel.laws.contact`). The defaults are the original model: Hertz point contact with
+    ``cam_roller_stiffness`` and ``exponent``, Lankarani-Nikravesh damping."""
+
+    law: str = "hertz_point"  # hertz_point | line (Palmgren, exponent 10/9, K from roller_width)
+    roller_width: float | None = None  # m, the roller's effective contact length (line law)
+    damping: str = "lankarani_nikravesh"  # lankarani_nikravesh | hunt_crossley
+    damping_factor: float = 0.0  # s/m, Hunt-Crossley alpha
+
+
+@dataclass(frozen=True)
+class LatchPoint:
+    """Where the closing latch holds the cam (rig fields ``breaker.latch.arm``, ``angle``): a
+    point on the cam at ``arm`` (m) from A, at ``angle`` (rad) from A->B, pushed perpendicular
+    to A->point. None for ``arm``: at the spring pin B (arm l_AB, angle 0)."""
+
+    arm: float | None = None
+    angle: float = 0.0
+
+
+def latch_force(torque, theta, arm, angle):
+    """Force (N, N) on the cam at the latch point that exerts ``torque`` (N m) about A:
+    perpendicular to A->point, magnitude torque / arm."""
+    a = theta + angle
+    f = torque / arm
+    return -f * math.sin(a), f * math.cos(a)
+
+
 def push_rod_force(compression, rate, poles):
     """Compressive force (N) of one push rod with its wipe spring: stiff (rod_stiffness) until
     the wipe spring's preload is reached, then the wipe spring's rate; structural damping.
@@ -265,36 +296,70 @@ class BreakerLaws:
     """Every force of the breaker at a state, from the laws above.
 
     One object serves the Exudyn user functions, the reference solve and the evaluation
-    (forces and energies from the recorded states). ``breaker``: the rig's breaker data;
-    ``cam``: the rig's cam (its axis A and the start angle); ``gravity`` (m/s^2);
-    ``restitution`` of both contacts (1 = elastic) and ``bellows_force`` per pole (N) are
-    the effect-dependent values (effects ``contact_damping`` and ``bellows_force``).
+    (forces and energies from the recorded states). ``breaker``: the rig's breaker data (its
+    optional ``cam_roller`` :class:`CamRollerLaw` and ``latch_point`` :class:`LatchPoint`, read by
+    :mod:`vcbmodel.experiments.vcb_closing`; defaults without them); ``cam``: the rig's cam (its
+    axis A and the start angle); ``gravity`` (m/s^2); ``restitution`` of the Lankarani-Nikravesh
+    contacts (1 = elastic) and ``bellows_force`` per pole (N) are the effect-dependent values
+    (effects ``contact_damping`` and ``bellows_force``); ``damped``: whether contact damping is
+    on at all (effect ``contact_damping``; default: restitution < 1), which switches the
+    Hunt-Crossley cam-roller damping too.
     """
 
-    def __init__(self, breaker, cam, gravity, restitution=1.0, bellows_force=0.0):
+    def __init__(self, breaker, cam, gravity, restitution=1.0, bellows_force=0.0, damped=None):
         self.b, self.cam, self.gravity = breaker, cam, gravity
         self.geometry = rest_geometry(breaker, cam.pivot)
         self.gaps = pole_gaps(breaker.poles)
         self.restitution = restitution
+        self.damped = restitution < 1.0 if damped is None else bool(damped)
         self.pole_load = bellows_force - breaker.poles.moving_mass * gravity  # N, along closing
         fx, fy = self.geometry.output_point
         self.pin_rest = (fx, fy + breaker.poles.push_rod_length)
         self.opening_anchor = (fx, fy - breaker.opening_spring.length)
         o = breaker.opening_spring
         self.opening_free_length = o.length - o.preload / o.stiffness
+        # the cam-roller contact's law
+        self.roller_law = getattr(breaker, "cam_roller", None) or CamRollerLaw()
+        law = breaker.contact
+        if self.roller_law.law == "line":
+            self.roller_stiffness = palmgren_line_stiffness(self.roller_law.roller_width)
+            self.roller_exponent = LINE_EXPONENT
+        else:
+            self.roller_stiffness, self.roller_exponent = law.cam_roller_stiffness, law.exponent
+        self.roller_hunt_crossley = self.roller_law.damping == "hunt_crossley"
+        self.roller_alpha = self.roller_law.damping_factor if self.damped else 0.0
+        latch = getattr(breaker, "latch_point", None) or LatchPoint()
+        self.latch_arm = cam.arm_length if latch.arm is None else latch.arm
+        self.latch_angle = latch.angle
 
     @classmethod
     def of_rig(cls, rig, spec):
-        """For a rig (its breaker, cam, gravity) and a model spec (restitution, bellows force)."""
-        return cls(rig.breaker, rig.cam, rig.gravity, spec.restitution, spec.bellows_force)
+        """For a rig (its breaker, cam, gravity) and a model spec (restitution, bellows force,
+        whether ``contact_damping`` is on)."""
+        return cls(rig.breaker, rig.cam, rig.gravity, spec.restitution, spec.bellows_force,
+                   damped="contact_damping" in spec.effects)
 
     # -- cam-roller contact
+    def roller_force(self, penetration, rate, impact_speed=0.0):
+        """Normal force (N) of the cam-roller contact at a penetration (m) and its rate (m/s)."""
+        if self.roller_hunt_crossley:
+            return hunt_crossley_force(penetration, rate, self.roller_stiffness, self.roller_exponent,
+                                       self.roller_alpha)
+        return contact_force(penetration, rate, self.roller_stiffness, self.roller_exponent, self.restitution,
+                             impact_speed, self.b.contact.min_impact_speed)
+
+    def roller_elastic(self, penetration):
+        """Elastic part (N) of the cam-roller force."""
+        return self.roller_stiffness * max(penetration, 0.0) ** self.roller_exponent
+
+    def roller_energy(self, penetration):
+        """Elastic energy (J) stored in the cam-roller contact."""
+        return contact_energy(penetration, self.roller_stiffness, self.roller_exponent)
+
     def roller(self, theta, omega, phi, phi_dot, impact_speed=0.0):
         """(CamRollerContact, normal force in N)."""
         c = cam_roller_contact(theta, omega, phi, phi_dot, self.b, self.geometry)
-        law = self.b.contact
-        return c, contact_force(c.penetration, c.penetration_rate, law.cam_roller_stiffness, law.exponent,
-                                self.restitution, impact_speed, law.min_impact_speed)
+        return c, self.roller_force(c.penetration, c.penetration_rate, impact_speed)
 
     def roller_loads(self, theta, omega, phi, phi_dot, impact_speed=0.0):
         """(torque on cam N m, torque on follower N m, force on cam Fx, Fy in N)."""
@@ -328,10 +393,19 @@ class BreakerLaws:
         return force * ey, (fx - pv[0]) * (-force * ey) - (fy - pv[1]) * (-force * ex)
 
     def pole_contact(self, i, z, z_dot, impact_speed=0.0):
-        """Force (N, opening direction) of pole i's fixed contact."""
+        """Force (N, opening direction) of pole i's fixed contact (Hertz point contact with
+        Lankarani-Nikravesh damping: an impact contact)."""
         law = self.b.contact
         return contact_force(z - self.gaps[i], z_dot, law.pole_stiffness, law.exponent, self.restitution,
                              impact_speed, law.min_impact_speed)
+
+    def pole_elastic(self, penetration):
+        law = self.b.contact
+        return law.pole_stiffness * max(penetration, 0.0) ** law.exponent
+
+    def pole_energy(self, penetration):
+        law = self.b.contact
+        return contact_energy(penetration, law.pole_stiffness, law.exponent)
 
     # -- opening spring
     def opening(self, phi):
@@ -365,9 +439,10 @@ class BreakerLaws:
             t_fol += self.rod_loads(phi, phi_dot, zi, zi_dot)[1]
         return t_fol, (t_cam, fx, fy)
 
-    def initial_state(self, spring_pull) -> InitialState:
+    def initial_state(self, spring_pull, pin_weight_torque=0.0) -> InitialState:
         """Static rest at the cam's initial angle; ``spring_pull`` (N, N) is the closing
-        springs' pull on pin B there."""
+        springs' pull on pin B there, ``pin_weight_torque`` (N m) the weight of the springs'
+        pin mass about A when the springs carry weight."""
         cam = self.cam
         theta = cam.initial_angle
         n = self.b.poles.count
@@ -388,20 +463,36 @@ class BreakerLaws:
         bx, by = cam_pin(theta, cam)
         fx, fy = spring_pull
         spring_and_weight = ((bx - cam.pivot[0]) * fy - (by - cam.pivot[1]) * fx
-                             + cam_weight_torque(theta, cam, self.gravity))
+                             + cam_weight_torque(theta, cam, self.gravity) + pin_weight_torque)
         return InitialState(phi, z, -(spring_and_weight + t_cam))
 
     def latch_impact_speeds(self, impact, theta, omega, phi, phi_dot, z, z_dot):
         """Update ``impact`` ([cam-roller, pole 1..n], m/s) from a state by
         :func:`update_impact_speeds`; returns the cam-roller contact at that state."""
-        roller = self.roller(theta, omega, phi, phi_dot)[0]
+        roller = cam_roller_contact(theta, omega, phi, phi_dot, self.b, self.geometry)
         state = [(roller.penetration, roller.penetration_rate)]
         state += [(zi - gap, zi_dot) for zi, zi_dot, gap in zip(z, z_dot, self.gaps)]
         update_impact_speeds(impact, state)
         return roller
 
+    # -- the closing latch
     def latch(self, t, holding):
+        """The latch's torque (N m) on the cam at time t (s)."""
         return latch_torque(t, holding, self.b.latch_release_time)
+
+    def latch_loads(self, t, theta, holding):
+        """(torque N m, Fx N, Fy N) of the latch on the cam: the force at the latch point that
+        exerts :meth:`latch`'s torque, so that it also loads the shaft's journal."""
+        torque = self.latch(t, holding)
+        fx, fy = latch_force(torque, theta, self.latch_arm, self.latch_angle)
+        return torque, fx, fy
+
+    def cam_loads(self, t, theta, omega, phi, phi_dot, holding, impact_speed=0.0):
+        """(torque about A N m, Fx N, Fy N): the roller's and the latch's loads on the cam, the
+        breaker's share of the cam's applied torque and shaft reaction."""
+        t_cam, _, fx, fy = self.roller_loads(theta, omega, phi, phi_dot, impact_speed)
+        t_latch, lx, ly = self.latch_loads(t, theta, holding)
+        return t_cam + t_latch, fx + lx, fy + ly
 
 
 def massless_pull(cam, spring):
