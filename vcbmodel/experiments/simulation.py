@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import math
+from dataclasses import replace
 
 import numpy as np
 
@@ -38,7 +39,7 @@ def output_times(rig, t_end):
 
 def simulate(rig: Rig, effects=None, values=None, *, spring_model=None, t_end=None, sample_times=None,
              backend="exudyn", user_function="auto", step=None, method="DOP853",
-             ancf_elements=None, ancf_tie_stiffness=None, sticking=None) -> SimulationResult:
+             ancf_elements=None, ancf_tie_stiffness=None, ancf=None, sticking=None) -> SimulationResult:
     """Simulate the rig's experiment.
 
     Parameters
@@ -57,6 +58,7 @@ def simulate(rig: Rig, effects=None, values=None, *, spring_model=None, t_end=No
     ancf_elements : elements of the ``ancf`` spring (default parameters.ANCF_ELEMENTS).
     ancf_tie_stiffness : its end ties' stiffness per spring (N/m, default ANCF_PENALTY_STIFFNESS);
         :func:`simulate_rigid_ties` extrapolates to rigid ties.
+    ancf : :class:`~vcbmodel.builders.ancf.AncfOptions` (instead of the two above).
     sticking : ``passive`` (default, or the rig's ``friction.sticking``) or ``literal``.
     """
     record = experiment_of(rig.experiment)
@@ -66,8 +68,9 @@ def simulate(rig: Rig, effects=None, values=None, *, spring_model=None, t_end=No
     if t_end is None:
         t_end = float(sample_times[-1]) if sample_times is not None else record.default_duration
     chain = chain_for(rig.closing_spring, spec.spring_model) if record.has_closing_spring else None
-    ancf = AncfOptions(elements=ancf_elements or P.ANCF_ELEMENTS,
-                       penalty_stiffness=ancf_tie_stiffness or P.ANCF_PENALTY_STIFFNESS)
+    if ancf is None:
+        ancf = AncfOptions(elements=ancf_elements or P.ANCF_ELEMENTS,
+                           penalty_stiffness=ancf_tie_stiffness or P.ANCF_PENALTY_STIFFNESS)
     if backend == "exudyn":
         if step is None:
             step = ancf.step() if spec.spring_model.kind == "ancf" else record.step(rig)
@@ -102,14 +105,16 @@ def extrapolate_ties(value_1, value_2, k1, k2):
     return (k2 * np.asarray(value_2) - k1 * np.asarray(value_1)) / (k2 - k1)
 
 
-def simulate_rigid_ties(rig, effects=None, values=None, *, sample_times, stiffnesses=(1e8, 1e9), **options):
+def simulate_rigid_ties(rig, effects=None, values=None, *, sample_times, stiffnesses=(1e8, 1e9), ancf=None,
+                        **options):
     """The rig with an ANCF spring whose end ties are extrapolated to infinite stiffness: two
     runs with tie stiffnesses ``stiffnesses`` (N/m per spring) combined channel by channel by
-    :func:`extrapolate_ties` (the truth of the spring studies; about 4x one run). ``options``
-    go to :func:`simulate` (``ancf_elements``, ...)."""
+    :func:`extrapolate_ties` (the truth of the spring studies; about 4x one run). ``ancf``:
+    :class:`~vcbmodel.builders.ancf.AncfOptions` (elements, EI); ``options`` go to :func:`simulate`."""
     k1, k2 = stiffnesses
-    runs = [simulate(rig, effects, values, spring_model="ancf", sample_times=sample_times, ancf_tie_stiffness=k,
-                     **options) for k in (k1, k2)]
+    base = ancf or AncfOptions()
+    runs = [simulate(rig, effects, values, spring_model="ancf", sample_times=sample_times,
+                     ancf=replace(base, penalty_stiffness=k), **options) for k in (k1, k2)]
     a, b = runs
     channels = {name: extrapolate_ties(a.channels[name], b.channels[name], k1, k2) for name in b.channels}
     info = dict(b.info, ties=f"extrapolated to rigid from {k1:g} and {k2:g} N/m")
