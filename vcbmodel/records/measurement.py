@@ -10,7 +10,7 @@ from pathlib import Path
 import numpy as np
 
 from ..errors import InputError
-from ..rig.reader import UTF8_BOM, did_you_mean, read_bytes
+from ..rig.reader import did_you_mean, read_bytes, text_bytes
 
 
 
@@ -34,13 +34,7 @@ class Measurement:
 
 def _lines(path, raw):
     """(line number, text) of each line; comment lines may hold any bytes (free text)."""
-    if raw.startswith(UTF8_BOM):
-        raw = raw[len(UTF8_BOM):]
-    if raw.startswith((b"\xff\xfe", b"\xfe\xff")):
-        raise InputError(path, "file", "is UTF-16 encoded: save it as UTF-8")
-    if b"\x00" in raw:
-        raise InputError(path, "file", "is binary, not a text file")
-    for i, line in enumerate(raw.splitlines(), start=1):
+    for i, line in enumerate(text_bytes(path, raw).splitlines(), start=1):
         s = line.strip()
         if s.startswith(b"#"):
             yield i, s.decode("utf-8", errors="replace")

@@ -26,15 +26,21 @@ MAX_DEPTH = 32
 UTF8_BOM = b"\xef\xbb\xbf"
 
 
-def decode_text(path, raw):
-    """The text of a file's bytes: UTF-8, with or without a byte-order mark. UTF-16 and binary
-    files are refused with a one-line error."""
+def text_bytes(path, raw):
+    """A text file's bytes without a UTF-8 byte-order mark; UTF-16 and binary files are refused
+    with a one-line error."""
     if raw.startswith(UTF8_BOM):
         raw = raw[len(UTF8_BOM):]
     if raw.startswith((b"\xff\xfe", b"\xfe\xff")):
         raise InputError(path, "file", "is UTF-16 encoded: save it as UTF-8")
     if b"\x00" in raw:
         raise InputError(path, "file", "is binary, not a text file")
+    return raw
+
+
+def decode_text(path, raw):
+    """The text of a file's bytes: UTF-8, with or without a byte-order mark (:func:`text_bytes`)."""
+    raw = text_bytes(path, raw)
     try:
         return raw.decode("utf-8")
     except UnicodeDecodeError as e:
