@@ -18,7 +18,7 @@ from vcbmodel.analysis.synthetic import random_case, synthetic_measurement, writ
 from vcbmodel.builders.pendulum import build_pendulum
 from vcbmodel.experiments import experiment_of
 from vcbmodel.experiments.loading import load_record, load_rig
-from vcbmodel.experiments.simulation import model_spec, simulate
+from vcbmodel.experiments.simulation import model_spec, output_times, simulate, simulate_rigid_ties
 
 HYBRID = ("coulomb_friction", "stribeck", "viscous_friction")
 
@@ -45,8 +45,8 @@ def main():
     write_rig(P.REFERENCE_CAM, tmp / "c.rig.json")
     prig, crig = load_rig(tmp / "p.rig.json"), load_rig(tmp / "c.rig.json")
     truth = P.REFERENCE_PENDULUM_TRUTH
-    law = model_spec(prig, HYBRID, truth).friction_law(prig.shaft_radius)
-    h = experiment_of("pendulum").step(prig, law)
+    h = experiment_of("pendulum").step(prig)
+    law = model_spec(prig, HYBRID, truth).friction_law(prig.shaft_radius, h)
     t_end = 6.0
     res = {"machine": {"python": platform.python_version(), "processor": platform.processor() or platform.machine()},
            "pendulum_6s": {"step_s": h}}
@@ -73,6 +73,9 @@ def main():
                                                             t_end=0.035), repeat)
     cam["target_ancf_8_s"] = 5.0
     cam["ancf_8_target_met"] = cam["ancf_8_s"] <= 5.0
+    # the spring studies' truth: two tie stiffnesses extrapolated to rigid ties (12 kHz samples)
+    cam["ancf_8_rigid_ties_s"] = median_time(lambda: simulate_rigid_ties(
+        crig, eff, sample_times=output_times(crig, 0.035)), 1)
     print(cam, flush=True)
 
     write_rig(P.REFERENCE_BREAKER, tmp / "b.rig.json")
@@ -111,8 +114,89 @@ def main():
         build_pendulum(prig, law, "symbolic").solve(0.5, h, 1e-3)
     res["memory"] = {"peak_rss_mb": rss_mb(), "rss_growth_over_builds_mb": rss_mb() - before,
                      "builds": 10 if args.quick else 100}
+    res["sweep_scaling"] = sweep_scaling(args.quick)
     write_json(out / "benchmark.json", res)
     print(res)
+
+
+def sweep_scaling(quick):
+    """Design studies at scale (vcbmodel sweep): the same sweep of reference-breaker closings on
+    1 process (in this one) and on 2 local worker processes (the pool, started by the sweep):
+    parallel efficiency T1 / (2 T2); one run's parts (rig load, Exudyn build, solve, the rest:
+    channels and figures of merit) measured in this process; throughput in closings per
+    core-minute; and a paper estimate of a 10 000-run tolerance study on 16 and 256 cores."""
+    import copy
+    import os
+
+    import numpy as np
+
+    import vcbmodel.experiments.vcb_closing as closing_module
+    from vcbmodel.analysis.sweep import figures_of_merit, sweep
+    from vcbmodel.experiments.loading import rig_from_data
+
+    data = copy.deepcopy(P.REFERENCE_BREAKER)
+    parts = {"load_s": [], "build_s": [], "solve_s": [], "run_s": []}
+    original = closing_module.build_vcb_closing
+
+    def timed_build(*a, **k):  # times the Exudyn build and the solve of each run
+        t0 = time.perf_counter()
+        model = original(*a, **k)
+        parts["build_s"].append(time.perf_counter() - t0)
+        solve = model.solve
+
+        def timed_solve(*a, **k):
+            t1 = time.perf_counter()
+            result = solve(*a, **k)
+            parts["solve_s"].append(time.perf_counter() - t1)
+            return result
+
+        model.solve = timed_solve
+        return model
+
+    closing_module.build_vcb_closing = timed_build
+    try:
+        for _ in range(2 if quick else 3):
+            t0 = time.perf_counter()
+            rig = rig_from_data(copy.deepcopy(data))
+            parts["load_s"].append(time.perf_counter() - t0)
+            t0 = time.perf_counter()
+            figures_of_merit(rig)
+            parts["run_s"].append(time.perf_counter() - t0)
+    finally:
+        closing_module.build_vcb_closing = original
+    one = {k: statistics.median(v) for k, v in parts.items()}
+    one["rest_s"] = one["run_s"] - one["build_s"] - one["solve_s"]  # channels, contact forces, figures of merit
+    one["overhead_fraction"] = 1 - one["solve_s"] / (one["run_s"] + one["load_s"])
+
+    n = 4 if quick else 16
+    runs = [{"friction.mu_k": float(m)} for m in np.linspace(0.10, 0.16, n)]
+    load_before = os.getloadavg()
+    t1 = sweep(data, runs=runs, workers=1, verbose=False).attrs["wall_s"]
+    t0 = time.perf_counter()
+    two = sweep(data, runs=runs, workers=2, verbose=False)
+    t2 = time.perf_counter() - t0  # with the pool's start
+    per_run = t1 / n
+    efficiency = t1 / (2 * t2)
+    result = {
+        "closings": n, "one_run": one, "sweep_1_worker_s": t1, "sweep_2_workers_s": t2,
+        "sweep_2_workers_runs_only_s": two.attrs["wall_s"],
+        "parallel_efficiency": efficiency, "target_parallel_efficiency": 0.8, "target_met": efficiency >= 0.8,
+        "sweep_overhead_per_run_s": per_run - one["run_s"] - one["load_s"],
+        "closings_per_core_minute": {"1_worker": 60 * n / t1, "2_workers": 60 * n / (2 * t2)},
+        "load_average_before_after": [load_before, os.getloadavg()],
+        "note": "a shared 2-core machine: other work changes these numbers by tens of percent",
+    }
+    # a 10 000-run tolerance study: per-run time as measured, the measured efficiency (at most 0.95),
+    # the Dask scheduler's time per task (3 ms measured here: it only limits when the cores finish
+    # runs faster than it hands them out), plus the workers' start-up (imports, about 10 s)
+    eff, per_task = min(efficiency, 0.95), 0.003
+    result["estimate_10000_runs"] = {
+        f"{cores}_cores_min": (max(10000 * per_run / (cores * eff), 10000 * per_task) + 10.0) / 60 for cores in (16, 256)}
+    result["estimate_10000_runs"]["assumptions"] = (
+        f"{per_run:.2f} s per closing (this machine's cores), efficiency {eff:.2f}, {1e3 * per_task:g} ms of "
+        "scheduler time per run (Dask, measured with empty tasks), 10 s worker start-up")
+    print({"sweep_scaling": result}, flush=True)
+    return result
 
 
 if __name__ == "__main__":

@@ -63,12 +63,15 @@ def test_cam_drop_converges_under_mesh_refinement(heavy_cam):
 
 
 def test_uniform_chains_approach_the_ancf_continuum(heavy_cam):
-    ancf = simulate(heavy_cam, EFFECTS, spring_model="ancf", sample_times=T)
-    uniform = heavy_cam
-    gaps = [np.max(np.abs(simulate(uniform, EFFECTS, spring_model=f"lumped-{n}:uniform", sample_times=T).measured - ancf.measured))
-            for n in (5, 10, 20)]
-    assert gaps[0] > gaps[1] > gaps[2]
-    assert gaps[2] < 0.05  # 20 equal masses: within 50 mrad of the continuum after a 3.5 rad stroke
+    """Two independent discretisations of the same coil meet: uniform chains (with half a
+    segment's mass on the pin) approach the rigid-tie ANCF continuum, to 0.3 mrad rms at 20
+    masses (the rest is the coil's bending stiffness, which chains lack) after a 3.5 rad stroke."""
+    from vcbmodel.experiments.simulation import simulate_rigid_ties
+    truth = simulate_rigid_ties(heavy_cam, EFFECTS, sample_times=T).measured
+    gaps = [np.sqrt(np.mean((simulate(heavy_cam, EFFECTS, spring_model=f"lumped-{n}:uniform", sample_times=T).measured
+                             - truth) ** 2)) for n in (5, 10, 20)]
+    assert gaps[0] > 4 * gaps[1]  # measured 2.1 -> 0.42 mrad
+    assert gaps[2] < 0.5e-3  # measured 0.32 mrad
 
 
 def test_ancf_channels_and_divergence_is_reported(heavy_cam):

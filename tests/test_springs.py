@@ -67,15 +67,17 @@ def test_equilibrium_positions_follow_compliance():
 
 
 def test_uniform_chain_converges_to_the_continuum():
-    errors, end_masses = [], []
+    """The uniform chain's fundamental (its interior masses fixed at both ends) converges to the
+    continuum's at second order: w1 = 2 (n+1) sin(pi / (2 (n+1))) sqrt(k0/m0) exactly."""
+    errors = []
     for n in (5, 10, 20):
         c = lumped_chain(n, K0, M0, L0, "uniform")
         assert c.series_stiffness == pytest.approx(K0)
-        errors.append(abs(c.natural_frequencies()[0] / (math.pi * math.sqrt(K0 / M0)) - 1))
-        # Rayleigh: a spring whose end moves at v has kinetic energy (m0/3) v^2 / 2
-        end_masses.append(np.sum(c.masses * c.equilibrium_fractions() ** 2) / M0)
-    assert errors[0] > errors[1] > errors[2] and errors[2] < 1e-3
-    assert end_masses[0] < end_masses[1] < end_masses[2] and end_masses[2] == pytest.approx(1 / 3, rel=0.1)
+        w1 = c.natural_frequencies()[0]
+        assert w1 == pytest.approx(2 * (n + 1) * math.sin(math.pi / (2 * (n + 1))) * math.sqrt(K0 / M0), rel=1e-12)
+        errors.append(abs(w1 / (math.pi * math.sqrt(K0 / M0)) - 1))
+    assert errors[0] / errors[1] == pytest.approx((11 / 6) ** 2, rel=0.02)  # second order in 1/(n+1)
+    assert errors[2] == pytest.approx(math.pi**2 / (24 * 21**2), rel=0.01)  # 9.3e-4 at 20 masses
 
 
 @pytest.mark.parametrize("n", [1, 2, 3, 5, 10, 20])
