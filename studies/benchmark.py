@@ -177,10 +177,12 @@ def sweep_scaling(quick):
     t2 = time.perf_counter() - t0  # with the pool's start
     per_run = t1 / n
     efficiency = t1 / (2 * t2)
+    busy = sum(two.attrs["run_s"]) / (2 * t2)  # the workers' time in runs / their wall time
     result = {
         "closings": n, "one_run": one, "sweep_1_worker_s": t1, "sweep_2_workers_s": t2,
         "sweep_2_workers_runs_only_s": two.attrs["wall_s"],
         "parallel_efficiency": efficiency, "target_parallel_efficiency": 0.8, "target_met": efficiency >= 0.8,
+        "worker_utilisation_2_workers": busy,
         "sweep_overhead_per_run_s": per_run - one["run_s"] - one["load_s"],
         "closings_per_core_minute": {"1_worker": 60 * n / t1, "2_workers": 60 * n / (2 * t2)},
         "load_average_before_after": [load_before, os.getloadavg()],

@@ -1,4 +1,8 @@
-"""The whole breaker (paper section 4): laws, rest state, independent solve, energy, convergence."""
+"""The whole breaker (paper section 4): laws, rest state, the Exudyn model against an independent
+solve, energy, convergence, figures of merit, rig fields, diagnosis.
+
+Tolerances are set from measured numbers (given in each test) with a margin of 2-5x, small
+enough that a wrong model fails them."""
 import copy
 import json
 import math
@@ -9,23 +13,41 @@ import numpy as np
 import pytest
 
 from vcbmodel import parameters as P
-from vcbmodel.laws.breaker import (BreakerLaws, cam_roller_contact, cam_roller_loads, kinematic_follower_angle, latch_torque,
-                              pitch_radius, polynomial_rise, pressure_angle_curve, push_rod_energy, push_rod_force)
 from vcbmodel.analysis.diagnose import diagnose
 from vcbmodel.analysis.synthetic import synthetic_measurement
 from vcbmodel.errors import InputError
 from vcbmodel.experiments.closing_evaluation import energy_balance, figures_of_merit
 from vcbmodel.experiments.loading import load_rig
 from vcbmodel.experiments.simulation import model_spec, simulate
+from vcbmodel.laws.breaker import (BreakerLaws, angle_on_circle, cam_roller_contact, cam_roller_loads,
+                                   follower_displacement, kinematic_follower_angle, latch_force, latch_torque,
+                                   pitch_radius, polynomial_rise, pressure_angle_curve, push_rod_energy,
+                                   push_rod_force)
+from vcbmodel.laws.springs import chain_for
 from vcbmodel.records.measurement import write_measurement
+from vcbmodel.reference.breaker import solve_closing
 
 T_END = 0.04
+FULL_T_END = P.BREAKER_T_END
 
 
 def write(tmp_path, rig_dict, name="breaker.rig.json"):
     path = tmp_path / name
     path.write_text(json.dumps(rig_dict))
     return path
+
+
+def former_breaker(preload=1200.0):
+    """The reference breaker before issue 10: 40-220 deg rise, Hertz point contact with
+    Lankarani-Nikravesh damping, latch as a couple-like default, opening spring ``preload``."""
+    d = copy.deepcopy(P.REFERENCE_BREAKER)
+    b = d["breaker"]
+    b["cam_profile"].update(rise_start=0.6981, rise_end=3.8397, return_start=5.7, return_end=6.4)
+    b["opening_spring"]["preload"] = preload
+    for key in ("cam_roller_law", "roller_width", "cam_roller_damping", "cam_roller_damping_factor"):
+        b["contact"].pop(key)
+    b["latch"] = {"release_time": 0.002}
+    return d
 
 
 @pytest.fixture(scope="module")
@@ -36,6 +58,17 @@ def rig(tmp_path_factory):
 @pytest.fixture(scope="module")
 def laws(rig):
     return BreakerLaws.of_rig(rig, model_spec(rig))
+
+
+@pytest.fixture(scope="module")
+def full(rig):
+    """The reference closing (full model, lumped-2 paper spring), 45 ms."""
+    return simulate(rig, t_end=FULL_T_END)
+
+
+@pytest.fixture(scope="module")
+def fom(rig, full):
+    return figures_of_merit(full, rig)
 
 
 # --- pure laws -------------------------------------------------------------------------------
@@ -71,7 +104,7 @@ def test_penetration_rate_is_the_time_derivative_of_penetration(rig, laws):
     b, g = rig.breaker, laws.geometry
     rng = np.random.default_rng(3)
     for _ in range(10):
-        th, w = rng.uniform(0.8, 3.5), rng.uniform(-200, 200)
+        th, w = rng.uniform(0.3, 4.8), rng.uniform(-200, 200)
         # in contact (0.01 mm): the rate is exact to first order in the penetration
         phi, phid = kinematic_follower_angle(th, b, g) - 1e-4, rng.uniform(-30, 30)
         h = 1e-8
@@ -84,7 +117,7 @@ def test_penetration_rate_is_the_time_derivative_of_penetration(rig, laws):
 def test_contact_torques_do_the_work_of_the_penetration(rig, laws):
     """Virtual work: a normal force F along n does -F d(penetration) on (theta, phi)."""
     b, g = rig.breaker, laws.geometry
-    for th in (1.2, 2.0, 2.8):
+    for th in (1.2, 2.0, 2.8, 4.0):
         phi = kinematic_follower_angle(th, b, g) - 1e-4
         c = cam_roller_contact(th, 0.0, phi, 0.0, b, g)
         t_cam, t_fol, fx, fy = cam_roller_loads(c, 1000.0, b, g)
@@ -110,21 +143,46 @@ def test_push_rod_law_is_continuous_and_its_energy_integrates_the_force(rig):
         assert numeric == pytest.approx(push_rod_force(s, 0.0, poles), rel=1e-4)
 
 
-def test_latch_releases_linearly():
+def test_latch_releases_linearly_and_acts_as_a_force_at_its_point(rig, laws):
     assert latch_torque(-1.0, 100.0, 0.002) == 100.0
     assert latch_torque(0.001, 100.0, 0.002) == pytest.approx(50.0)
     assert latch_torque(0.003, 100.0, 0.002) == 0.0
     assert latch_torque(0.0, 100.0, 0.0) == 100.0 and latch_torque(1e-9, 100.0, 0.0) == 0.0
+    # a force at the latch point, perpendicular to the arm, whose moment is the torque
+    for theta, arm, angle in ((0.2, 0.1032, 0.0), (1.0, 0.05, 2.0)):
+        fx, fy = latch_force(-150.0, theta, arm, angle)
+        rx, ry = arm * math.cos(theta + angle), arm * math.sin(theta + angle)
+        assert rx * fy - ry * fx == pytest.approx(-150.0, rel=1e-12)
+        assert rx * fx + ry * fy == pytest.approx(0.0, abs=1e-12)
+    # the reference breaker's latch sits at the spring pin: 1.7 kN holding about 173 N m
+    torque, fx, fy = laws.latch_loads(0.0, rig.cam.initial_angle, -173.0)
+    assert torque == -173.0 and math.hypot(fx, fy) == pytest.approx(173.0 / rig.cam.arm_length)
+    # and it is part of the breaker's loads on the cam (the shaft reaction's input)
+    t, rx, ry = laws.cam_loads(0.0, rig.cam.initial_angle, 0.0, laws.geometry.follower_angle, 0.0, -173.0)
+    t0, _, rx0, ry0 = laws.roller_loads(rig.cam.initial_angle, 0.0, laws.geometry.follower_angle, 0.0)
+    assert (t - t0, rx - rx0, ry - ry0) == pytest.approx((torque, fx, fy), rel=1e-12)
 
 
-def test_cam_profile_pressure_angle_stays_below_30_degrees(rig, laws):
-    thetas = np.linspace(rig.cam.initial_angle, rig.cam.initial_angle + 2 * math.pi, 361)
+def test_cam_profile_pressure_angles(rig, laws):
+    """Measured: 5.04 deg at most while the roller rises (the follower geometry), 24.1 deg on the
+    43 deg return (limit for roller followers about 30 deg)."""
+    thetas = np.linspace(rig.cam.initial_angle, rig.cam.initial_angle + 2 * math.pi, 721)
     angle = np.degrees(pressure_angle_curve(rig.breaker, laws.geometry, thetas))
-    assert angle.max() < 30.0
-    assert angle.max() > 1.0  # the profile does rise
+    rising = thetas <= rig.breaker.profile.rise_end
+    assert angle[rising].max() == pytest.approx(5.04, abs=0.05)
+    assert angle.max() == pytest.approx(24.1, abs=0.1)
 
 
-# --- the model -----------------------------------------------------------------------------------
+def test_line_contact_is_the_reference_law(rig, laws):
+    """A 20 mm wide roller: Palmgren's K_L = 2.49e9 N/m^(10/9), exponent 10/9."""
+    assert rig.breaker.cam_roller.law == "line"
+    assert laws.roller_exponent == pytest.approx(10 / 9)
+    assert laws.roller_stiffness == pytest.approx(2.4894e9, rel=1e-4)
+    # Harris: delta = 3.84e-5 Q^0.9 / l^0.8 (mm, N): 10 kN on 20 mm -> 0.013916 mm
+    assert laws.roller_elastic(13.915769e-6) == pytest.approx(1e4, rel=1e-6)
+
+
+# --- the model against the independent solve ------------------------------------------------------
 
 def test_breaker_rests_while_the_latch_holds(tmp_path):
     """The static rest state is an equilibrium of the Exudyn model: nothing moves."""
@@ -140,65 +198,197 @@ def test_breaker_rests_while_the_latch_holds(tmp_path):
     assert np.max(np.abs(r.channels["follower_velocity"])) < 1e-2
 
 
-@pytest.mark.parametrize("effects,spring", [
-    (("coulomb_friction", "stribeck", "contact_damping", "bellows_force"), "massless"),
-    (("coulomb_friction", "contact_damping", "bellows_force", "spring_mass"), "lumped-2"),
-])
-def test_exudyn_breaker_equals_the_hand_written_equations(rig, effects, spring):
-    """Same step, same RK4, equations assembled independently: agreement to round-off."""
-    a = simulate(rig, effects, spring_model=spring, t_end=T_END)
-    b = simulate(rig, effects, spring_model=spring, t_end=T_END, backend="reference", method="rk4", step=P.BREAKER_STEP)
+def test_exudyn_breaker_is_wired_as_its_laws_say(rig):
+    """Wiring: the Exudyn model and the hand-written equations on the model's own laws
+    (:class:`vcbmodel.reference.solve.BreakerExtension`), same RK4 step: round-off. Without shaft
+    friction: that extension applies the latch as a torque only (its reaction is not read)."""
+    effects = ("contact_damping", "bellows_force", "spring_mass")
+    a = simulate(rig, effects, spring_model="lumped-2", t_end=T_END)
+    b = simulate(rig, effects, spring_model="lumped-2", t_end=T_END, backend="reference", method="rk4",
+                 step=P.BREAKER_STEP)
     for name in ("cam_angle", "follower_displacement", "pole_1_travel", "pole_3_velocity"):
         assert np.max(np.abs(a.channels[name] - np.interp(a.t, b.t, b.channels[name]))) < 1e-8 * max(
             1.0, np.max(np.abs(a.channels[name]))), name
 
 
-def test_exudyn_breaker_matches_an_adaptive_solve(rig):
-    """Elastic contacts (no impact memory): Exudyn's RK4 vs scipy DOP853 at tight tolerance."""
-    effects = ("coulomb_friction", "bellows_force")
-    a = simulate(rig, effects, spring_model="massless", t_end=T_END)
-    b = simulate(rig, effects, spring_model="massless", t_end=T_END, backend="reference", method="DOP853", step=2e-5)
-    d = np.interp(b.t, a.t, a.channels["follower_displacement"]) - b.channels["follower_displacement"]
-    assert np.max(np.abs(d)) < 2e-6  # m, of a 15 mm stroke
+def compare_with_independent(rig, spring, sticking, t_end=T_END, effects=None):
+    effects = [e for e in (rig.model.effects if effects is None else effects) if spring != "massless" or e != "spring_mass"]
+    a = simulate(rig, effects, spring_model=spring, t_end=t_end, sticking=sticking)
+    every = 10  # compare at 1e-4 s
+    t = a.t[::every]
+    spec = model_spec(rig, effects, spring_model=spring)
+    ref = solve_closing(rig, spec, t, chain_for(rig.closing_spring, spec.spring_model))
+    f = figures_of_merit(a, rig)
+    d = {name: np.max(np.abs(a.channels[name][::every] - ref[name]))
+         for name in ("cam_angle", "follower_displacement", "pole_1_travel", "cam_roller_force")}
+    d["touch"] = np.max(np.abs(np.array(f["per_pole"]["touch_s"]) - np.array(ref["touch_times"])))
+    d["speed"] = np.max(np.abs(np.array(f["per_pole"]["touch_speed_m_s"]) - np.array(ref["touch_speeds"])))
+    return d, a, ref
 
 
-@pytest.mark.parametrize("spring", ["massless", "lumped-2"])
-def test_energy_balance_of_the_whole_closing(rig, spring):
-    """Released spring energy = kinetic + dissipated (friction, contacts, rods) + stored, to 1 %."""
-    r = simulate(rig, spring_model=spring, t_end=T_END,
-                 effects=[e for e in rig.model.effects if spring != "massless" or e != "spring_mass"])
+@pytest.mark.parametrize("spring", ["lumped-2", "massless", "lumped-2:exact"])
+def test_exudyn_closing_matches_the_independent_solve(rig, spring):
+    """Against :mod:`vcbmodel.reference.breaker` (own geometry with the exact roller-to-profile
+    distance, own contact and friction laws, event-driven, DOP853 at 1e-10), with the stick band
+    as the spec writes it (``sticking="literal"``; the passive band is widened with the step, see
+    the next test). Measured (lumped-2 / massless / lumped-2:exact, the last with the springs' pin
+    mass riding on the cam): touch times 3-5 ns, follower displacement 0.07-0.13 um, cam angle
+    0.8-1.0e-5 rad (0.1 us of cam motion), roller force 39-65 N of 22 kN during the impacts;
+    pole travel 1.3-1.7 um during the bounces, first order in the step (0.7 um at 5e-6 s): the
+    model takes a Lankarani-Nikravesh impact speed from the start of the step in which the
+    contact begins, the independent solve at the instant; touch speeds 1.5e-4 to 1.9e-4 m/s (the
+    figures of merit interpolate the velocity linearly over the step in which the pole touches)."""
+    d, _, ref = compare_with_independent(rig, spring, "literal")
+    assert d["touch"] < 2e-8  # s
+    assert d["follower_displacement"] < 4e-7  # m
+    assert d["pole_1_travel"] < 4e-6
+    assert d["cam_angle"] < 4e-5  # rad
+    assert d["cam_roller_force"] < 200.0  # N
+    assert d["speed"] < 5e-4  # m/s of 1.3 m/s
+    assert [kind for _, kind in ref["events"][:3]] == ["breakaway", "up", "up"]  # stuck, then band -> Stribeck -> kinetic
+
+
+def test_passive_sticking_costs_microseconds_against_the_independent_solve(rig):
+    """With the default passive stuck state the Exudyn friction widens the stick band with the
+    step (2 h mu_s r F_n / I = 0.018 rad/s at 1e-5 s: mu_s instead of the Stribeck branch just
+    after the breakaway); measured against the exact law: touch times 2.3 us later (0.9 us at
+    h = 5e-6 s), follower displacement 3.5 um (the follower moves 1.3 m/s x 2.3 us = 3 um).
+    Bounds: twice that."""
+    d, _, _ = compare_with_independent(rig, "lumped-2", "passive")
+    assert d["touch"] < 5e-6
+    assert d["follower_displacement"] < 7e-6
+
+
+def test_latch_force_enters_the_shaft_reaction(tmp_path):
+    """Moving the latch point changes the breakaway (the latch force loads the journal): a latch
+    at 30 mm, perpendicular to A->B, holds with 5.8 kN instead of 1.7 kN at the pin. Measured: the
+    touches come 98 us earlier; Exudyn and the independent solve agree to 3 ns on both."""
+    d = copy.deepcopy(P.REFERENCE_BREAKER)
+    d["breaker"]["latch"].update(arm=0.03, angle=math.pi / 2)
+    near = load_rig(write(tmp_path, d, "near.rig.json"))
+    pin = load_rig(write(tmp_path, P.REFERENCE_BREAKER, "pin.rig.json"))
+    effects = ("coulomb_friction", "stribeck", "contact_damping", "bellows_force")
+    dn, an, rn = compare_with_independent(near, "massless", "literal", t_end=0.034, effects=effects)
+    dp, ap, rp = compare_with_independent(pin, "massless", "literal", t_end=0.034, effects=effects)
+    assert dn["touch"] < 2e-8 and dp["touch"] < 2e-8
+    shift = rn["touch_times"][0] - rp["touch_times"][0]
+    assert shift == pytest.approx(-97.8e-6, abs=2e-6)
+
+
+def test_first_order_penetration_costs_nanometres(rig):
+    """The model's penetration is the pitch curve's normal offset, exact to first order; the
+    independent solve's is the exact distance. Measured on the reference closing (45 ms): the
+    follower displacement differs by 0.010 um, the penetration by 0.4 nm, the touch by 6 ns."""
+    spec = model_spec(rig)
+    chain = chain_for(rig.closing_spring, spec.spring_model)
+    t = np.arange(0.0, FULL_T_END + 1e-9, 1e-4)
+    exact = solve_closing(rig, spec, t, chain)
+    first = solve_closing(rig, spec, t, chain, distance="first_order")
+    d = np.max(np.abs(exact["follower_displacement"] - first["follower_displacement"]))
+    assert 1e-9 < d < 5e-8
+    assert np.max(np.abs(exact["cam_roller_penetration"] - first["cam_roller_penetration"])) < 2e-9
+    assert np.max(np.abs(np.array(exact["touch_times"]) - np.array(first["touch_times"]))) < 2e-8
+
+
+# --- energy and convergence ---------------------------------------------------------------------
+
+@pytest.mark.parametrize("spring", ["massless", "lumped-2", "lumped-2:exact"])
+def test_energy_balance_of_the_whole_closing(rig, full, spring):
+    """Released spring energy = kinetic + dissipated (friction, contacts, rods) + stored.
+    Measured residual: 1.3-1.4e-5 of the released energy (0.019 J of 1365-1430 J); with
+    ``exact`` the springs' pin mass rides on the cam, and its kinetic energy (tens of J) is in
+    the balance."""
+    effects = [e for e in rig.model.effects if spring != "massless" or e != "spring_mass"]
+    r = full if spring == "lumped-2" else simulate(rig, effects, spring_model=spring, t_end=FULL_T_END)
     e = energy_balance(r, rig)
     released = np.max(e["spring_energy_released"])
-    assert released > 1000.0
-    assert np.max(np.abs(e["residual"])) < 0.01 * released
-    assert np.max(np.abs(e["residual"])) < 1e-3 * released  # measured: 2e-5
-    assert e["dissipated"][-1] > 100.0  # shaft friction dissipates
-    assert e["wipe_and_rods"][-1] > 20.0  # the wipe springs are charged
+    assert 1300.0 < released < 1500.0
+    assert np.max(np.abs(e["residual"])) < 5e-5 * released
+    assert e["dissipated"][-1] > 170.0  # measured 180-194 J: shaft friction mostly
+    # the wipe springs charged: 3 x (2500 N x 4.3 mm + 250 kN/m x (4.3 mm)^2 / 2) + the rods' share
+    assert e["wipe_and_rods"][-1] == pytest.approx(34.59, abs=0.05)
+    chain = chain_for(rig.closing_spring, r.spec.spring_model)
+    if chain is not None and chain.pin_mass:
+        w = r.channels["shaft_velocity"]
+        pin_kinetic = 0.5 * rig.closing_spring.count * chain.pin_mass * (w * rig.cam.arm_length) ** 2
+        assert np.max(pin_kinetic) > 1000 * np.max(np.abs(e["residual"]))
 
 
-def test_step_refinement_converges(rig):
-    a = simulate(rig, t_end=T_END)
-    b = simulate(rig, t_end=T_END, step=P.BREAKER_STEP / 2)
-    fa, fb = figures_of_merit(a, rig), figures_of_merit(b, rig)
-    assert abs(fa["closing_time_s"] - fb["closing_time_s"]) < 1e-6
-    d = np.interp(a.t, b.t, b.channels["follower_displacement"]) - a.channels["follower_displacement"]
-    assert np.max(np.abs(d)) < 1e-6
+def test_step_refinement_converges(rig, full, fom):
+    """Halving the step. With the literal stick band: measured 0.01 us in closing time and
+    0.07 um in follower displacement (0.9 um in a bouncing pole's travel: the impact speeds are
+    taken at step starts). With the default passive band, widened in proportion to the step:
+    1.4 us and 2.1 um, the band's share (see the passive test above)."""
+    for sticking, coarse, t_tol, d_tol in (("literal", None, 5e-8, 3e-7), ("passive", full, 3e-6, 5e-6)):
+        a = coarse or simulate(rig, t_end=FULL_T_END, sticking=sticking)
+        b = simulate(rig, t_end=FULL_T_END, step=P.BREAKER_STEP / 2, sticking=sticking)
+        fa, fb = figures_of_merit(a, rig), figures_of_merit(b, rig)
+        assert abs(fa["closing_time_s"] - fb["closing_time_s"]) < t_tol, sticking
+        d = np.interp(a.t, b.t, b.channels["follower_displacement"]) - a.channels["follower_displacement"]
+        assert np.max(np.abs(d)) < d_tol, sticking
 
 
-def test_figures_of_merit_follow_the_physics(rig):
-    full = figures_of_merit(simulate(rig, t_end=T_END), rig)
-    frictionless = figures_of_merit(simulate(rig, ["spring_mass", "contact_damping", "bellows_force"], t_end=T_END), rig)
-    assert 0.02 < full["closing_time_s"] < 0.04  # "closing in about 30 ms"
-    assert frictionless["closing_time_s"] < full["closing_time_s"] - 5e-4  # friction slows the closing
-    touches = full["per_pole"]["touch_s"]  # pole 3 has the smallest gap, pole 2 the largest
+# --- figures of merit --------------------------------------------------------------------------------
+
+def test_reference_breaker_closes_as_designed(rig, fom):
+    """The reference breaker (parameters.py): touch at 1.27 m/s (12 kV breakers: 0.6-1.5 m/s),
+    closing 32.5 ms after the latch release (the paper: about 30 ms), no follower jump, the
+    poles within 0.47 ms, two bounces over 1.85 ms. Measured values; tolerances cover the
+    friction's step effects (microseconds) and are far below what a change of the design moves."""
+    assert fom["closing_time_s"] == pytest.approx(0.03248, abs=5e-5)
+    assert fom["touch_speed_m_s"] == pytest.approx(1.266, abs=0.005)
+    assert fom["roller_first_lift_off_s"] is None and fom["roller_lift_off_s"] == 0.0
+    assert fom["min_cam_roller_force_before_touch_N"] == pytest.approx(1523.0, abs=20.0)
+    assert fom["bounce_count"] == 2
+    assert fom["bounce_duration_s"] == pytest.approx(1.85e-3, abs=0.05e-3)
+    assert fom["peak_cam_roller_force_N"] == pytest.approx(22.1e3, abs=0.3e3)
+    assert fom["overtravel_m"] == pytest.approx(4.313e-3, abs=5e-6)
+
+
+def test_figures_of_merit_follow_the_kinematics(rig, laws, full, fom):
+    """Numbers that follow from the geometry: the poles touch in the order of their gaps, spread
+    by the gap difference over the touch speed (measured 0.4713 vs 0.4738 ms); the final travel
+    is the cam's full lift seen through the follower, less the roller's compression under the
+    final contact force (measured: within 0.1 um)."""
+    touches = fom["per_pole"]["touch_s"]  # pole 3 has the smallest gap, pole 2 the largest
     assert touches[2] < touches[0] < touches[1]
-    assert full["bounce_count"] >= 1 and full["bounce_duration_s"] < 5e-3
-    assert 0.5 < full["touch_speed_m_s"] < 4.0
-    # wipe: follower travel after the touch = stroke - gap, a few mm
-    assert 0.002 < full["overtravel_m"] < 0.006
+    gaps = laws.gaps
+    assert fom["pole_spread_s"] == pytest.approx((max(gaps) - min(gaps)) / fom["touch_speed_m_s"], rel=0.01)
+    b, g = rig.breaker, laws.geometry
+    rho = b.profile.base_radius + b.roller_radius + b.profile.lift - full.channels["cam_roller_penetration"][-1]
+    phi = angle_on_circle(b.follower.pivot, b.follower.roller_arm, g.cam_axis, rho, g.follower_angle)
+    expected = follower_displacement(phi, b.follower, full.info["initial"].follower_angle)[0]
+    assert fom["final_travel_m"] == pytest.approx(expected, abs=2e-7)
+    assert fom["final_travel_m"] == pytest.approx(0.0150006, abs=1e-6)
+
+
+def test_friction_and_damping_change_the_closing_as_measured(rig, fom):
+    """Without shaft friction the breaker closes 1.80 ms earlier (measured 30.69 vs 32.48 ms) and
+    touches 0.03 m/s faster; with elastic contacts the poles bounce 8 times over 7.5 ms instead of
+    twice over 1.85 ms."""
+    frictionless = figures_of_merit(simulate(rig, ["spring_mass", "contact_damping", "bellows_force"],
+                                             t_end=FULL_T_END), rig)
+    assert fom["closing_time_s"] - frictionless["closing_time_s"] == pytest.approx(1.80e-3, abs=0.03e-3)
+    assert frictionless["touch_speed_m_s"] - fom["touch_speed_m_s"] == pytest.approx(0.030, abs=0.005)
     elastic = figures_of_merit(simulate(rig, ["coulomb_friction", "stribeck", "spring_mass", "bellows_force"],
-                                        t_end=T_END), rig)
-    assert elastic["bounce_duration_s"] > full["bounce_duration_s"]  # damping shortens the bouncing
+                                        t_end=FULL_T_END), rig)
+    assert elastic["bounce_count"] == 8
+    assert elastic["bounce_duration_s"] == pytest.approx(7.46e-3, abs=0.1e-3)
+
+
+def test_former_breaker_jumps_and_a_stronger_opening_spring_stops_it(tmp_path):
+    """The reference breaker before issue 10 (180 deg rise, Hertz point contact, 1200 N opening
+    spring): the roller leaves the cam 0.38 ms before the first pole touches and lands 0.77 ms
+    later (a follower jump in the rise's deceleration); at 2400 N it stays on (585 N left)."""
+    weak = load_rig(write(tmp_path, former_breaker(1200.0), "weak.rig.json"))
+    f = figures_of_merit(simulate(weak, t_end=T_END), weak)
+    assert f["roller_first_lift_off_s"] == pytest.approx(-0.38e-3, abs=0.02e-3)
+    assert f["roller_lift_off_s"] == pytest.approx(0.77e-3, abs=0.03e-3)
+    assert f["touch_speed_m_s"] == pytest.approx(2.01, abs=0.01)
+    strong = load_rig(write(tmp_path, former_breaker(2400.0), "strong.rig.json"))
+    f = figures_of_merit(simulate(strong, t_end=T_END), strong)
+    assert f["roller_first_lift_off_s"] is None
+    assert f["min_cam_roller_force_before_touch_N"] == pytest.approx(585.0, abs=20.0)
 
 
 # --- input ---------------------------------------------------------------------------------------
@@ -212,6 +402,15 @@ def test_figures_of_merit_follow_the_physics(rig):
     (lambda d: d.pop("breaker"), "breaker"),
     (lambda d: d["breaker"]["follower"].__setitem__("pivot", [5.0, 5.0]), "breaker.follower.pivot"),
     (lambda d: d["cam"].__setitem__("initial_angle", 2.0), "cam.initial_angle"),
+    (lambda d: d["breaker"]["contact"].__setitem__("cam_roller_law", "hertz_line"), "breaker.contact.cam_roller_law"),
+    (lambda d: d["breaker"]["contact"].pop("roller_width"), "breaker.contact.roller_width"),
+    (lambda d: d["breaker"]["contact"].__setitem__("roller_width", 0.0), "breaker.contact.roller_width"),
+    (lambda d: d["breaker"]["contact"].__setitem__("cam_roller_damping", "flores"), "breaker.contact.cam_roller_damping"),
+    (lambda d: d["breaker"]["contact"].pop("cam_roller_damping_factor"), "breaker.contact.cam_roller_damping_factor"),
+    (lambda d: d["breaker"]["contact"].__setitem__("cam_roller_damping_factor", -0.1),
+     "breaker.contact.cam_roller_damping_factor"),
+    (lambda d: d["breaker"]["latch"].__setitem__("arm", -0.05), "breaker.latch.arm"),
+    (lambda d: d["breaker"]["latch"].__setitem__("angle", "up"), "breaker.latch.angle"),
 ])
 def test_bad_breaker_sections_name_the_field(tmp_path, edit, field):
     d = copy.deepcopy(P.REFERENCE_BREAKER)
@@ -219,6 +418,16 @@ def test_bad_breaker_sections_name_the_field(tmp_path, edit, field):
     with pytest.raises(InputError) as e:
         load_rig(write(tmp_path, d))
     assert f": {field}: " in str(e.value)
+
+
+def test_contact_and_latch_fields_default_to_the_original_model(tmp_path):
+    """Without the new fields: Hertz point contact with Lankarani-Nikravesh damping, the latch at
+    the spring pin."""
+    rig = load_rig(write(tmp_path, former_breaker()))
+    laws = BreakerLaws.of_rig(rig, model_spec(rig))
+    assert (rig.breaker.cam_roller.law, rig.breaker.cam_roller.damping) == ("hertz_point", "lankarani_nikravesh")
+    assert (laws.roller_stiffness, laws.roller_exponent) == (1e11, 1.5)
+    assert (laws.latch_arm, laws.latch_angle) == (rig.cam.arm_length, 0.0)
 
 
 def test_breaker_effects_are_refused_on_a_cam_drop_rig(tmp_path):
@@ -232,12 +441,12 @@ def test_cli_simulates_a_closing_and_writes_follower_displacement(tmp_path):
     path = write(tmp_path, P.REFERENCE_BREAKER)
     out = tmp_path / "closing.csv"
     p = subprocess.run([sys.executable, "-m", "vcbmodel", "simulate", str(path), "--spring-model", "massless",
-                        "--t-end", "0.035", "-o", str(out)], capture_output=True, text=True, timeout=300)
+                        "--t-end", "0.045", "-o", str(out)], capture_output=True, text=True, timeout=300)
     assert p.returncode == 0, p.stderr
     lines = [ln for ln in out.read_text().splitlines() if not ln.startswith("#")]
     assert lines[0] == "t,follower_displacement"
     values = np.array([[float(x) for x in ln.split(",")] for ln in lines[1:]])
-    assert values[0, 1] == 0.0 and 0.013 < values[-1, 1] < 0.016  # closed: gap + wipe
+    assert values[0, 1] == 0.0 and values[-1, 1] == pytest.approx(0.0150006, abs=1e-6)  # closed: gap + wipe
     assert np.allclose(np.diff(values[:, 0]), 1 / 12000, atol=1e-7)
 
 
@@ -251,6 +460,9 @@ def hidden_effect_case(tmp_path, starting_effects, truth_values, seed):
     d["breaker"]["contact"].pop("restitution")
     d["breaker"]["poles"].pop("bellows_force")
     d["model"] = {"effects": list(starting_effects), "spring_model": "lumped-2", "lumped_convention": "paper"}
+    # the synthetic record starts at the latch release: pinned, or the diagnosis's release-time
+    # nuisance absorbs the 1.8 ms by which the shaft friction delays the closing
+    d["record"] = {"release_time": 0.0}
     rig = load_rig(write(tmp_path, d, "closing.rig.json"))
     truth = ("coulomb_friction", "spring_mass", "contact_damping", "bellows_force")
     meas = synthetic_measurement(rig, truth, truth_values, seed=seed, t_end=T_END, path=tmp_path / "closing.csv")
@@ -259,8 +471,10 @@ def hidden_effect_case(tmp_path, starting_effects, truth_values, seed):
 
 
 @pytest.mark.parametrize("starting,truth,seed,missing,parameter,rel", [
-    (("spring_mass", "contact_damping", "bellows_force"),
-     {"mu_k": 0.12, "restitution": 0.8, "bellows_force": 150.0}, 5, "coulomb_friction", "mu_k", 0.03),
+    # 35-100 s each on 2 loaded cores: slow (measured: mu_k 0.1205 for 0.12, final rms at the noise)
+    pytest.param(("spring_mass", "contact_damping", "bellows_force"),
+                 {"mu_k": 0.12, "restitution": 0.8, "bellows_force": 150.0}, 5, "coulomb_friction", "mu_k", 0.03,
+                 marks=pytest.mark.slow),
     pytest.param(("coulomb_friction", "spring_mass", "contact_damping"),
                  {"mu_k": 0.13, "restitution": 0.8, "bellows_force": 300.0}, 6, "bellows_force", "bellows_force", 0.3,
                  marks=pytest.mark.slow),

@@ -19,6 +19,12 @@ EXPECTED = {
     "benchmark.py": ["benchmark.json"],
     "vcb_closing.py": ["vcb_closing_fig12.png", "vcb_closing_detail.png", "vcb_closing.json", "vcb_closing.md",
                        "synthetic/vcb_closing.csv"],
+    "design_sensitivity.py": ["design_sensitivity_tornado.png", "design_sensitivity_sobol.png",
+                              "design_sensitivity.json", "design_sensitivity.md"],
+    "design_tolerance.py": ["design_tolerance.png", "design_tolerance.json", "design_tolerance.md",
+                            "design_tolerance_runs.csv"],
+    "design_conclusion_map.py": ["design_conclusion_map.png", "design_conclusion_map.json", "design_conclusion_map.md"],
+    "design_optimum.py": ["design_optimum.png", "design_optimum.json", "design_optimum.md"],
 }
 
 

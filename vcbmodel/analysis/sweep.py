@@ -59,7 +59,7 @@ FIGURES = {
 #: Seed of the random draws when none is given: every sweep is repeatable (and resumable).
 DEFAULT_SEED = 0
 #: How distributions are sampled (stated in ``vcbmodel sweep --help`` and the table's attrs).
-SAMPLING = {"lhs": "Latin hypercube (scipy.stats.qmc.LatinHypercube, scrambled)", "mc": "plain Monte Carlo"}
+SAMPLING = {"lhs": "Latin hypercube sampling (scipy.stats.qmc.LatinHypercube, scrambled)", "mc": "plain Monte Carlo"}
 #: A larger design is a typo (a grid of 1000 x 1000 x 1000), not a study.
 MAX_RUNS = 10_000_000
 #: Significant digits of a varied value: the value a run uses is the value its row shows.
@@ -138,6 +138,9 @@ def parse_vary(item, source="--vary") -> Vary:
         return Vary(path, parts[0], a, b)
     if len(parts) != 3:
         raise InputError(source, path, f"SPEC must be LO:HI:N, normal:MEAN:SD or uniform:LO:HI, got {spec!r}")
+    if parts[0].strip().isalpha() and parts[0].lower() not in ("nan", "inf", "infinity"):
+        raise InputError(source, path, f"unknown distribution {parts[0]!r}: SPEC must be LO:HI:N, normal:MEAN:SD "
+                         "or uniform:LO:HI")
     lo, hi = number(parts[0], "LO"), number(parts[1], "HI")
     n = number(parts[2], "N")
     if n != int(n) or n < 1:
@@ -198,7 +201,11 @@ def design(varies, samples=None, seed=None, sampling="lhs") -> pd.DataFrame:
     if sampling == "lhs":
         from scipy.stats import qmc
 
-        u = qmc.LatinHypercube(d=len(varies), rng=rng).random(int(samples))
+        try:
+            lhs = qmc.LatinHypercube(d=len(varies), rng=rng)
+        except TypeError:  # scipy < 1.15
+            lhs = qmc.LatinHypercube(d=len(varies), seed=rng)
+        u = lhs.random(int(samples))
     else:
         u = rng.random((int(samples), len(varies)))
     cols = {v.path: _rounded(v.from_unit(u[:, j])) for j, v in enumerate(varies)}
@@ -342,21 +349,25 @@ def _pool_context():
     """Workers start from a fork server that has imported vcbmodel (Exudyn) once: quick to
     start, and safe when the caller runs threads (a plain fork is not)."""
     ctx = multiprocessing.get_context("forkserver")
-    ctx.set_forkserver_preload(["vcbmodel.analysis.sweep"])
+    ctx.set_forkserver_preload(["vcbmodel.analysis.sweep", "exudyn"])
     return ctx
 
 
 def _local_pool(jobs, call, workers):
-    jobs = list(jobs)
+    """A process pool with a few runs queued per worker (a long sweep does not queue all its
+    runs' arguments at once)."""
+    jobs = iter(jobs)
     with ProcessPoolExecutor(max_workers=workers, mp_context=_pool_context()) as pool:
         pending = {}
         try:
-            for run, args in jobs:
+            for run, args in itertools.islice(jobs, 2 * workers):
                 pending[pool.submit(call, *args)] = run
             while pending:
                 done, _ = wait(pending, return_when=FIRST_COMPLETED)
                 for f in done:
                     run = pending.pop(f)
+                    for nxt, args in itertools.islice(jobs, 1):
+                        pending[pool.submit(call, *args)] = nxt
                     yield (run, *f.result())
         finally:
             for f in pending:
@@ -379,13 +390,18 @@ def connect(scheduler, timeout=10):
 
 
 def _dask(jobs, call, client):
+    """Every run a Dask task; the rig's JSON object is sent to the workers once (scatter)."""
     import distributed
 
     futures = {}
+    shared = {}
     try:
-        for run, args in jobs:
-            futures[client.submit(call, *args, pure=False, key=f"vcbmodel-sweep-run-{run}-{os.getpid()}-{time.time_ns()}")] = run
-        for f in distributed.as_completed(list(futures)):
+        for run, (data, *rest) in jobs:
+            if "data" not in shared:
+                shared["data"] = client.scatter(data, broadcast=True, hash=False)
+            key = f"vcbmodel-sweep-run-{run}-{os.getpid()}-{time.time_ns()}"
+            futures[client.submit(call, shared["data"], *rest, pure=False, key=key)] = run
+        for f in distributed.as_completed(list(futures), loop=client.loop):
             yield (futures.pop(f), *f.result())
     finally:
         if futures:
@@ -535,7 +551,9 @@ def sweep(rig, vary=(), *, runs=None, samples=None, seed=None, sampling="lhs", w
         try:
             get_path(data, p)
         except KeyError:
-            absent[p] = table.iloc[0][p]
+            given = table[p].dropna()
+            if len(given):
+                absent[p] = float(given.iloc[0])
     model_spec(rig_from_data(with_overrides(data, absent), rig_path) if absent else nominal)
     if workers is not None and (isinstance(workers, bool) or int(workers) != workers or workers < 1):
         raise InputError("--workers", "workers", f"must be a whole number >= 1, got {workers}")
@@ -544,8 +562,9 @@ def sweep(rig, vary=(), *, runs=None, samples=None, seed=None, sampling="lhs", w
                                                          and os.path.getsize(output) > 0) else {}
     todo = [i for i in range(1, len(table) + 1) if i not in finished]
     client, own_client = (connect(scheduler) if scheduler is not None else (None, False))
+    address = client.scheduler.address if client is not None else None
     n_workers = 1 if not todo else min(int(workers or default_workers()), len(todo))
-    where = (f"Dask cluster {client.scheduler.address}" if client is not None
+    where = (f"Dask cluster {address}" if client is not None
              else f"{n_workers} local process{'es' if n_workers > 1 else ''}")
     draw = (f"{SAMPLING[sampling]}, seed {DEFAULT_SEED if seed is None else seed}" if kind == "random"
             else "grid" if kind == "grid" else "given parameter sets")
@@ -570,7 +589,9 @@ def sweep(rig, vary=(), *, runs=None, samples=None, seed=None, sampling="lhs", w
         stream.flush()
 
     values_of = table.to_numpy(dtype=float)
-    jobs = ((run, (data, dict(zip(paths, map(float, values_of[run - 1]))), rig_path, evaluate, t_end)) for run in todo)
+    # a given parameter set without a value for a path (NaN) leaves that field at the rig's value
+    jobs = ((run, (data, {p: float(v) for p, v in zip(paths, values_of[run - 1]) if not math.isnan(v)}, rig_path,
+                   evaluate, t_end)) for run in todo)
     if client is not None:
         runner = _dask(jobs, run_one, client)
     elif n_workers > 1:
@@ -578,6 +599,7 @@ def sweep(rig, vary=(), *, runs=None, samples=None, seed=None, sampling="lhs", w
     else:
         runner = _serial(jobs, run_one)
     bar = Progress(len(todo), name, verbose)
+    every = max(1, len(todo) // 100)
     seconds, failed = [], 0
     t0 = time.perf_counter()
     try:
@@ -591,7 +613,14 @@ def sweep(rig, vary=(), *, runs=None, samples=None, seed=None, sampling="lhs", w
             rows[run] = _typed(dict(zip(header, line)), paths, columns)
             seconds.append(secs)
             failed += status != "ok"
+            # at most about 100 progress lines, and every failure
+            bar.verbose = verbose and (status != "ok" or (bar.done + 1) % every == 0 or bar.done + 1 == len(todo))
             bar.step(f"run {run} {status}")
+    except KeyboardInterrupt:
+        if verbose:
+            progress(f"{name}: stopped after {bar.done} of {len(todo)} runs"
+                     + (f"; their rows are in {output}: the same command with --resume runs the rest" if output else ""))
+        raise
     finally:
         runner.close()
         if f:
@@ -606,7 +635,7 @@ def sweep(rig, vary=(), *, runs=None, samples=None, seed=None, sampling="lhs", w
                      "sampling": SAMPLING[sampling] if kind == "random" else None,
                      "seed": (DEFAULT_SEED if seed is None else seed) if kind == "random" else None,
                      "workers": None if client is not None else n_workers,
-                     "scheduler": client.scheduler.address if client is not None else None,
+                     "scheduler": address,
                      "runs_done": len(todo), "wall_s": wall, "run_s": seconds, "failed": failed})
     if verbose:
         progress(f"{name}: {len(todo) - failed} ok, {failed} failed in {wall:.1f} s"

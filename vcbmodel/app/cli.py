@@ -63,19 +63,20 @@ def build_parser():
     w = sub.add_parser("sweep", help="run the rig's experiment over a grid or random draws of rig fields: one row per run",
                        description="Runs the rig's experiment (its model) once per parameter set and writes one CSV row "
                        "per run: run, each varied PATH, the experiment's figures of merit, status. Grids LO:HI:N make the "
-                       f"full product; distributions are drawn by {SAMPLING['lhs']} sampling, seeded (default seed "
-                       f"{DEFAULT_SEED}). Rows are written as runs finish; --resume skips runs already in -o.")
+                       f"full product; distributions give --samples draws by {SAMPLING['lhs']}, seeded (default seed "
+                       f"{DEFAULT_SEED}). Rows are written as runs finish; --resume skips runs already in -o. Runs go "
+                       "to local processes, or with --scheduler to a Dask cluster (README: how to start one).")
     w.add_argument("rig", help="rig file NAME.rig.json")
     w.add_argument("--vary", action="append", required=True, metavar="PATH=SPEC",
                    help="dotted rig field (friction.mu_k, breaker.poles.gap_offsets.1, ...) = LO:HI:N (grid), "
                    "normal:MEAN:SD or uniform:LO:HI (random draws); repeat for several fields")
-    w.add_argument("--samples", type=int, help="number of random draws (distributions only)")
-    w.add_argument("--seed", type=int, help=f"seed of the random draws (default {DEFAULT_SEED}: repeatable)")
+    w.add_argument("--samples", type=int, metavar="N", help="number of random draws (distributions only)")
+    w.add_argument("--seed", type=int, metavar="S", help=f"seed of the random draws (default {DEFAULT_SEED}: repeatable)")
     where = w.add_mutually_exclusive_group()
-    where.add_argument("--workers", type=int, help="local processes (default: all cores)")
+    where.add_argument("--workers", type=int, metavar="N", help="local processes (default: all cores)")
     where.add_argument("--scheduler", metavar="ADDRESS",
                        help="address of a running Dask cluster's scheduler (tcp://HOST:8786) to run on instead")
-    w.add_argument("-o", "--output", help="output CSV, written as runs finish (default: stdout)")
+    w.add_argument("-o", "--output", metavar="OUT.csv", help="output CSV, written as runs finish (default: stdout)")
     w.add_argument("--resume", action="store_true", help="keep the runs already in -o and run the rest")
     return p
 

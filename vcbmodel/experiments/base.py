@@ -32,7 +32,12 @@ class Experiment:
     - ``figures_of_merit(result, rig) -> dict`` (SI units; names end in their unit);
     - ``start_guesses(rig, measurement)``: starting-value dicts for fits, from the data;
     - ``swinging_part(t, y, sigma)``: end time (s) of the part a staged fit fits first, or None;
-    - ``signature(rig, measurement, model_curve, residual, sigma)``: diagnosis evidence.
+    - ``signature(rig, measurement, model_curve, residual, sigma)``: diagnosis evidence;
+    - ``initial_angle_field``: the rig field of the shaft angle at release, which the diagnosis
+      estimates as a nuisance (None: the experiment's start is fixed by its geometry);
+    - ``period_fields``: rig fields that set a free swing's period (a period mismatch points at them);
+    - ``extra_channels``: further record channels the experiment accepts (regular expressions,
+      e.g. a breaker analyser's ``pole_1_contact``), fitted when present.
     """
 
     name: str
@@ -53,6 +58,9 @@ class Experiment:
     start_guesses: Callable = no_guesses
     swinging_part: Callable = whole_record
     signature: Callable = no_signature
+    initial_angle_field: str | None = None
+    period_fields: tuple = ()
+    extra_channels: tuple = ()
 
     def check_duration(self, duration, source, field):
         """Refuse an implausibly long record or simulation (one line with a hint)."""

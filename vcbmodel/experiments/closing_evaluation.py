@@ -135,7 +135,13 @@ def energy_balance(result, rig):
 
 
 def figures_of_merit(result, rig):
-    """Closing figures of merit from a result (SI units; times from the latch release)."""
+    """Closing figures of merit from a result (SI units; times from the latch release).
+
+    Among them: ``roller_lift_off_s``, the total time the roller is off the cam (no contact
+    force); ``roller_first_lift_off_s``, when it first leaves, relative to the first pole's
+    touch (negative: a follower jump before the contacts touch; absolute time if no pole
+    touches; None if it never leaves); ``min_cam_roller_force_before_touch_N``, the smallest
+    roller force from the release to the first touch (the margin against a jump)."""
     ch, t = result.channels, result.t
     b = rig.breaker
     gaps = pole_gaps(b.poles)

@@ -14,11 +14,11 @@ from ..model.values import rig_values
 from ..records.measurement import load_measurement, sibling_rig_path
 from ..rig.data import Rig
 from ..rig.reader import Reader, read_json
-from ..rig.sections import read_friction
+from ..rig.sections import read_friction, read_record, read_uncertain
 from .base import EXPERIMENTS
 
 FORMAT = "vcb-rig/1"
-COMMON_KEYS = ("format", "name", "experiment", "gravity", "shaft", "friction", "model")
+COMMON_KEYS = ("format", "name", "experiment", "gravity", "shaft", "friction", "model", "record", "uncertain")
 
 
 def load_rig(path) -> Rig:
@@ -50,7 +50,8 @@ def rig_from_data(data, path="(rig)") -> Rig:
     if not isinstance(title, str):
         rd.fail("name", "must be a string")
     rig = Rig(path=path, name=title, experiment=name, gravity=gravity, shaft_radius=radius, friction=friction,
-              model=model, sections=sections, data=data)
+              model=model, sections=sections, data=data, record=read_record(rd, data),
+              uncertain=read_uncertain(rd, data))
     rig_values(rig)  # the effects check the values the rig gives (e.g. zeta on a pendulum only)
     return rig
 

@@ -14,6 +14,13 @@ arguments. :class:`BreakerLaws` gathers every force of the breaker at a state: t
 builder (:mod:`vcbmodel.builders.breaker`), the reference solve and the evaluation
 (:mod:`vcbmodel.experiments.closing_evaluation`) all ask it.
 
+Contacts: the cam-roller contact is a Hertz point contact or a line contact (a cylindrical
+roller on a cam, :func:`vcbmodel.laws.contact.palmgren_line_stiffness`), damped by
+Lankarani-Nikravesh (impact speed) or Hunt-Crossley (fixed factor, for a contact preloaded
+throughout), as the rig's :class:`CamRollerLaw` says; the pole contacts are Hertz point contacts
+with Lankarani-Nikravesh damping (impacts). The latch holds the cam with a force at a latch point
+(:class:`LatchPoint`), so it loads the shaft's journal like any other force on the cam.
+
 Cam profile: the roller centre runs on the pitch curve ``rho(u) = base_radius + roller_radius
 + lift * s(u)`` about the cam axis A, where u is the cam's rotation measured so that the
 roller, on its rest line, sees ``u = theta`` (the cam angle of A->B). ``s`` is the 4-5-6-7
@@ -132,7 +139,9 @@ def cam_roller_contact(theta, omega, phi, phi_dot, breaker, geometry: Geometry) 
     rotation u = theta - (beta - beta_rest); the pitch curve's outward normal is
     n = (e_r - q e_beta) / sqrt(1 + q^2) with q = (d rho / d beta) / rho = -(d rho/du) / rho,
     and the penetration (rho(u) - rho_C) cos(gamma), cos(gamma) = 1 / sqrt(1 + q^2), exact to
-    first order in the penetration.
+    first order in the penetration. Against the exact minimum distance to the pitch curve
+    (:mod:`vcbmodel.reference.breaker`) this costs 0.4 nm of penetration and 0.01 um of follower
+    displacement over the reference closing.
     """
     f, A = breaker.follower, geometry.cam_axis
     cx, cy = roller_centre(phi, f)

@@ -12,7 +12,8 @@ Elastic part (force ``K delta^n`` for penetration ``delta > 0``, m):
   Analysis*, 5th ed., 2007, vol. 1, ch. 6), i.e. ``Q = K_L delta^(10/9)`` with K_L from
   :func:`palmgren_line_stiffness`. :func:`johnson_line_approach` is Johnson's 2-D formula for
   two elastic cylinders (*Contact Mechanics*, 1985, sec. 5.6), the check of Palmgren's law for a
-  given geometry (tested: within 15 % over 1-40 kN for the reference roller and cam).
+  given geometry (tested: Johnson's approach is 8-13 % larger over 1-40 kN for the reference
+  roller on the base circle).
 
 Damping part (both clipped so that the contact never pulls):
 
@@ -25,9 +26,10 @@ Damping part (both clipped so that the contact never pulls):
 - **Hunt-Crossley with a fixed damping factor** (Hunt & Crossley, J. Appl. Mech. 42, 1975;
   Marhefka & Orin, IEEE Trans. SMC-A 29, 1999): ``F = K delta^n (1 + alpha delta_dot)`` with
   alpha in s/m a property of the contact, not of an impact, so it serves persistent contacts
-  and new impacts alike; an impact at speed v then rebounds with e ~ 1 - 2/3 alpha v (measured
-  here for alpha v = 0.1: 0.934). Hunt and Crossley's and Goldsmith's data give alpha = 0.08 to
-  0.32 s/m for steel, bronze and ivory.
+  and new impacts alike; an impact at speed v then rebounds with e = 1 - 2/3 alpha v to first
+  order (measured here: 0.9375 for alpha v = 0.1, 0.862 for 0.24, for any stiffness, exponent
+  and mass). Hunt and Crossley's and Goldsmith's data give alpha = 0.08 to 0.32 s/m for steel,
+  bronze and ivory.
 """
 from __future__ import annotations
 

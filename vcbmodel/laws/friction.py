@@ -209,7 +209,7 @@ def shaft_friction(w, applied_torque, R0x, R0y, R1x, R1y, inertia, law: Friction
     if law.sticking == "literal":
         band = law.mu_s * sTc
     else:  # oppose the motion; from rest, break away in the direction of T_c
-        band = law.mu_s * ops.where(absw > 0.0, s, sTc)
+        band = law.mu_s * ops.where(absw > REST_SPEED, s, sTc)
     c = r * ops.where(in_band, band, outside)
     if law.viscous == 0.0:
         d = 0.0
@@ -259,7 +259,7 @@ def friction_torque(w, applied_torque, reaction, law: FrictionLaw, band=None):
     if absw <= (law.stick_velocity if band is None else band):
         if law.sticking == "literal":
             return min(abs(applied_torque), law.mu_s * r * reaction) * NumericOps.sign(applied_torque)
-        return law.mu_s * r * reaction * (s if w != 0.0 else NumericOps.sign(applied_torque))
+        return law.mu_s * r * reaction * (s if absw > REST_SPEED else NumericOps.sign(applied_torque))
     ws = law.stribeck_velocity
     if absw < ws:
         return (law.mu_s - (law.mu_s - law.mu_k) * absw / ws) * r * reaction * s

@@ -152,3 +152,175 @@ def first_peak_amplitude(t, angle):
     tp, ap = swing_peaks(t, angle)
     later = ap[tp > t[0] + 0.05 * (t[-1] - t[0]) / 6] if tp.size else ap
     return float(later[0]) if later.size else float(np.max(np.abs(angle)))
+
+
+# --- sensors that are not ideal: quantisation, correlated noise, a record that starts early ----------
+
+def quantisation_step(y, max_levels_fraction=0.25):
+    """The step (same unit as ``y``) of a quantised sensor (an encoder, a digitiser with few
+    bits), or 0.0 when the values do not lie on a grid.
+
+    A quantised record takes few distinct values (at most ``max_levels_fraction`` of its
+    samples) and its distinct values are whole multiples of the smallest gap between them
+    (within 2 % of that gap: a gain applied after quantising keeps the grid uniform).
+    """
+    y = np.asarray(y, float)
+    if y.size < 20:
+        return 0.0
+    levels = np.unique(y)
+    if levels.size < 3 or levels.size > max_levels_fraction * y.size:
+        return 0.0
+    gaps = np.diff(levels)
+    q = float(np.min(gaps))
+    span = float(levels[-1] - levels[0])
+    if q <= 1e-12 * max(span, 1e-300):
+        return 0.0
+    ratio = gaps / q
+    if np.max(np.abs(ratio - np.round(ratio))) > 0.02:
+        return 0.0
+    return q
+
+
+def noise_estimate_floored(y, quantisation=None):
+    """:func:`noise_estimate`, but never below the rounding noise of a quantised sensor,
+    ``q / sqrt(12)`` (a quantised record that moves slowly or not at all has third
+    differences that are mostly exactly zero: the median would say "no noise")."""
+    q = quantisation_step(y) if quantisation is None else quantisation
+    s = noise_estimate(y)
+    if not math.isfinite(s):
+        s = 0.0
+    return float(max(s, q / math.sqrt(12.0)))
+
+
+def autocovariance(x, max_lag):
+    """Biased sample autocovariances of ``x`` (mean removed) at lags 0..max_lag."""
+    x = np.asarray(x, float)
+    x = x - np.mean(x)
+    n = x.size
+    max_lag = min(max_lag, n - 1)
+    # FFT autocorrelation: O(n log n) for long records
+    m = 1 << int(np.ceil(np.log2(2 * n)))
+    f = np.fft.rfft(x, m)
+    acov = np.fft.irfft(f * np.conj(f), m)[:max_lag + 1] / n
+    return acov
+
+
+def levinson(acov, order):
+    """AR coefficients a_1..a_p and innovation variance from autocovariances (Yule-Walker by
+    the Levinson-Durbin recursion): x_t = sum a_k x_(t-k) + u_t."""
+    a = np.zeros(0)
+    err = float(acov[0])
+    for k in range(1, order + 1):
+        if err <= 0:
+            break
+        lam = (acov[k] - np.dot(a, acov[k - 1:0:-1])) / err if k > 1 else acov[1] / err
+        a = np.concatenate([a - lam * a[::-1], [lam]])
+        err *= (1 - lam**2)
+    return a, max(err, 0.0)
+
+
+def ar_fit(segments, max_order=3):
+    """Fit an autoregressive model of order 0..``max_order`` to one or more residual segments
+    (pooled autocovariances), the order chosen by BIC. Returns (coefficients, innovation
+    variance, marginal variance)."""
+    segments = [np.asarray(s, float) for s in segments if np.asarray(s).size > max_order + 2]
+    if not segments:
+        return np.zeros(0), 0.0, 0.0
+    n = sum(s.size for s in segments)
+    acov = sum(autocovariance(s, max_order) * s.size for s in segments) / n
+    best = None
+    for p in range(max_order + 1):
+        a, err = levinson(acov, p)
+        if err <= 0:
+            continue
+        bic = n * math.log(err) + p * math.log(n)
+        if best is None or bic < best[0] - 1e-9:
+            best = (bic, a, err)
+    if best is None:
+        return np.zeros(0), 0.0, float(acov[0])
+    return best[1], best[2], float(acov[0])
+
+
+def ar_whiten(x, coefficients):
+    """Innovations u_t = x_t - sum a_k x_(t-k) for t >= p (the first p samples are dropped)."""
+    x = np.asarray(x, float)
+    p = len(coefficients)
+    if p == 0:
+        return x.copy()
+    if x.size <= p:
+        return np.zeros(0)
+    u = x[p:].copy()
+    for k, a in enumerate(coefficients, start=1):
+        u -= a * x[p - k:x.size - k]
+    return u
+
+
+def ar_autocorrelation(coefficients, lags):
+    """Autocorrelation at lags 1..lags of the AR process with these coefficients."""
+    a = np.asarray(coefficients, float)
+    p = a.size
+    if p == 0:
+        return np.zeros(lags)
+    # simulate the impulse response long enough and correlate it
+    n = 4096
+    h = np.zeros(n)
+    h[0] = 1.0
+    for t in range(1, n):
+        k = min(p, t)
+        h[t] = np.dot(a[:k], h[t - 1::-1][:k])
+    g0 = np.dot(h, h)
+    return np.array([np.dot(h[:-k], h[k:]) / g0 for k in range(1, lags + 1)])
+
+
+def ljung_box(x, lags):
+    """Ljung-Box portmanteau statistic of ``x`` over lags 1..``lags`` and its p-value
+    (chi-square with ``lags`` degrees of freedom): small p means not white."""
+    from scipy.stats import chi2
+
+    x = np.asarray(x, float)
+    n = x.size
+    lags = int(max(1, min(lags, n // 4)))
+    acov = autocovariance(x, lags)
+    if acov[0] <= 0:
+        return 0.0, 1.0
+    rho = acov[1:] / acov[0]
+    q = float(n * (n + 2) * np.sum(rho**2 / (n - np.arange(1, lags + 1))))
+    return q, float(chi2.sf(q, lags))
+
+
+def cumulative_periodogram_test(x):
+    """Bartlett's cumulative-periodogram test of whiteness: the largest deviation of the
+    normalised cumulative periodogram from a straight line, and its p-value (Kolmogorov).
+    Sensitive to power concentrated at low frequencies (slow structure left in a residual)."""
+    from scipy.stats import kstwobign
+
+    x = np.asarray(x, float) - np.mean(x)
+    spec = np.abs(np.fft.rfft(x)) ** 2
+    spec = spec[1:(x.size + 1) // 2]  # drop the mean and the Nyquist bin
+    m = spec.size
+    if m < 4 or spec.sum() <= 0:
+        return 0.0, 1.0
+    c = np.cumsum(spec) / spec.sum()
+    d = float(np.max(np.abs(c - np.arange(1, m + 1) / m)))
+    return d, float(kstwobign.sf(d * (math.sqrt(m) + 0.12 + 0.11 / math.sqrt(m))))
+
+
+def motion_onset(t, y, sigma, k=6.0, hold=5):
+    """Index where a record that starts at rest begins to move: the first sample after which
+    |y - level| stays above ``k`` sigma for ``hold`` samples, ``level`` the median of the samples
+    before it. Returns (index, level, still) with ``still`` False when the record moves from its
+    first samples (a hand-driven start, or no pre-trigger at all)."""
+    y = np.asarray(y, float)
+    n = y.size
+    sigma = max(sigma, 1e-300)
+    head = 5  # a first level from a few samples (a record may start right at the release)
+    level = float(np.median(y[:head]))
+    out = np.abs(y - level) > k * sigma
+    # first run of `hold` consecutive outliers
+    run = np.convolve(out.astype(int), np.ones(hold, int), mode="valid")
+    idx = np.nonzero(run == hold)[0]
+    i = int(idx[0]) if idx.size else n - 1
+    if i >= head:  # refine the level on everything before the onset
+        level = float(np.median(y[:i]))
+    still = i >= 8 and float(np.std(y[:i])) < 3 * sigma
+    return i, level, still

@@ -222,17 +222,19 @@ class _Closing:
         vC = (-phid * (C[1] - self.P[1]), phid * (C[0] - self.P[0]))
         beta = math.atan2(C[1] - self.A[1], C[0] - self.A[0])
         if self.distance == "exact":
-            for _ in range(50):  # Newton on (P - C) . dP/dbeta = 0
+            for _ in range(60):  # Newton on (P - C) . dP/dbeta = 0
                 P, dP, ddP, rho, rb = self.pitch_point(beta, theta)
                 dx, dy = P[0] - C[0], P[1] - C[1]
                 fval = dx * dP[0] + dy * dP[1]
                 fder = dP[0] ** 2 + dP[1] ** 2 + dx * ddP[0] + dy * ddP[1]
-                step = fval / fder
+                step = max(-0.05, min(0.05, fval / fder))
                 beta -= step
-                if abs(step) < 1e-15:
+                if abs(step) < 1e-14:
                     break
             else:
-                raise SimulationError("independent breaker reference: the closest point on the cam did not converge")
+                if abs(step) > 1e-11:
+                    raise SimulationError("independent breaker reference: the closest point on the cam did not "
+                                          f"converge (theta = {theta:.6g} rad, last step {step:.3g} rad)")
         P, dP, _, rho, rb = self.pitch_point(beta, theta)
         c, s = math.cos(beta), math.sin(beta)
         nx, ny = rho * c + rb * s, rho * s - rb * c  # rho e_r - rho_beta e_beta
@@ -242,7 +244,6 @@ class _Closing:
             pen = (P[0] - C[0]) * nx + (P[1] - C[1]) * ny
         else:  # the model's first-order offset along the normal at the roller's own polar angle
             pen = (rho - math.hypot(C[0] - self.A[0], C[1] - self.A[1])) * rho / norm
-        vP = (-omega * (P[0] - self.A[0]), omega * (P[1] - self.A[1]))
         vP = (-omega * (P[1] - self.A[1]), omega * (P[0] - self.A[0]))
         rate = (vP[0] - vC[0]) * nx + (vP[1] - vC[1]) * ny
         if self.distance == "first_order":  # the rate of the first-order penetration
@@ -381,7 +382,10 @@ class _Closing:
         if mid <= self.w0:
             return self.mu_s * self.r * s, 0.0
         if self.ws > 0.0 and mid < self.ws:
-            return (self.mu_s - (self.mu_s - self.mu_k) * abs(w) / self.ws) * self.r * s, 0.0
+            # |w| clipped to the regime: a Runge-Kutta stage may look beyond the regime's end
+            # (the event then ends the segment there), where the branch would extrapolate
+            speed = min(max(abs(w), lo), hi)
+            return (self.mu_s - (self.mu_s - self.mu_k) * speed / self.ws) * self.r * s, 0.0
         return self.mu_k * self.r * s, self.cv * (w - (self.ws if self.ws > 0 else 0.0) * s)
 
     def slip_acceleration(self, Tc, R0, R1, k, v):
@@ -481,7 +485,7 @@ def _friction_state(mech, t, y, mode):
     if mode[0] == "stuck":
         return Tc, math.hypot(*R0)
     k, v = mech.regime_split(mode[2], y[1], mode[1])
-    a, fn = mech.slip_acceleration(Tc, R0, R1, k, v)
+    _, fn = mech.slip_acceleration(Tc, R0, R1, k, v)
     return k * fn + v, fn
 
 
@@ -526,13 +530,19 @@ def solve_closing(rig, spec, t_eval, chain=None, *, distance="exact", rtol=1e-10
     events_log, segments, touches, touch_speeds = [], [], [None] * n, [None] * n
     t = 0.0
 
+    # a torque below round-off of the latch's balance (1e-12 of the holding torque) is no torque:
+    # without friction the balanced cam would otherwise chatter between stuck and slipping at t = 0
+    tiny = 1e-12 * (abs(holding) + 1.0)
+
     def start_at_rest(t, y):
         Tc, R0, _, _ = mech.cam_applied(t, y)
-        if abs(Tc) <= mech.mu_s * mech.r * math.hypot(*R0):
+        if abs(Tc) <= mech.mu_s * mech.r * math.hypot(*R0) + tiny:
             return ("stuck",)
         return ("slip", 1 if Tc > 0 else -1, 0)
 
     mode = start_at_rest(t, y) if y[1] == 0.0 else ("slip", 1 if y[1] > 0 else -1, 0)
+    closed = [mech.roller_contact(y[0], y[1], y[j], y[j + 1 + n])[0] > 0.0]
+    closed += [y[j + 1 + i] > mech.gaps[i] for i in range(n)]
     while t < t_end:
         if len(segments) > MAX_SEGMENTS:
             raise SimulationError("independent breaker reference: too many events (Zeno behaviour)")
@@ -540,7 +550,7 @@ def solve_closing(rig, spec, t_eval, chain=None, *, distance="exact", rtol=1e-10
         if mode[0] == "stuck":
             def breakaway(tt, yy):
                 Tc, R0, _, _ = mech.cam_applied(tt, yy)
-                return abs(Tc) - mech.mu_s * mech.r * math.hypot(*R0)
+                return abs(Tc) - mech.mu_s * mech.r * math.hypot(*R0) - tiny
             breakaway.terminal, breakaway.direction = True, 1.0
             evs.append(breakaway)
             kinds.append("breakaway")
@@ -559,18 +569,21 @@ def solve_closing(rig, spec, t_eval, chain=None, *, distance="exact", rtol=1e-10
                 high.terminal, high.direction = True, 1.0
                 evs.append(high)
                 kinds.append("up")
-        for i in range(n):  # a pole touches (LN impact speed)
-            def touch(tt, yy, i=i):
+        # contacts: an open one waits for its start (LN: the impact speed), a closed one for its
+        # end (which re-arms the start); the contact's state is tracked, not read from a state
+        # that sits on the switching surface
+        for i in range(n):
+            def gap(tt, yy, i=i):
                 return yy[j + 1 + i] - mech.gaps[i]
-            touch.terminal, touch.direction = True, 1.0
-            evs.append(touch)
+            gap.terminal, gap.direction = True, -1.0 if closed[i + 1] else 1.0
+            evs.append(gap)
             kinds.append(("pole", i))
-        if not mech.hunt_crossley:  # the roller lands on the cam (LN impact speed)
+        if not mech.hunt_crossley:
             def land(tt, yy):
                 return mech.roller_contact(yy[0], yy[1], yy[j], yy[j + 1 + n])[0]
-            land.terminal, land.direction = True, 1.0
+            land.terminal, land.direction = True, -1.0 if closed[0] else 1.0
             evs.append(land)
-            kinds.append("roller")
+            kinds.append(("roller", 0))
         sol = solve_ivp(_rhs(mech, mode), (t, t_end), y, method="DOP853", rtol=rtol, atol=scale, events=evs,
                         dense_output=True)
         if sol.status < 0:
@@ -584,8 +597,12 @@ def solve_closing(rig, spec, t_eval, chain=None, *, distance="exact", rtol=1e-10
         t = float(t_hit)
         segments[-1] = (segments[-1][0], t, mode, sol.sol, segments[-1][4])
         kind = kinds[k]
-        events_log.append((t, kind if isinstance(kind, str) else f"{kind[0]}_{kind[1] + 1}" if kind[0] == "pole"
-                           else kind))
+        if isinstance(kind, str):
+            events_log.append((t, kind))
+        else:
+            slot = 0 if kind[0] == "roller" else kind[1] + 1
+            name = "roller" if slot == 0 else f"pole_{slot}"
+            events_log.append((t, f"{name}_{'opens' if closed[slot] else 'closes'}"))  # before the toggle below
         if kind == "breakaway":
             Tc, _, _, _ = mech.cam_applied(t, y)
             mode = ("slip", 1 if Tc > 0 else -1, 0)
@@ -597,13 +614,17 @@ def solve_closing(rig, spec, t_eval, chain=None, *, distance="exact", rtol=1e-10
             else:
                 y[1] = 0.0
                 mode = start_at_rest(t, y)
-        elif kind == "roller":
-            mech.impact[0] = max(mech.roller_contact(y[0], y[1], y[j], y[j + 1 + n])[1], 0.0)
+        elif kind[0] == "roller":
+            closed[0] = not closed[0]
+            if closed[0]:
+                mech.impact[0] = max(mech.roller_contact(y[0], y[1], y[j], y[j + 1 + n])[1], 0.0)
         else:
             i = kind[1]
-            mech.impact[i + 1] = max(y[j + 2 + n + i], 0.0)
-            if touches[i] is None:
-                touches[i], touch_speeds[i] = t, y[j + 2 + n + i]
+            closed[i + 1] = not closed[i + 1]
+            if closed[i + 1]:
+                mech.impact[i + 1] = max(y[j + 2 + n + i], 0.0)
+                if touches[i] is None:
+                    touches[i], touch_speeds[i] = t, y[j + 2 + n + i]
     # sample
     starts = np.array([s[0] for s in segments])
     idx = np.clip(np.searchsorted(starts, t_eval, side="right") - 1, 0, len(segments) - 1)

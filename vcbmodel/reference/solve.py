@@ -120,11 +120,12 @@ class BreakerExtension:
     def loads_and_rates(self, t, th, w, y):
         laws, n, b = self.laws, self.n, self.laws.b
         phi, z, phid, zd = y[0], y[1:1 + n], y[1 + n], y[2 + n:]
-        t_fol, (t_cam, fx, fy) = laws.follower_torque(th, w, phi, phid, z, zd, self.impact[0])
+        t_fol, _ = laws.follower_torque(th, w, phi, phid, z, zd, self.impact[0])
         acc = [(laws.rod_loads(phi, phid, z[i], zd[i])[0] - laws.pole_contact(i, z[i], zd[i], self.impact[i + 1])
                 + laws.pole_load) / b.poles.moving_mass for i in range(n)]
         rates = np.concatenate([[phid], zd, [t_fol / b.follower.inertia], acc])
-        return (t_cam + laws.latch(t, self.initial.holding_torque), fx, fy), rates
+        # the roller's and the latch's loads on the cam (torque, and force into the journal)
+        return laws.cam_loads(t, th, w, phi, phid, self.initial.holding_torque, self.impact[0]), rates
 
     def pre_step(self, t, y_full):
         y, n = y_full[self.offset:], self.n

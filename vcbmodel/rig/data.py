@@ -157,6 +157,11 @@ class Rig:
     model: ModelChoice
     sections: dict = field(default_factory=dict)
     data: dict = field(default_factory=dict, repr=False, compare=False)
+    #: facts about the record the diagnosis would otherwise estimate (section ``record``):
+    #: ``release_time`` (s), ``initial_angle`` (rad), ``sensor_offset`` (rad or m), ``sensor_gain`` (-)
+    record: dict = field(default_factory=dict)
+    #: rig values known only approximately (section ``uncertain``): dotted path -> relative sd
+    uncertain: dict = field(default_factory=dict)
 
     @property
     def pendulum(self) -> Pendulum | None:

@@ -40,6 +40,50 @@ def read_friction(rd, data):
     return friction
 
 
+RECORD_KEYS = ("release_time", "initial_angle", "sensor_offset", "sensor_gain")
+
+
+def read_record(rd, data):
+    """The optional ``record`` section: facts about the measurement that the diagnosis would
+    otherwise estimate (release time in the record, initial angle, sensor offset and gain)."""
+    r = without_comments(rd.optional_section(data, "record", known=RECORD_KEYS))
+    out = {}
+    for key in r:
+        out[key] = rd.number(r, key, "record.", positive=key == "sensor_gain")
+    return out
+
+
+def _numeric_field(data, path):
+    """The value at a dotted path of a rig's JSON object, or None."""
+    obj = data
+    for key in path.split("."):
+        if not isinstance(obj, dict) or key not in obj:
+            return None
+        obj = obj[key]
+    return obj if isinstance(obj, (int, float)) and not isinstance(obj, bool) else None
+
+
+def read_uncertain(rd, data):
+    """The optional ``uncertain`` section: dotted path of a numeric rig field -> its relative
+    standard deviation (0.05: known to +-5 %). The field must be in the rig and non-zero."""
+    u = without_comments(rd.optional_section(data, "uncertain"))
+    out = {}
+    for path in u:
+        value = rd.number(u, path, "uncertain.", positive=True)
+        if value >= 1.0:
+            rd.fail(f"uncertain.{path}", f"a relative standard deviation below 1 (0.05 for +-5 %), got {value:g}")
+        if path == "record.sensor_gain":  # the gain of the sensor: estimated with this uncertainty
+            out[path] = value
+            continue
+        nominal = _numeric_field(data, path)
+        if nominal is None or nominal == 0:
+            rd.fail(f"uncertain.{path}", "must name a numeric, non-zero field of this rig (e.g. pendulum.inertia)")
+        if path.split(".")[0] in ("format", "name", "experiment", "model", "record", "uncertain"):
+            rd.fail(f"uncertain.{path}", "must name a physical value of the rig")
+        out[path] = value
+    return out
+
+
 def read_pendulum(rd, data):
     p = without_comments(rd.section(data, "pendulum", known=PENDULUM_KEYS))
     pre = "pendulum."

@@ -1,0 +1,236 @@
+"""Parameter studies (``vcbmodel sweep``, docs/cli.md): the design (grids, seeded Latin
+hypercube, no mixing), paths into the rig, bad input (exit 2, one line, nothing written), a
+failed run's row, rows flushed as runs finish, --resume after an interrupt, the command line
+end to end, the local process pool and a Dask cluster started inside the test."""
+import copy
+import csv
+import json
+
+import numpy as np
+import pandas as pd
+import pytest
+
+from vcbmodel import parameters as P
+from vcbmodel.analysis import sweep as S
+from vcbmodel.app.cli import main
+from vcbmodel.errors import InputError
+
+
+def pendulum_data():
+    return dict(copy.deepcopy(P.REFERENCE_PENDULUM), friction=dict(P.REFERENCE_PENDULUM_TRUTH))
+
+
+@pytest.fixture
+def rig(tmp_path):
+    path = tmp_path / "p.rig.json"
+    path.write_text(json.dumps(pendulum_data()))
+    return str(path)
+
+
+def read_rows(path):
+    with open(path, newline="") as f:
+        return list(csv.reader(f))
+
+
+# --- the design ---------------------------------------------------------------------------------
+
+def test_grids_make_the_full_product_last_path_fastest():
+    d = S.design(["a.x=0:1:3", "b.y=10:40:4"])
+    assert list(d.columns) == ["a.x", "b.y"] and len(d) == 12
+    assert list(d["a.x"][:4]) == [0.0] * 4 and list(d["b.y"][:4]) == [10.0, 20.0, 30.0, 40.0]
+    assert sorted(set(d["a.x"])) == [0.0, 0.5, 1.0]
+    assert len(S.design(["a=1:1:1"])) == 1
+
+
+def test_latin_hypercube_is_seeded_repeatable_and_stratified():
+    spec = ["a=uniform:0:1", "b=normal:5:2"]
+    d1, d2 = S.design(spec, samples=20, seed=3), S.design(spec, samples=20, seed=3)
+    pd.testing.assert_frame_equal(d1, d2)
+    assert not np.allclose(d1["a"], S.design(spec, samples=20, seed=4)["a"])
+    pd.testing.assert_frame_equal(S.design(spec, samples=20), S.design(spec, samples=20, seed=S.DEFAULT_SEED))
+    # one draw in each of the 20 equal-probability strata of every axis
+    from scipy.stats import norm
+    for u in (d1["a"].to_numpy(), norm.cdf(d1["b"].to_numpy(), 5, 2)):
+        assert sorted(np.floor(u * 20).astype(int)) == list(range(20))
+    mc = S.design(spec, samples=20, seed=3, sampling="mc")
+    assert len(mc) == 20 and not np.allclose(mc["a"], d1["a"])
+
+
+@pytest.mark.parametrize("items, samples, message", [
+    (["a=0:1:3", "b=normal:0:1"], None, "not both"),
+    (["a=uniform:0:1"], None, "--samples"),
+    (["a=0:1:3"], 5, "distributions only"),
+    (["a=0:1"], None, "LO:HI:N"),
+    (["a=0:1:2.5"], None, "whole number"),
+    (["a=0:1:0"], None, "whole number"),
+    (["a=0:1:1"], None, "N >= 2"),
+    (["a=normal:1:0"], 3, "standard deviation"),
+    (["a=uniform:2:1"], 3, "LO < HI"),
+    (["a=weibull:1:2"], 3, "LO:HI:N"),
+    (["a=0:x:2"], None, "not a number"),
+    (["a=nan:1:2"], None, "finite"),
+    (["a"], None, "PATH=SPEC"),
+    (["=0:1:2"], None, "empty"),
+    (["a=0:1:2", "a=0:1:3"], None, "twice"),
+])
+def test_bad_specs_are_refused(items, samples, message):
+    with pytest.raises(InputError, match=message):
+        S.design(items, samples=samples)
+
+
+def test_paths_into_the_rig_json():
+    data = copy.deepcopy(P.REFERENCE_BREAKER)
+    assert S.get_path(data, "breaker.poles.gap_offsets.1") == data["breaker"]["poles"]["gap_offsets"][1]
+    edited = S.with_overrides(data, {"breaker.poles.gap_offsets.2": 1e-4, "cam.pivot.0": 0.5, "friction.viscous": 0.3})
+    assert edited["breaker"]["poles"]["gap_offsets"][2] == 1e-4 and edited["cam"]["pivot"][0] == 0.5
+    assert edited["friction"]["viscous"] == 0.3 and "viscous" not in data["friction"]  # a copy
+    with pytest.raises(KeyError):
+        S.with_overrides(data, {"cam.pivot.5": 1.0})
+
+
+# --- bad input on the command line: exit 2, one line naming file and field, nothing written -----
+
+@pytest.mark.parametrize("vary, extra, names", [
+    (["friction.mu_kk=0:1:2"], [], "friction.mu_kk"),
+    (["cam.mass=1:2:2"], [], "cam.mass"),
+    (["model.effects=0:1:2"], [], "model.effects"),
+    (["pendulum.mass.x=0:1:2"], [], "pendulum.mass.x"),
+    (["friction.mu_k=0:1"], [], "friction.mu_k"),
+    (["friction.mu_k=0:1:2", "friction.viscous=normal:0.6:0.1"], [], "friction.viscous"),
+    (["friction.mu_k=normal:0.1:0.01"], [], "--samples"),
+    (["friction.mu_k=0:1:2"], ["--workers", "0"], "--workers"),
+])
+def test_cli_bad_input_exits_2_with_one_line_and_writes_nothing(rig, tmp_path, capsys, vary, extra, names):
+    out = tmp_path / "out.csv"
+    argv = ["sweep", rig, *[a for v in vary for a in ("--vary", v)], *extra, "-o", str(out)]
+    assert main(argv) == 2
+    err = capsys.readouterr().err.strip().splitlines()
+    assert len(err) == 1 and err[0].startswith("vcbmodel: bad input:") and names in err[0], err
+    assert not out.exists()
+
+
+def test_a_value_the_model_needs_but_the_rig_lacks_is_bad_input_before_the_sweep(tmp_path, capsys):
+    data = pendulum_data()
+    del data["friction"]["mu_s"]
+    path = tmp_path / "p.rig.json"
+    path.write_text(json.dumps(data))
+    out = tmp_path / "out.csv"
+    assert main(["sweep", str(path), "--vary", "friction.mu_k=0.1:0.2:2", "-o", str(out)]) == 2
+    err = capsys.readouterr().err.strip()
+    assert "friction.mu_s" in err and str(path) in err and len(err.splitlines()) == 1
+    assert not out.exists()
+
+
+# --- runs ----------------------------------------------------------------------------------------
+
+def test_a_failed_run_gets_its_reason_and_the_sweep_goes_on(rig, tmp_path):
+    out = tmp_path / "out.csv"
+    df = S.sweep(rig, ["pendulum.mass=-60:60:3"], workers=1, output=str(out), verbose=False)
+    assert list(df.status[:2]) == ["failed: pendulum.mass: must be positive, got -60",
+                                   "failed: pendulum.mass: must be positive, got 0"]
+    assert df.status[2] == "ok" and df.first_peak_rad[2] > 0 and np.isnan(df.first_peak_rad[0])
+    rows = read_rows(out)
+    assert rows[0] == ["run", "pendulum.mass", "first_peak_rad", "stop_time_s", "status"]
+    assert rows[1][-1].startswith("failed: pendulum.mass") and rows[1][2] == "" and rows[3][-1] == "ok"
+
+
+_FLUSH_LOG = {}
+
+
+def evaluate_and_look_at_the_file(rig, t_end):
+    """An evaluation that records how many rows the output file holds when each run starts."""
+    with open(_FLUSH_LOG["path"], newline="") as f:
+        _FLUSH_LOG.setdefault("rows_seen", []).append(len(list(csv.reader(f))) - 1)
+    return {"mass": rig.pendulum.mass}
+
+
+def test_rows_are_written_and_flushed_as_runs_finish(rig, tmp_path):
+    out = tmp_path / "out.csv"
+    _FLUSH_LOG.clear()
+    _FLUSH_LOG["path"] = out
+    df = S.sweep(rig, ["pendulum.mass=50:59:4"], workers=1, output=str(out), evaluate=evaluate_and_look_at_the_file,
+                 columns=["mass"], verbose=False)
+    assert _FLUSH_LOG["rows_seen"] == [0, 1, 2, 3]  # run k starts with the k - 1 finished rows on disk
+    assert list(df["mass"]) == [50.0, 53.0, 56.0, 59.0] == list(df["pendulum.mass"])
+
+
+def test_resume_skips_finished_runs_after_an_interrupt(rig, tmp_path):
+    vary = ["friction.mu_k=normal:0.13:0.02"]
+    full_path = tmp_path / "full.csv"
+    full = S.sweep(rig, vary, samples=5, seed=7, workers=1, output=str(full_path), verbose=False)
+    assert full.attrs["runs_done"] == 5 and (full.status == "ok").all()
+    lines = full_path.read_text().splitlines(keepends=True)
+    # interrupted after runs 4 and 2 (finishing order), in the middle of writing a third row
+    partial = tmp_path / "partial.csv"
+    partial.write_text(lines[0] + lines[4] + lines[2] + lines[5][:9])
+    again = S.sweep(rig, vary, samples=5, seed=7, workers=1, output=str(partial), resume=True, verbose=False)
+    assert again.attrs["runs_done"] == 3  # runs 1, 3 and 5
+    pd.testing.assert_frame_equal(again, full, check_like=True)
+    assert partial.read_text() == full_path.read_text()  # complete: rewritten in run order
+    done = S.sweep(rig, vary, samples=5, seed=7, workers=1, output=str(partial), resume=True, verbose=False)
+    assert done.attrs["runs_done"] == 0
+    # another design (seed) cannot resume this file
+    with pytest.raises(InputError, match="another sweep"):
+        S.sweep(rig, vary, samples=5, seed=8, workers=1, output=str(partial), resume=True, verbose=False)
+    with pytest.raises(InputError, match="columns of another sweep"):
+        S.sweep(rig, ["friction.viscous=normal:0.6:0.1"], samples=5, workers=1, output=str(partial), resume=True,
+                verbose=False)
+
+
+def test_cli_end_to_end_on_a_tiny_pendulum_sweep(rig, tmp_path, capsys):
+    out = tmp_path / "grid.csv"
+    assert main(["sweep", rig, "--vary", "friction.mu_k=0.10:0.16:2", "--vary", "friction.viscous=0.3:0.6:2",
+                 "--workers", "1", "-o", str(out)]) == 0
+    captured = capsys.readouterr()
+    assert captured.out == ""
+    assert "4/4 done" in captured.err and "/min" in captured.err and "left" in captured.err
+    rows = read_rows(out)
+    assert rows[0] == ["run", "friction.mu_k", "friction.viscous", "first_peak_rad", "stop_time_s", "status"]
+    assert [r[0] for r in rows[1:]] == ["1", "2", "3", "4"] and all(r[-1] == "ok" for r in rows[1:])
+    peaks = {(float(r[1]), float(r[2])): float(r[3]) for r in rows[1:]}
+    assert peaks[(0.10, 0.3)] > peaks[(0.16, 0.3)] and peaks[(0.10, 0.3)] > peaks[(0.10, 0.6)]  # more friction, smaller swing
+    # to stdout, random draws
+    assert main(["sweep", rig, "--vary", "friction.mu_k=uniform:0.1:0.16", "--samples", "2", "--seed", "1",
+                 "--workers", "1"]) == 0
+    table = capsys.readouterr().out.strip().splitlines()
+    assert table[0] == "run,friction.mu_k,first_peak_rad,stop_time_s,status" and len(table) == 3
+
+
+def test_cli_help_states_the_sampling_and_the_engine(capsys):
+    with pytest.raises(SystemExit) as e:
+        main(["sweep", "--help"])
+    assert e.value.code == 0
+    text = " ".join(capsys.readouterr().out.split())
+    assert "Latin hypercube" in text and "Dask" in text and "seed" in text
+
+
+def test_local_process_pool_gives_the_serial_answer(rig):
+    vary = ["friction.mu_k=0.08:0.16:4"]
+    serial = S.sweep(rig, vary, workers=1, t_end=2.0, verbose=False)
+    pool = S.sweep(rig, vary, workers=2, t_end=2.0, verbose=False)
+    assert pool.attrs["workers"] == 2 and serial.attrs["workers"] == 1
+    pd.testing.assert_frame_equal(pool, serial)
+
+
+def test_dask_cluster_started_here_runs_a_sweep(rig, tmp_path, capsys):
+    distributed = pytest.importorskip("distributed")
+    vary = ["friction.mu_k=0.08:0.16:3"]
+    serial = S.sweep(rig, vary, workers=1, t_end=2.0, verbose=False)
+    with distributed.LocalCluster(n_workers=2, threads_per_worker=1, processes=True, dashboard_address=None) as cluster:
+        table = S.sweep(rig, vary, scheduler=cluster.scheduler_address, t_end=2.0, verbose=False)
+        out = tmp_path / "cluster.csv"
+        assert main(["sweep", rig, "--vary", "friction.mu_k=0.08:0.16:2", "--scheduler", cluster.scheduler_address,
+                     "-o", str(out)]) == 0
+    assert table.attrs["scheduler"] == cluster.scheduler_address
+    pd.testing.assert_frame_equal(table, serial)
+    rows = read_rows(out)
+    assert len(rows) == 3 and all(r[-1] == "ok" for r in rows[1:])
+    assert "Dask cluster" in capsys.readouterr().err
+
+
+@pytest.mark.parametrize("data", [P.REFERENCE_CAM, P.REFERENCE_BREAKER], ids=["cam_drop", "vcb_closing"])
+def test_every_experiment_gives_its_figures_of_merit(data):
+    """The columns docs/cli.md lists, filled from the experiment's own figures_of_merit."""
+    df = S.sweep(copy.deepcopy(data), ["cam.initial_velocity=0:0:1"], workers=1, verbose=False)
+    assert list(df.columns) == ["run", "cam.initial_velocity", *S.FIGURES[data["experiment"]], "status"]
+    assert df.status[0] == "ok" and df[list(S.FIGURES[data["experiment"]])].notna().all(axis=None)

@@ -1,0 +1,263 @@
+"""The record's nuisance: what ties a record to the model besides the physics.
+
+A record is not the model's output. It starts before the release (a pre-trigger where the shaft
+sits still) or while a hand still moves the pendulum; the rig's initial angle is nominal; the
+sensor reads with a zero offset and a gain. The diagnosis estimates these with the physics
+(they are parameters of every fit), unless the rig pins them in its ``record`` section:
+
+    y(t) = offset + gain * model(t - release_time)      for t >= release_time
+    y(t) = offset + gain * model(0)                    before it, when the record starts at rest
+
+``initial_angle`` (the model's state at release) and rig values the rig marks ``uncertain`` need a
+new simulation when they change; ``release_time``, ``offset`` and ``gain`` do not (the simulation is
+shifted and scaled), so their derivatives are analytic and cost nothing.
+
+This module decides, from the data alone, where the fit starts and the starting values:
+:func:`record_setup`. A record that moves from its first sample (a hand-driven start) is fitted
+from the free motion's first turning point, with the samples before it left out.
+"""
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, field, replace
+
+import numpy as np
+
+from ..experiments import experiment_of
+from ..records.signals import motion_onset, swing_peaks
+
+#: Prior standard deviation of the initial angle around the rig's nominal value (rad) where the
+#: record cannot tell the angle from the sensor offset (cam drop): about a degree.
+INITIAL_ANGLE_SD = math.radians(1.0)
+#: Release-time search half-width: pendulum (s), camera records (s).
+RELEASE_SPAN = {"pendulum": 0.06, "default": 0.002}
+
+RECORD_FIELDS = ("release_time", "initial_angle", "sensor_offset", "sensor_gain")
+
+
+@dataclass
+class RecordSetup:
+    """How one record is fitted: the window (record time, s), whether the record rests before
+    the release, and starting values of the nuisance."""
+
+    window: tuple
+    still_start: bool
+    release: float
+    release_bounds: tuple
+    offset: float
+    gain: float
+    initial_angle: float | None  # rad (None: the experiment has no initial-angle nuisance)
+    initial_angle_prior: tuple | None  # (mean, sd) or None
+    pinned: dict = field(default_factory=dict)
+    hand_start: bool = False
+    level: float = 0.0  # reading before the release
+    notes: list = field(default_factory=list)
+    channel_rest: dict = field(default_factory=dict)  # model value at rest of extra travel channels
+    contact: dict = field(default_factory=dict)  # contact channel -> (gap in m, indicator width in m)
+
+    def to_json(self):
+        return {"window": [float(self.window[0]), float(self.window[1])], "still_start": self.still_start,
+                "hand_start": self.hand_start, "pinned": dict(self.pinned), "notes": list(self.notes)}
+
+
+def initial_angle_field(experiment):
+    return experiment_of(experiment).initial_angle_field
+
+
+def rig_get(rig, path):
+    """A numeric rig value by its dotted path (``pendulum.inertia``, ``shaft.radius``, ``gravity``,
+    ``friction.mu_k``, ``breaker.poles.moving_mass``)."""
+    if path == "gravity":
+        return rig.gravity
+    if path == "shaft.radius":
+        return rig.shaft_radius
+    head, _, rest = path.partition(".")
+    if head == "friction":
+        return rig.friction.get(rest)
+    obj = rig.sections.get(head)
+    for key in rest.split("."):
+        obj = getattr(obj, key)
+    return obj
+
+
+def rig_with(rig, overrides):
+    """A copy of ``rig`` with numeric fields replaced (dotted paths, see :func:`rig_get`;
+    ``friction.*`` values are passed to the simulation as values instead)."""
+    if not overrides:
+        return rig
+    sections = dict(rig.sections)
+    top = {}
+    for path, value in overrides.items():
+        if path == "gravity":
+            top["gravity"] = float(value)
+            continue
+        if path == "shaft.radius":
+            top["shaft_radius"] = float(value)
+            continue
+        head, _, rest = path.partition(".")
+        if head == "friction":
+            continue
+        keys = rest.split(".")
+
+        def put(obj, keys):
+            if len(keys) == 1:
+                return replace(obj, **{keys[0]: float(value)})
+            return replace(obj, **{keys[0]: put(getattr(obj, keys[0]), keys[1:])})
+
+        sections[head] = put(sections[head], keys)
+    return replace(rig, sections=sections, **top)
+
+
+def _parabola_release(t, y, level, sigma, lo, hi):
+    """Release time of a motion from rest: y = level before t_r, level + a (t - t_r)^2 + b (t - t_r)^3
+    after (a constant jerk: the driving torque changes as the shaft turns), fitted on samples in
+    [lo, hi] by a grid over t_r (a, b by linear least squares)."""
+    from scipy.optimize import nnls
+
+    sel = (t >= lo) & (t <= hi)
+    tt, yy = t[sel], y[sel] - level
+    if tt.size < 5:
+        return float(lo)
+    yy = yy * (1.0 if yy[-1] >= 0 else -1.0)  # departure upwards; a, b >= 0: a motion from rest
+    grid = np.linspace(tt[0], tt[-1], min(400, 4 * tt.size))
+    best = (math.inf, float(tt[0]))
+    for tr in grid:
+        tau = np.clip(tt - tr, 0.0, None)
+        X = np.column_stack([tau**2, tau**3])
+        if not np.any(tau > 0):
+            continue
+        scale = np.maximum(np.max(X, axis=0), 1e-300)
+        coef, _ = nnls(X / scale, yy)
+        cost = float(np.sum((yy - (X / scale) @ coef) ** 2))
+        if cost < best[0]:
+            best = (cost, float(tr))
+    return best[1]
+
+
+def _departure_end(t, y, level, i0, sigma, k=15.0):
+    """Index where the departure from ``level`` after sample i0 first exceeds k sigma."""
+    beyond = np.nonzero(np.abs(y[i0:] - level) > k * sigma)[0]
+    return i0 + int(beyond[0]) if beyond.size else y.size - 1
+
+
+def record_setup(rig, measurement, sigma) -> RecordSetup:
+    """Window and starting values of the nuisance of one record (module docstring)."""
+    rec = experiment_of(rig.experiment)
+    t = np.asarray(measurement.t, float)
+    y = np.asarray(measurement.channel(rec.measured_channel), float)
+    pinned = {k: v for k, v in (getattr(rig, "record", None) or {}).items() if k in RECORD_FIELDS}
+    gain = float(pinned.get("sensor_gain", 1.0))
+    dt = float(np.median(np.diff(t)))
+    sigma = max(float(sigma), 1e-12)
+    field_name = rec.initial_angle_field
+    nominal = rig_get(rig, field_name) if field_name else None
+    notes = []
+    onset, level, still = motion_onset(t, y, sigma)
+    hand = False
+    if rig.experiment == "pendulum":
+        window_start, release, level, hand = _pendulum_start(t, y, sigma, onset, level, still, notes)
+        offset = _swing_centre(t, y, release, sigma)
+    else:
+        window_start = float(t[0])
+        j = _departure_end(t, y, level, onset, sigma)
+        release = _parabola_release(t, y, level, sigma, float(t[0]), float(t[max(j, 3)]))
+        offset = None
+    if "release_time" in pinned:
+        release = float(pinned["release_time"])
+        if rig.experiment == "pendulum" and hand:
+            window_start = max(window_start, release)
+    span = RELEASE_SPAN.get(rig.experiment, RELEASE_SPAN["default"])
+    span = max(span, 5 * dt)
+    bounds = (release - span, release + span)
+    # the initial angle and the offset: the reading before release is offset + gain * angle
+    if field_name is None:
+        initial, prior = None, None
+        offset = level if offset is None else offset
+    elif "initial_angle" in pinned:
+        initial, prior = float(pinned["initial_angle"]), None
+        if offset is None:
+            offset = level - gain * initial
+    elif rig.experiment == "pendulum":
+        if "sensor_offset" in pinned:
+            offset = float(pinned["sensor_offset"])
+        initial = (level - offset) / gain
+        prior = None  # the swing's centre and amplitude fix it
+    else:
+        initial = float(nominal)
+        offset = level - gain * initial if "sensor_offset" not in pinned else float(pinned["sensor_offset"])
+        prior = (float(nominal), INITIAL_ANGLE_SD)
+    if "sensor_offset" in pinned:
+        offset = float(pinned["sensor_offset"])
+    window = (float(window_start), float(t[-1]))
+    return RecordSetup(window, not hand, float(release), bounds, float(offset), gain, initial, prior, pinned, hand,
+                       float(level), notes)
+
+
+def _pendulum_start(t, y, sigma, onset, level, still, notes):
+    """(window start, release estimate, reading at release, hand start?) of a free swing."""
+    # the free swing: extremes whose half periods are regular
+    tp, _, vals = swing_peaks(t, y, signed=True)
+    if still and (tp.size == 0 or tp[0] <= t[onset] + 1e-9 or onset < y.size // 2):
+        j = _departure_end(t, y, level, onset, sigma)
+        release = _parabola_release(t, y, level, sigma, float(t[max(0, onset - 200)]), float(t[max(j, 3)]))
+        if onset > 8:
+            notes.append(f"record starts at rest: pre-trigger of about {release - t[0]:.3g} s before the release")
+        return float(t[0]), release, level, False
+    k = _first_regular_extreme(tp)
+    if k is None:
+        return float(t[0]), float(t[0]), float(y[0]), False
+    tk = float(tp[k])
+    i = int(np.searchsorted(t, tk))
+    vk = float(np.median(y[max(0, i - 2):i + 3]))
+    # a hold before the release: a still stretch ending near the turning point
+    near = np.abs(y - vk) < 4 * sigma
+    a = i
+    while a > 0 and near[a - 1]:
+        a -= 1
+    b = i
+    while b < y.size - 1 and near[b + 1]:
+        b += 1
+    natural = 2 * math.sqrt(2 * 4 * sigma / max(_curvature(t, y, i), 1e-9))  # still time of a turning point
+    if t[b] - t[a] > 2.5 * natural:  # a hold: release at its end
+        level = float(np.median(y[a:b + 1]))
+        j = _departure_end(t, y, level, b, sigma)
+        release = _parabola_release(t, y, level, sigma, float(t[a]), float(t[max(j, a + 3)]))
+        notes.append(f"record starts moving (hand-driven); held still from {t[a]:.3g} s, released at about {release:.3g} s")
+        return float(t[a]), release, level, True
+    notes.append(f"record starts moving (hand-driven); fitted from the free swing's first turning point at {tk:.3g} s")
+    return tk, tk, vk, True
+
+
+def _curvature(t, y, i, half=30):
+    """|y''| near sample i from a local quadratic (rad/s^2)."""
+    a, b = max(0, i - half), min(y.size, i + half + 1)
+    if b - a < 5:
+        return 0.0
+    c = np.polyfit(t[a:b] - t[i], y[a:b], 2)
+    return abs(2 * c[0])
+
+
+def _first_regular_extreme(tp):
+    """Index of the first extreme from which the half periods are regular (within 15 % of the
+    median of the following ones), or None."""
+    if tp.size < 3:
+        return 0 if tp.size else None
+    gaps = np.diff(tp)
+    for k in range(gaps.size - 1):
+        ref = np.median(gaps[k + 1:k + 6]) if gaps[k + 1:].size else gaps[k]
+        if abs(gaps[k] - ref) <= 0.15 * ref:
+            return k
+    return 0
+
+
+def _swing_centre(t, y, release, sigma):
+    """The reading with the pendulum hanging straight down: the mean of the midpoints of an even
+    number of successive half swings after the release (Coulomb friction shifts each half swing's
+    centre by the same amount, alternately to either side)."""
+    sel = t >= release
+    tp, _, vals = swing_peaks(t[sel], y[sel], signed=True)
+    if vals.size < 3:
+        return float(np.median(y[sel][-max(10, sel.sum() // 20):]))
+    mids = 0.5 * (vals[1:] + vals[:-1])
+    m = mids.size - (mids.size % 2)
+    return float(np.mean(mids[:m])) if m else float(mids[0])

@@ -1,0 +1,274 @@
+"""Realistic synthetic records: what comes off a rig, from a truth the diagnosis does not fit with.
+
+:mod:`.synthetic` makes records from the fitted model family itself, at the model's t = 0, with
+white noise: the diagnosis is right on those by construction. The records here carry what real
+records carry, and their truth is structurally different from every candidate model:
+
+- **friction** from the independent reference (:mod:`vcbmodel.reference.independent`: sympy
+  Lagrange equations, event-driven sticking, DOP853), not the Exudyn model the diagnosis fits;
+- **the spring's mass** as a converged chain of twenty equal masses (``lumped-20:uniform``) or the
+  ANCF continuum with 16 elements, while the candidates are lumped-1..3 chains (``exact`` and
+  ``paper``) and the 8-element ANCF spring;
+- an **unregistered effect**: position-dependent journal friction (a bearing with a defect:
+  mu_k (1 + a sin(2 pi theta / lambda))), integrated here with its own event-driven sticking;
+  no registered effect has this form.
+
+Complications (each drawn at random within the stated range, or chosen):
+
+==================  ===========================================================================
+``pre_trigger``     the record starts before the release, the shaft at rest: 0-200 ms (pendulum),
+                    0-3 ms (camera)
+``initial_angle``   the true release angle is off the rig's nominal by up to 1 deg
+``offset``          sensor zero offset up to 5 mrad (0.2 mm for the follower)
+``gain``            sensor gain off by up to 3 %
+``correlated``      low-pass filtered noise, lag-1 correlation 0-0.95 (AR(1))
+``hand_start``      pendulum: the record starts while a hand moves the pendulum to the release
+                    angle (and may hold it there), then lets go
+``quantised``       an encoder: readings rounded to 0.09 deg, no other noise
+``time_base``       the record's clock runs 0.1-0.3 % fast, with 20 us jitter
+``period``          the rig's nominal inertia is off: the period differs by 2-4 %
+==================  ===========================================================================
+
+Hidden effects: none, one (``coulomb_friction``, ``viscous_friction``, ``stribeck``,
+``spring_mass``), two (``viscous_friction`` + ``stribeck`` for a pendulum, ``coulomb_friction`` +
+``spring_mass`` for a cam drop), or ``unregistered``.
+"""
+from __future__ import annotations
+
+import copy
+import json
+import math
+from pathlib import Path
+
+import numpy as np
+from scipy.integrate import solve_ivp
+
+from ..experiments import experiment_of
+from ..experiments.loading import rig_from_data
+from ..experiments.simulation import simulate
+from ..records.measurement import Measurement, write_measurement
+
+COMPLICATIONS = ("pre_trigger", "initial_angle", "offset", "gain", "correlated", "hand_start", "quantised",
+                 "time_base", "period")
+#: Hidden-effect cases: name -> (experiment, starting effects, truth effects).
+HIDDEN = {
+    "pend_none": ("pendulum", ("coulomb_friction", "viscous_friction"), ("coulomb_friction", "viscous_friction")),
+    "pend_visc": ("pendulum", ("coulomb_friction",), ("coulomb_friction", "viscous_friction")),
+    "pend_coul": ("pendulum", ("viscous_friction",), ("coulomb_friction", "viscous_friction")),
+    "pend_strib": ("pendulum", ("coulomb_friction", "viscous_friction"),
+                   ("coulomb_friction", "stribeck", "viscous_friction")),
+    "pend_two": ("pendulum", ("coulomb_friction",), ("coulomb_friction", "stribeck", "viscous_friction")),
+    "pend_unregistered": ("pendulum", ("coulomb_friction", "viscous_friction"),
+                          ("coulomb_friction", "viscous_friction", "position_dependent_friction")),
+    "cam_none": ("cam_drop", ("coulomb_friction",), ("coulomb_friction",)),
+    "cam_coul": ("cam_drop", (), ("coulomb_friction",)),
+    "cam_mass": ("cam_drop", ("coulomb_friction",), ("coulomb_friction", "spring_mass")),
+    "cam_two": ("cam_drop", (), ("coulomb_friction", "spring_mass")),
+}
+QUANTUM = math.radians(0.09)  # encoder step (4000 counts per revolution)
+
+
+def hidden_answer(case):
+    """The effects the diagnosis should name, in no particular order (None: an unregistered one)."""
+    _, start, truth = HIDDEN[case]
+    if "position_dependent_friction" in truth:
+        return None
+    return sorted(e for e in truth if e not in start)
+
+
+def _draw_complications(experiment, rng, complications):
+    """Values of the chosen complications (dict name -> value)."""
+    c = {}
+    camera = experiment != "pendulum"
+    for name in complications:
+        if name == "pre_trigger":
+            c[name] = float(rng.uniform(0.0005, 0.003) if camera else rng.uniform(0.02, 0.2))
+        elif name == "initial_angle":
+            c[name] = float(np.radians(rng.uniform(0.3, 1.0)) * rng.choice([-1, 1]))
+        elif name == "offset":
+            c[name] = float(rng.uniform(1e-3, 5e-3) * rng.choice([-1, 1]))
+        elif name == "gain":
+            c[name] = float(1 + rng.uniform(0.01, 0.03) * rng.choice([-1, 1]))
+        elif name == "correlated":
+            c[name] = float(rng.uniform(0.5, 0.95) if not camera else rng.uniform(0.5, 0.9))
+        elif name == "hand_start":
+            c[name] = {"ramp_s": float(rng.uniform(0.2, 0.5)), "hold_s": float(rng.choice([0.0, rng.uniform(0.1, 0.4)])),
+                       "from_fraction": float(rng.uniform(0.3, 0.8)), "record_from": float(rng.uniform(0.0, 0.15))}
+        elif name == "quantised":
+            c[name] = QUANTUM
+        elif name == "time_base":
+            c[name] = float(rng.uniform(0.001, 0.003))
+        elif name == "period":
+            c[name] = float(rng.uniform(0.02, 0.04) * rng.choice([-1, 1]))
+        else:
+            raise ValueError(f"unknown complication {name!r} (known: {', '.join(COMPLICATIONS)})")
+    return c
+
+
+def _pendulum_rig(rng):
+    rig = {"format": "vcb-rig/1", "experiment": "pendulum", "gravity": 9.81,
+           "shaft": {"radius": float(rng.uniform(0.015, 0.025))},
+           "pendulum": {"mass": float(rng.uniform(40, 60)), "inertia": float(rng.uniform(2.0, 3.0)),
+                        "com_distance": float(rng.uniform(0.19, 0.235)),
+                        "initial_angle": float(np.radians(rng.choice([10.0, 15.0]))), "initial_velocity": 0.0},
+           "friction": {}}
+    p = rig["pendulum"]
+    p["inertia"] = max(p["inertia"], 1.02 * p["mass"] * p["com_distance"] ** 2)
+    return rig
+
+
+def _cam_rig(rng, start):
+    return {"format": "vcb-rig/1", "experiment": "cam_drop", "gravity": 9.81,
+            "shaft": {"radius": float(rng.uniform(0.018, 0.025))},
+            "cam": {"mass": float(rng.uniform(4.0, 7.0)), "inertia_com": float(rng.uniform(0.045, 0.06)),
+                    "com_distance": float(rng.uniform(0.02, 0.03)), "com_angle": float(rng.uniform(0.1, 1.0)),
+                    "pivot": [0.4445, 0.0], "arm_length": float(rng.uniform(0.098, 0.106)),
+                    "initial_angle": float(rng.uniform(0.14, 0.23)), "initial_velocity": 0.0},
+            "closing_spring": {"count": 2, "stiffness": 24230.0, "mass": float(rng.uniform(0.9, 1.15)),
+                               "free_length": 0.3, "anchor": [0.0, 0.0]},
+            "friction": {}}
+
+
+def position_dependent_pendulum(p, gravity, radius, friction, amplitude, wavelength, phase, t_eval):
+    """A pendulum whose journal friction depends on the shaft angle (no registered effect):
+    T_f = mu_k (1 + a sin(2 pi theta / lambda + phase)) r F_n sign(w) + Cv w, static friction 1.5x
+    that; sticking by events (stuck for good once static friction holds the weight's torque).
+    The reaction uses eq. 5-6 with the frictionless acceleration (the coupling is second order)."""
+    M, I, L, g = p["mass"], p["inertia"], p["com_distance"], gravity
+    mu_k, cv = friction["mu_k"], friction.get("viscous", 0.0)
+
+    def mu(th):
+        return mu_k * (1 + amplitude * math.sin(2 * math.pi * th / wavelength + phase))
+
+    def reaction(th, w):
+        acc = -M * g * L * math.sin(th) / I
+        return M * math.hypot(g * math.cos(th) + L * w * w, g * math.sin(th) + L * acc)
+
+    def rhs(s):
+        def f(t, y):
+            th, w = y
+            tf = mu(th) * radius * reaction(th, w) * s + cv * w
+            return [w, (-M * g * L * math.sin(th) - tf) / I]
+        return f
+
+    def zero(t, y):
+        return y[1]
+    zero.terminal = True
+
+    t_eval = np.asarray(t_eval, float)
+    theta = np.full(t_eval.size, np.nan)
+    t0, y0 = 0.0, [p["initial_angle"], 0.0]
+    while True:
+        th = y0[0]
+        torque = -M * g * L * math.sin(th)
+        if abs(y0[1]) < 1e-12 and abs(torque) <= 1.5 * mu(th) * radius * reaction(th, 0.0):
+            theta[t_eval >= t0 - 1e-12] = np.where(np.isnan(theta[t_eval >= t0 - 1e-12]), th,
+                                                   theta[t_eval >= t0 - 1e-12])
+            break
+        s = math.copysign(1.0, y0[1]) if abs(y0[1]) > 1e-12 else math.copysign(1.0, torque)
+        zero.direction = -s
+        sol = solve_ivp(rhs(s), (t0, t_eval[-1] + 1e-9), y0, method="DOP853", rtol=1e-10, atol=1e-12,
+                        events=zero, dense_output=True)
+        t1 = sol.t[-1]
+        sel = (t_eval >= t0 - 1e-12) & (t_eval <= t1 + 1e-12)
+        theta[sel] = sol.sol(t_eval[sel])[0]
+        if t1 >= t_eval[-1] or not sol.t_events[0].size:
+            break
+        t0, y0 = t1, [float(sol.y[0, -1]), 0.0]
+    return theta
+
+
+def _noise(rng, n, sigma, phi):
+    u = rng.normal(0.0, sigma * math.sqrt(1 - phi**2), n)
+    e = np.empty(n)
+    e[0] = rng.normal(0.0, sigma)
+    for i in range(1, n):
+        e[i] = phi * e[i - 1] + u[i]
+    return e
+
+
+def realistic_record(case, seed, folder, complications=(), t_end=None, values=None):
+    """A rig file and a realistic record for hidden-effect ``case`` (:data:`HIDDEN`) with the
+    listed ``complications`` (:data:`COMPLICATIONS`; random values from the seed, or ``values``
+    name -> value). Returns (rig path, record path, truth dict)."""
+    rng = np.random.default_rng(seed)
+    experiment, start, truth_effects = HIDDEN[case]
+    rec = experiment_of(experiment)
+    folder = Path(folder)
+    drawn = _draw_complications(experiment, rng, complications)
+    drawn.update(values or {})
+    friction = {"mu_k": float(rng.uniform(0.09, 0.16)), "stick_velocity": 1e-3,
+                "stribeck_velocity": float(rng.uniform(0.09, 0.15))}
+    friction["mu_s"] = friction["mu_k"] * float(rng.uniform(1.8, 2.0))
+    if experiment == "pendulum":
+        friction["viscous"] = float(rng.uniform(0.5, 0.75))
+        rig = _pendulum_rig(rng)
+        t_end = t_end or 6.0
+    else:
+        friction["viscous"] = float(rng.uniform(0.03, 0.08))
+        rig = _cam_rig(rng, start)
+        if "coulomb_friction" in start:
+            rig["friction"] = {"mu_k": friction["mu_k"], "stick_velocity": 1e-3}
+        t_end = t_end or 0.035
+    rig["model"] = {"effects": list(start), "spring_model": "massless"}
+    rig["name"] = f"{case}-{seed}" + ("+" + "+".join(complications) if complications else "")
+    # the truth: the rig as it really is
+    truth_rig = copy.deepcopy(rig)
+    section = "pendulum" if experiment == "pendulum" else "cam"
+    truth_rig[section]["initial_angle"] += drawn.get("initial_angle", 0.0)
+    if "period" in drawn:  # the rig file's inertia is nominal: the true period differs by the factor
+        truth_rig["pendulum"]["inertia"] = rig["pendulum"]["inertia"] * (1 + drawn["period"]) ** 2
+    dt = 1.0 / rec.sample_rate
+    pre = drawn.get("pre_trigger", 0.0)
+    hand = drawn.get("hand_start")
+    lead = pre
+    if hand:
+        lead = hand["ramp_s"] + hand["hold_s"] - hand["record_from"]
+    n = int(round((t_end + lead) / dt)) + 1
+    t_rec = np.arange(n) * dt
+    clock = drawn.get("time_base", 0.0)
+    t_true = t_rec * (1 + clock) + (rng.normal(0.0, 2e-5, n) if clock else 0.0)
+    tau = t_true - lead  # model time
+    tau_grid = np.arange(int(math.ceil((tau[-1] + 2 * dt) / dt)) + 1) * dt
+    model_effects = tuple(e for e in truth_effects if e != "position_dependent_friction")
+    truth_values = {k: v for k, v in friction.items()}
+    trig = rig_from_data(truth_rig, str(folder / "truth.rig.json"))
+    spring = None
+    if "position_dependent_friction" in truth_effects:
+        defect = {"amplitude": 0.5, "wavelength": float(rng.uniform(0.05, 0.09)), "phase": float(rng.uniform(0, 6.28))}
+        fr = {"mu_k": friction["mu_k"], "viscous": friction["viscous"] if "viscous_friction" in truth_effects else 0.0}
+        theta = position_dependent_pendulum(truth_rig["pendulum"], truth_rig["gravity"], truth_rig["shaft"]["radius"],
+                                            fr, defect["amplitude"], defect["wavelength"], defect["phase"], tau_grid)
+        drawn["defect"] = defect
+    elif "spring_mass" in truth_effects:
+        spring = "lumped-20:uniform"
+        theta = simulate(trig, model_effects, truth_values, spring_model=spring, sample_times=tau_grid).measured
+    else:
+        theta = simulate(trig, model_effects, truth_values, sample_times=tau_grid, backend="reference").measured
+    y = np.interp(np.clip(tau, 0.0, None), tau_grid, theta)
+    if hand:  # a hand brings the pendulum from a smaller angle to the release angle and holds it
+        th0 = truth_rig["pendulum"]["initial_angle"]
+        start_angle = hand["from_fraction"] * th0
+        before = tau < 0
+        s = np.clip((tau[before] + hand["ramp_s"] + hand["hold_s"]) / hand["ramp_s"], 0.0, 1.0)
+        y[before] = start_angle + (th0 - start_angle) * (10 * s**3 - 15 * s**4 + 6 * s**5)
+        y[before] += 2e-4 * np.sin(2 * math.pi * 7.0 * tau[before])  # hand tremor
+    y = drawn.get("gain", 1.0) * y + drawn.get("offset", 0.0)
+    sigma = rec.noise_sigma
+    if "quantised" in drawn:
+        y = np.round(y / drawn["quantised"]) * drawn["quantised"]
+        sigma_used = drawn["quantised"] / math.sqrt(12)
+    else:
+        y = y + _noise(rng, n, sigma, drawn.get("correlated", 0.0))
+        sigma_used = sigma
+    rig_path = folder / f"{rig['name']}.rig.json"
+    rig_path.write_text(json.dumps(rig, indent=2) + "\n")
+    meas_path = folder / f"{rig['name']}.csv"
+    meas = Measurement(str(meas_path), t_rec, {rec.measured_channel: y},
+                       (f"SYNTHETIC (realistic): case {case}, seed {seed}, complications "
+                        f"{json.dumps(drawn, default=float)}",))
+    write_measurement(meas, meas_path)
+    truth = {"case": case, "answer": hidden_answer(case), "truth_effects": list(truth_effects),
+             "truth_friction": friction, "truth_spring_model": spring or "massless", "complications": drawn,
+             "release_time": lead, "noise_sigma": sigma_used, "registered": "position_dependent_friction" not in truth_effects}
+    return rig_path, meas_path, truth
