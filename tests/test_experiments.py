@@ -49,7 +49,7 @@ OSCILLATOR = Experiment(
     default_duration=0.5, max_duration=10.0, build=build_oscillator,
     channels=lambda data, rig, spec, info: {"oscillator_position": data["angle"][:, 1],
                                             "oscillator_velocity": data["velocity"][:, 1]},
-    step=lambda rig, law: 1e-4,
+    step=lambda rig: 1e-4,
     figures_of_merit=lambda result, rig: {"peak_speed_m_s": float(np.max(np.abs(result.channels["oscillator_velocity"])))})
 
 
