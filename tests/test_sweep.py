@@ -234,3 +234,16 @@ def test_every_experiment_gives_its_figures_of_merit(data):
     df = S.sweep(copy.deepcopy(data), ["cam.initial_velocity=0:0:1"], workers=1, verbose=False)
     assert list(df.columns) == ["run", "cam.initial_velocity", *S.FIGURES[data["experiment"]], "status"]
     assert df.status[0] == "ok" and df[list(S.FIGURES[data["experiment"]])].notna().all(axis=None)
+
+
+def test_the_pool_works_from_a_script_without_a_main_guard(tmp_path):
+    import subprocess
+    import sys
+
+    script = tmp_path / "plain.py"
+    script.write_text("from vcbmodel import parameters as P\nfrom vcbmodel.analysis.sweep import sweep\n"
+                      "d = dict(P.REFERENCE_PENDULUM, friction=dict(P.REFERENCE_PENDULUM_TRUTH))\n"
+                      "t = sweep(d, ['friction.mu_k=0.1:0.15:2'], workers=2, t_end=0.5, verbose=False)\n"
+                      "print(list(t.status))\n")
+    p = subprocess.run([sys.executable, str(script)], capture_output=True, text=True, timeout=120)
+    assert p.returncode == 0 and p.stdout.strip() == "['ok', 'ok']", p.stderr[-1500:]

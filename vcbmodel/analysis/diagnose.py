@@ -54,6 +54,12 @@ BIC_MARGIN = 10.0
 #: that small is "significant" by BIC, and an extra parameter can absorb part of it. An effect must
 #: explain five times more.
 MIN_VARIANCE_GAIN = 0.02
+#: Time budget of one diagnosis (s on its processes: processor seconds of this process and the
+#: simulation workers divided by their number, so that a machine shared with other work does
+#: not cut the search short). Past 80 % of it no new fit starts; at the budget the running fits
+#: stop and the diagnosis reports what it has (``timing.budget_reached``). Four times the budget
+#: in wall time stops it in any case.
+TIME_BUDGET = 50.0
 #: A period mismatch is reported when the record's swing period differs from the model's by
 #: more than this fraction (and by more than 4 standard errors).
 PERIOD_TOLERANCE = 0.002
@@ -72,7 +78,7 @@ class Candidate:
         return {"effect": self.effect, "round": self.round, "delta_bic": round(self.delta_bic, 2),
                 "bic": round(r.bic_with(noise) if noise is not None else r.bic, 2), "rms": r.rms,
                 "lag1_autocorrelation": round(lag1_autocorrelation(r.residuals[0]), 4),
-                "spring_model": r.spring_model_label, "parameters": _rounded(r.model_values),
+                "spring_model": r.spring_model_label, "parameters": _rounded(r.model_values), "simulations": r.nfev,
                 **({"variants": self.variants} if self.variants else {})}
 
 
@@ -197,6 +203,8 @@ class Context:
         if len(chans) > 1:
             from ..records.analyser import channel_setup
             channel_setup(rig, self.setup, chans, self.channel_sigma)
+        if rig.experiment == "vcb_closing" and "release_time" not in self.setup.pinned:
+            self._release_from_model(measurement, y)
         self.dataset = Dataset(rig, measurement, self.setup, chans)
         windowed = measurement.window(self.setup.window[0], self.setup.window[1])
         self.guesses = self.record.start_guesses(rig, windowed)
@@ -204,8 +212,37 @@ class Context:
         self.implied = {}  # uncertain values the diagnosis added itself (a period mismatch)
         self.coarse_step = 2 * self.record.step(rig) if rig.experiment == "pendulum" else None
         self.stop = threading.Event()
+        self.spring_final = None  # the spring model the final model is refined with (ANCF)
+        self.budget = math.inf
+        self.skipped = []  # fits not started for the time budget
         self.fits = 0
         self.started = time.monotonic()
+
+    def used(self):
+        """Time used against the budget: processor seconds per process (see TIME_BUDGET)."""
+        return (self.pool.cpu_seconds() - self.cpu0) / max(1, self.processes)
+
+    def over(self, fraction=0.8):
+        """Past ``fraction`` of the time budget (no new fit should start)?"""
+        return (self.stop.is_set() or self.used() > fraction * self.budget
+                or time.monotonic() - self.started > 4 * fraction * self.budget)
+
+    def _release_from_model(self, measurement, y):
+        """The follower of a closing stays at rest until the cam's rise reaches the roller: place
+        the release by the starting model's own delay (one simulation)."""
+        t = measurement.t
+        dt = float(np.median(np.diff(t)))
+        grid = np.arange(int(math.ceil((t[-1] - t[0]) / dt)) + 1) * dt
+        values = dict(self.record.start_guesses(self.rig, measurement)[0])
+        params = make_parameters(self.rig, self.rig.model.effects, initial=values)
+        job = fitting.SimJob(self.rig, tuple(self.rig.model.effects),
+                             tuple(sorted((k, p.value) for k, p in params.items())), self.rig.model.spring_model,
+                             (dt, grid.size - 1), (self.record.measured_channel,), None, None,
+                             fitting.user_function_for(self.rig))
+        res = self.pool.run([job])[0]
+        if not isinstance(res, Exception):
+            from .nuisance import release_from_model
+            release_from_model(self.setup, t, y, res["t"], res[self.record.measured_channel], self.sigma_hf)
 
     def scales(self):
         """Weights of the residual channels: each channel's high-frequency noise level (the
@@ -314,9 +351,39 @@ def _candidate_jobs(rig, measurement, baseline, guesses, sigma):
     return jobs
 
 
+#: Values at which a parameter's effect vanishes (the candidate then equals the model it was
+#: added to): a candidate fit is never returned worse than that nested point.
+NULL_VALUES = {"mu_k": 0.0, "mu_s": 0.0, "viscous": 0.0, "restitution": 1.0, "bellows_force": 0.0,
+               "stribeck_velocity": None}  # None: any value (no effect once mu_s is null)
+
+
+def _nested(ctx, current, effects, fit):
+    """``fit``, or the current model with the new effects at their null values when that is
+    better (a fit of a non-smooth cost can end worse than the model it extends)."""
+    if fit is not None and fit.chi2 <= current.chi2:
+        return fit
+    params = dict(fit.parameters) if fit is not None else ctx.parameters(effects, current.values)
+    new = {k: p for k, p in params.items() if k not in current.parameters}
+    if any(p.vary and k not in NULL_VALUES for k, p in new.items()):
+        return fit
+    out = replace(current, effects=tuple(effects), parameters={**{k: replace(p) for k, p in current.parameters.items()},
+                                                               **{k: replace(p, value=p.value if NULL_VALUES.get(k) is None
+                                                                             else NULL_VALUES[k], stderr=None)
+                                                                  for k, p in new.items()}})
+    out.label = "nested (new effect at its null value)"
+    return out
+
+
 def _fit_candidate(ctx, current, name, effects, variants, scan):
-    """The best fit of ``current`` + effect ``name``; for spring_mass the best spring variant.
+    """The best fit of ``current`` + effect(s) ``name``; for spring_mass the best spring variant.
     Returns (FitResult, variants summary or None)."""
+    fit, summary = _fit_candidate_raw(ctx, current, name, effects, variants, scan)
+    if not variants:
+        fit = _nested(ctx, current, effects, fit)
+    return fit, summary
+
+
+def _fit_candidate_raw(ctx, current, name, effects, variants, scan):
     initial = dict(ctx.guesses[0])
     initial.update(current.model_values)
     # the nuisance starts afresh from the record (the current fit's may have bent to mimic the
@@ -324,28 +391,42 @@ def _fit_candidate(ctx, current, name, effects, variants, scan):
     previous = dict(current.model_values)
     if not variants:
         params = ctx.parameters(effects, previous, initial)
-        return ctx.fit(effects, current.spring_model, params, f"+{name}", starts=[dict(current.values)],
-                       scan=scan), None
+        return ctx.fit(effects, current.spring_model, params, f"+{name}", scan=scan), None
     return _fit_spring_variants(ctx, current, effects, variants, previous, initial)
 
 
+def _pair_jobs(rig, current, singles):
+    """Two effects at once, for when no single one earns the evidence (each alone may fit worse
+    than neither: Stribeck friction without the viscous term it shares the decay with). The
+    spring's mass is left out of pairs (its variants are a search of their own)."""
+    names = [name for name, _, _ in singles if name != "spring_mass"]
+    given = rig_values(rig)
+    jobs = []
+    for a_i in range(len(names)):
+        for b_i in range(a_i + 1, len(names)):
+            pair = (names[a_i], names[b_i])
+            effects = tuple(e for e in EFFECTS if e in current.effects or e in pair)
+            new = [p for e in pair for p in EFFECTS[e].parameters if p.vary and p.name not in given]
+            scan = {p.name: p.scan for p in new if p.scan}
+            if len(scan) > 2:  # keep the grid small: the two most influential
+                scan = dict(list(scan.items())[:2])
+            jobs.append(("+".join(pair), (effects, (), scan), len(new)))
+    return jobs
+
+
 def _fit_spring_variants(ctx, current, effects, variants, previous, initial):
-    """Adding the spring's mass is a discrete choice among mass models. The lumped chains are
-    first simulated at the current values (one simulation each, in parallel) and the best is
-    fitted. If it leaves more than the noise, the next chain and the ANCF continuum are refined
-    from its values with its Jacobian (one simulation per step: the ANCF spring costs five to
-    twenty lumped ones)."""
+    """Adding the spring's mass is a discrete choice among mass models. Every model is first
+    simulated at the current values (one simulation each, all at once on the pool; alignment
+    refitted without simulating); the best is fitted. If it leaves more than the noise, the
+    runner-up is refined from its values with its Jacobian (one simulation per step: the ANCF
+    spring costs five to ten lumped ones)."""
     params = ctx.parameters(effects, previous, initial)
     ds = [ctx.dataset]
     vals = {p.name: p.value for p in params.values()}
-    lumped = [v for v in variants if v.kind == "lumped"]
-    others = [v for v in variants if v.kind != "lumped"]
+    objs = [fitting._Objective(ds, effects, v, params, ctx.pool, ctx.scales()) for v in variants]
+    results = ctx.pool.run([o._job(vals, 0) for o in objs])
     costs = []
-    jobs = [fitting._Objective(ds, effects, v, params, ctx.pool, ctx.scales()) for v in lumped]
-    # one batch on the pool: every chain at the current values
-    batch = [o._job(vals, 0) for o in jobs]
-    results = ctx.pool.run(batch)
-    for o, res in zip(jobs, results):
+    for o, res in zip(objs, results):
         if isinstance(res, Exception):
             costs.append(math.inf)
             continue
@@ -353,15 +434,17 @@ def _fit_spring_variants(ctx, current, effects, variants, previous, initial):
         aligned = o.align(vals, [cur])
         r = np.concatenate(o.residual_parts(aligned, [cur]))
         costs.append(float(np.dot(r, r)))
-    order = sorted(range(len(lumped)), key=lambda i: costs[i])
+    order = sorted(range(len(variants)), key=lambda i: costs[i])
     fits = {}
-    first = lumped[order[0]]
+    first = variants[order[0]]
     fits[first.label] = ctx.fit(effects, first, ctx.parameters(effects, previous, initial),
                                 f"+spring_mass [{first.label}]", starts=[dict(current.values)])
     best = fits[first.label]
     if not _consistent(ctx, best):
         hint = fitting.jacobian_of(best)
-        for v in [lumped[i] for i in order[1:2]] + others:
+        runners = [variants[i] for i in order[1:3] if math.isfinite(costs[i])]
+        runners += [v for v in variants if v.kind == "ancf" and v not in runners and v is not first]
+        for v in runners:
             p2 = {k: replace(p, stderr=None) for k, p in best.parameters.items()}
             try:
                 fits[v.label] = fitting.refine(ds, effects, v, p2, hint, pool=ctx.pool, scales=ctx.scales(),
@@ -369,11 +452,14 @@ def _fit_spring_variants(ctx, current, effects, variants, previous, initial):
             except fitting.SimulationError:
                 continue
     chosen = min(fits.values(), key=lambda f: f.chi2)
-    summary = [{"spring_model": v.label, "rms_at_start": (math.sqrt(c / max(1, ctx.dataset.mask().sum())) *
-                                                          ctx.sigma_hf if math.isfinite(c) else None),
-                "rms_fitted": fits[v.label].rms if v.label in fits else None}
-               for v, c in zip(lumped, costs)] + [
-        {"spring_model": v.label, "rms_fitted": fits[v.label].rms if v.label in fits else None} for v in others]
+    lumped = [f for f in fits.values() if f.spring_model.kind == "lumped"]
+    if chosen.spring_model.kind != "lumped" and lumped:
+        # a cheap stand-in for fitting further effects on top of this spring (refined at the end)
+        chosen.stand_in = min(lumped, key=lambda f: f.chi2)
+    n = max(1, int(ctx.dataset.mask().sum()))
+    summary = [{"spring_model": v.label, "rms_at_current_values": math.sqrt(c / n) * ctx.sigma_hf
+                if math.isfinite(c) else None, "rms_fitted": fits[v.label].rms if v.label in fits else None}
+               for v, c in zip(variants, costs)]
     return chosen, summary
 
 
@@ -401,6 +487,9 @@ def _run_candidates(ctx, current, jobs, round_no):
         while pending or running:
             while pending and len(running) < threads:
                 i = pending.pop(0)
+                if ctx.over():
+                    ctx.skipped.append(jobs[i][0])
+                    continue
                 if not pruned(i):
                     running[ex.submit(run, i)] = i
             if not running:
@@ -424,6 +513,15 @@ def _run_candidates(ctx, current, jobs, round_no):
                         f"about {per * left / max(1, min(threads, left or 1)):.0f} s left in this round, "
                         f"{time.monotonic() - ctx.started:.0f} s so far")
     return results, variants
+
+
+def _variance_gain(ctx, current, fit):
+    """The share of the noise variance a candidate removes from the residual: the drop of the
+    white chi^2 (every fitted channel) per sample of the measured channel."""
+    def white(f):
+        return (float(sum(np.sum(r**2) for r in f.residuals)) / ctx.sigma_hf**2
+                + float(sum(np.sum(r**2) for r in f.extra_residuals.values())))
+    return (white(current) - white(fit)) / max(1, current.n_data)
 
 
 def _consistent(ctx, fit):
@@ -478,12 +576,28 @@ def _period_fields_fitted(ctx):
 
 # --- the workflow ----------------------------------------------------------------------------------
 
-def diagnose(rig, measurement, processes=2, verbose=True) -> Diagnosis:
-    """Run the workflow of the module docstring on one record."""
+def diagnose(rig, measurement, processes=2, verbose=True, time_budget=TIME_BUDGET) -> Diagnosis:
+    """Run the workflow of the module docstring on one record (within ``time_budget`` s)."""
     started = time.monotonic()
     with SimulationPool(processes) as pool:
         ctx = Context(rig, measurement, pool, verbose, processes)
-        return _diagnose(ctx, started)
+        ctx.started = started
+        ctx.budget = time_budget
+        ctx.cpu0 = pool.cpu_seconds()
+        done = threading.Event()
+
+        def watch():
+            while not done.wait(0.5):
+                if ctx.used() > time_budget or time.monotonic() - started > 4 * time_budget:
+                    ctx.stop.set()
+                    return
+
+        watcher = threading.Thread(target=watch, daemon=True)
+        watcher.start()
+        try:
+            return _diagnose(ctx, started)
+        finally:
+            done.set()
 
 
 def _diagnose(ctx, started):
@@ -510,10 +624,12 @@ def _diagnose(ctx, started):
             f"high-frequency noise); {time.monotonic() - started:.0f} s")
     all_fits = [baseline]
     candidates, stopped_all, path = [], set(), []
+    round_ref = {}
     current = baseline
     round_no = 0
     while True:
         round_no += 1
+        round_ref[round_no] = current
         jobs = _candidate_jobs(rig, ctx.measurement, current, ctx.guesses, ctx.sigma_hf)
         if not jobs:
             break
@@ -533,28 +649,64 @@ def _diagnose(ctx, started):
             c.delta_bic = current.bic_with(ctx.noise) - c.fit.bic_with(ctx.noise)
         candidates.extend(round_cands)
         best = max(round_cands, key=lambda c: c.delta_bic)
-        gain = (current.rms**2 - best.fit.rms**2) / ctx.sigma_hf**2
+        gain = _variance_gain(ctx, current, best.fit)
+        if (best.delta_bic <= BIC_MARGIN or gain < MIN_VARIANCE_GAIN) and not _consistent(ctx, current) \
+                and not ctx.over():
+            pairs = _pair_jobs(rig, current, jobs)
+            if pairs:
+                ctx.say(f"round {round_no}: no single effect earns the evidence and the model leaves more than the "
+                        f"noise: trying {len(pairs)} pair(s): {', '.join(j[0] for j in pairs)}")
+                pfits, _ = _run_candidates(ctx, current, pairs, round_no)
+                for (name, _, _), f in zip(pairs, pfits):
+                    if f is not None:
+                        all_fits.append(f)
+                        c = Candidate(name, f, 0.0, round_no)
+                        round_cands.append(c)
+                        candidates.append(c)
+                ctx.noise = _noise_of_best(ctx, all_fits)
+                for c in round_cands:
+                    c.delta_bic = current.bic_with(ctx.noise) - c.fit.bic_with(ctx.noise)
+                best = max(round_cands, key=lambda c: c.delta_bic)
+                gain = _variance_gain(ctx, current, best.fit)
         if best.delta_bic <= BIC_MARGIN or gain < MIN_VARIANCE_GAIN:
             break
-        path.append({"effect": best.effect, "delta_bic": best.delta_bic, "rms": best.fit.rms,
-                     "spring_model": best.fit.spring_model_label})
+        for effect in best.effect.split("+"):
+            path.append({"effect": effect, "round": round_no, "delta_bic": best.delta_bic, "rms": best.fit.rms,
+                         "spring_model": best.fit.spring_model_label,
+                         "with": best.effect if "+" in best.effect else None, "_before": current, "_fit": best.fit})
         current = best.fit
+        stand_in = getattr(best.fit, "stand_in", None)
+        if stand_in is not None:
+            # further effects are searched on the best lumped chain (an ANCF spring costs five to
+            # ten times as much); the final model is refined with the continuum at the end
+            ctx.spring_final = best.fit.spring_model
+            ctx.say(f"round {round_no}: further effects are fitted with {stand_in.spring_model_label} standing in "
+                    f"for {best.fit.spring_model_label}")
+            current = stand_in
         ctx.say(f"round {round_no}: {best.effect} kept (delta BIC {best.delta_bic:.0f}); rms {current.rms:.3g} "
                 f"{rec.unit}; {time.monotonic() - started:.0f} s")
         if _consistent(ctx, current):
             break
+        if ctx.over():
+            ctx.skipped.append(f"round {round_no + 1} (time budget)")
+            break
+    current, backward = _backward(ctx, current, path, all_fits)
+    if path and not ctx.over() and not _consistent(ctx, current):
+        current = _swap(ctx, current, path, all_fits, backward)
+    if ctx.spring_final is not None and "spring_mass" in current.effects and not ctx.stop.is_set():
+        current = _final_spring(ctx, current, path, all_fits)
     final = current
-    # the final noise model and the path re-scored with it
+    # the final noise model (from the best residual), every score re-computed with it
     ctx.noise = _noise_of_best(ctx, [final] + [f for f in all_fits if f.rms < final.rms])
-    missing = []
-    prev = baseline
+    missing = [step["effect"] for step in path]
     for step in path:
-        f = next(c.fit for c in candidates if c.effect == step["effect"] and c.fit.rms == step["rms"])
-        step["delta_bic_final_noise"] = prev.bic_with(ctx.noise) - f.bic_with(ctx.noise)
-        missing.append(step["effect"])
-        prev = f
+        step["delta_bic_final_noise"] = step["_before"].bic_with(ctx.noise) - step["_fit"].bic_with(ctx.noise)
+    for b in backward:
+        b["delta_bic_final_noise"] = b["_without"].bic_with(ctx.noise) - b["_with"].bic_with(ctx.noise)
     for c in candidates:
-        c.delta_bic = _delta_against(ctx, c, baseline, path, candidates)
+        c.delta_bic = round_ref[c.round].bic_with(ctx.noise) - c.fit.bic_with(ctx.noise)
+    selection = [{k: v for k, v in step.items() if not k.startswith("_")} for step in path] + [
+        {k: v for k, v in b.items() if not k.startswith("_")} for b in backward]
     verdict = _verdict(ctx, final)
     if period:
         verdict["period"] = period
@@ -562,23 +714,119 @@ def _diagnose(ctx, started):
     window = _window(ctx, baseline)
     signature = describe_signature(ctx, baseline, final)
     nuisance = _nuisance_report(ctx, final, period)
-    evidence = _evidence(ctx, baseline, final, missing, window, signature, verdict, period)
-    timing = {"seconds": time.monotonic() - started, "simulations": ctx.pool.simulations, "fits": ctx.fits}
+    evidence = _evidence(ctx, baseline, final, missing, window, signature, verdict, period, backward)
+    timing = {"seconds": time.monotonic() - started, "budget_used_s": ctx.used(),
+              "simulations": ctx.pool.simulations, "fits": ctx.fits,
+              "budget_s": ctx.budget, "budget_reached": bool(ctx.skipped or ctx.stop.is_set()),
+              "skipped": list(ctx.skipped)}
     ctx.say(f"missing effects: {', '.join(missing) or 'none'}; rms {baseline.rms:.3g} -> {final.rms:.3g} "
             f"{rec.unit}; explained: {verdict['explained']}; {timing['seconds']:.0f} s, "
             f"{timing['simulations']} simulations")
     return Diagnosis(rig, ctx.measurement, ctx.noise, baseline, candidates, missing, final, window, signature,
-                     evidence, stopped, verdict, nuisance, timing, path)
+                     evidence, stopped, verdict, nuisance, timing, selection)
 
 
-def _delta_against(ctx, c, baseline, path, candidates):
-    """A candidate's delta BIC against the model it was added to (its round's current model)."""
-    ref = baseline
-    for k, step in enumerate(path):
-        if k + 1 >= c.round:
-            break
-        ref = next(x.fit for x in candidates if x.effect == step["effect"] and x.fit.rms == step["rms"])
-    return ref.bic_with(ctx.noise) - c.fit.bic_with(ctx.noise)
+def _final_spring(ctx, current, path, all_fits):
+    """The selected effects with the spring model chosen for them (ANCF), refined from the
+    stand-in's values with its Jacobian; kept if it fits better."""
+    ctx.say(f"refining the final model with the {ctx.spring_final.label} spring")
+    p2 = {k: replace(p, stderr=None) for k, p in current.parameters.items()}
+    try:
+        fine = fitting.refine([ctx.dataset], current.effects, ctx.spring_final, p2, fitting.jacobian_of(current),
+                              pool=ctx.pool, scales=ctx.scales(), sigma=ctx.sigma_hf, stop=ctx.stop,
+                              label=f"final [{ctx.spring_final.label}]")
+    except (FitAborted, fitting.SimulationError):
+        return current
+    all_fits.append(fine)
+    if fine.chi2 >= current.chi2:
+        return current
+    for step in path:
+        if step["_fit"] is current:
+            step["_fit"] = fine
+    return fine
+
+
+def _refit(ctx, effects, spring, previous, label):
+    """A fit of ``effects`` from ``previous`` values."""
+    return ctx.fit(effects, spring, ctx.parameters(effects, previous), label)
+
+
+def _swap(ctx, current, path, all_fits, records):
+    """When the selected model still leaves more than the noise, an effect kept early may stand
+    in for another (in a cam drop, viscous friction mimics shaft friction plus the spring's
+    mass): each kept effect with parameters is replaced in turn by each applicable effect not in
+    the model; the best replacement is taken if it earns the margin."""
+    kept = [s["effect"] for s in path if EFFECTS[s["effect"]].parameters and not EFFECTS[s["effect"]].variants]
+    others = [name for name, e in EFFECTS.items() if name not in current.effects
+              and ctx.rig.experiment in e.experiments and e.parameters and not e.variants]
+    best = None
+    for old in kept:
+        for new in others:
+            if ctx.over():
+                ctx.skipped.append(f"swap {old} -> {new}")
+                continue
+            effects = tuple(e for e in EFFECTS if (e in current.effects and e != old) or e == new)
+            ctx.say(f"swap: {old} -> {new}")
+            try:
+                f = _refit(ctx, effects, current.spring_model, {k: v for k, v in current.values.items()},
+                           f"{old}->{new}")
+            except (FitAborted, fitting.SimulationError):
+                continue
+            all_fits.append(f)
+            noise = _noise_of_best(ctx, all_fits)
+            gain = current.bic_with(noise) - f.bic_with(noise)
+            records.append({"effect": old, "swap_for": new, "delta_bic": gain, "rms": f.rms, "_without": current,
+                            "_with": f, "dropped": False, "backward": False})
+            if gain > BIC_MARGIN and (best is None or gain > best[0]):
+                best = (gain, old, new, f)
+    if best is None:
+        return current
+    gain, old, new, f = best
+    ctx.say(f"swap: {old} replaced by {new} (whitened BIC lower by {gain:.0f})")
+    for step in path:
+        if step["effect"] == old:
+            step["effect"], step["swapped_from"] = new, old
+        step["_fit"] = f
+    records[-1]["dropped"] = True
+    return f
+
+
+def _backward(ctx, current, path, all_fits):
+    """Backward elimination after forward selection: an effect kept early may be superseded by
+    later ones (viscous friction stands in for shaft friction and spring mass together until
+    both are in). Each kept effect is removed in turn and the model refitted; if the others
+    explain the record as well (the effect no longer earns the margin), it is dropped.
+    Returns (model, records of the removals tried)."""
+    records = []
+    if len(path) < 2:
+        return current, records
+    for step in list(path):
+        if ctx.over():
+            ctx.skipped.append(f"backward elimination of {step['effect']}")
+            continue
+        effect = step["effect"]
+        effects = tuple(e for e in current.effects if e != effect)
+        spring = ctx.rig.model.spring_model if effect == "spring_mass" else current.spring_model
+        ctx.say(f"backward: refitting without {effect}")
+        try:
+            reduced = _refit(ctx, effects, spring, dict(current.values), f"-{effect}")
+        except (FitAborted, fitting.SimulationError):
+            continue
+        all_fits.append(reduced)
+        noise = _noise_of_best(ctx, all_fits)
+        evidence = reduced.bic_with(noise) - current.bic_with(noise)
+        gain = _variance_gain(ctx, reduced, current)
+        dropped = bool(evidence <= BIC_MARGIN or gain < MIN_VARIANCE_GAIN)
+        records.append({"effect": effect, "backward": True, "delta_bic_without": evidence, "rms_without": reduced.rms,
+                        "dropped": dropped, "_without": reduced, "_with": current})
+        ctx.say(f"backward: without {effect} the whitened BIC rises by {evidence:.0f} (rms {reduced.rms:.3g}): "
+                + ("dropped" if dropped else "kept"))
+        if dropped:
+            path.remove(step)
+            current = reduced
+            for other in path:  # the remaining steps lead to this model now
+                other["_fit"] = current
+    return current, records
 
 
 def _noise_of_best(ctx, fits):
@@ -664,7 +912,7 @@ def describe_signature(ctx, baseline, final=None):
     return sig
 
 
-def _evidence(ctx, baseline, final, missing, window, signature, verdict, period):
+def _evidence(ctx, baseline, final, missing, window, signature, verdict, period, backward=()):
     unit = ctx.record.unit
     sigma = ctx.noise.marginal_sd
     text = (f"The starting model leaves an rms residual of {baseline.rms:.3g} {unit}, "
@@ -690,6 +938,10 @@ def _evidence(ctx, baseline, final, missing, window, signature, verdict, period)
                  f"({final.rms / sigma:.2f}x the noise).")
     else:
         text += f" No candidate lowers the whitened BIC by more than {BIC_MARGIN:g}."
+    for b in backward:
+        if b["dropped"]:
+            text += (f" {b['effect']} was kept on the way but dropped at the end: with the others in, it earns only "
+                     f"{b['delta_bic_without']:.1f} in BIC.")
     if verdict["explained"]:
         text += " The final residual is consistent with the noise (white once whitened, at the record's level): explained."
     else:

@@ -361,6 +361,23 @@ class SimulationPool:
             return [self.pool.submit(run_job, jobs[0]).result()]
         return list(self.pool.map(run_job, jobs))
 
+    def cpu_seconds(self):
+        """Processor time (s) used so far by this process and the pool's workers (Linux /proc;
+        elsewhere this process only)."""
+        total = __import__("time").process_time()
+        if self.pool is None:
+            return total
+        import os
+        tick = os.sysconf("SC_CLK_TCK") if hasattr(os, "sysconf") else 100
+        for pid in list(getattr(self.pool, "_processes", {}) or {}):
+            try:
+                with open(f"/proc/{pid}/stat") as f:
+                    fields = f.read().rsplit(")", 1)[1].split()
+                total += (int(fields[11]) + int(fields[12])) / tick
+            except (OSError, IndexError, ValueError):
+                continue
+        return total
+
     def close(self):
         if self.pool is not None:
             self.pool.shutdown(cancel_futures=True)
@@ -509,12 +526,12 @@ class _Objective:
             mch = _model_channel(d, ch)
             if d.setup is None:
                 y = curves.data[mch] if full else curves.data[mch][self.masks[i]]
-                out[ch] = (t, _transform(d, ch, np.asarray(y)))
+                out[ch] = (t, _transform(d, ch, np.asarray(y), curves))
                 continue
             tr = vals.get(f"release_time_{i}", d.setup.release)
             tau = np.clip(t - tr, 0.0, curves.t[-1])
             y = curves.spline(mch)(tau)
-            y = _transform(d, ch, y)
+            y = _transform(d, ch, y, curves)
             g = vals.get(_gain_name(i, ch), 1.0) if _has_gain(d, ch) else 1.0
             c = vals.get(_offset_name(i, ch), 0.0) if _has_offset(d, ch) else 0.0
             pred = c + g * y
@@ -690,11 +707,12 @@ def _model_channel(dataset, ch):
     return ch
 
 
-def _transform(dataset, ch, y):
-    """Record channel from the simulation channel: travel from rest for pole travels, a
-    smooth contact indicator for pole contacts (1 closed)."""
+def _transform(dataset, ch, y, curves=None):
+    """Record channel from the simulation channel: travel from rest for pole travels (an
+    analyser measures from the open position), a smooth contact indicator for pole contacts
+    (1 closed: the pole's travel beyond its gap)."""
     if ch.startswith("pole_") and ch.endswith("_travel") and ch != dataset.measured_channel:
-        return y - _rest(dataset, ch)
+        return y - (curves.data[ch][0] if curves is not None else 0.0)
     if ch.startswith("pole_") and ch.endswith("_contact"):
         gap, width = _contact_gap(dataset, ch)
         return 0.5 * (1.0 + np.tanh((y - gap) / width))
@@ -708,11 +726,6 @@ def _transform_derivative(dataset, ch, spline, tau):
         y = spline(tau)
         return dy * 0.5 / width / np.cosh(np.clip((y - gap) / width, -50, 50)) ** 2
     return dy
-
-
-def _rest(dataset, ch):
-    """A pole's travel at rest in the model (the analyser measures travel from rest)."""
-    return dataset.setup.channel_rest.get(ch, 0.0) if dataset.setup is not None else 0.0
 
 
 def _contact_gap(dataset, ch):
@@ -740,7 +753,7 @@ def _gain_name(i, ch):
 
 def fit(datasets, effects, spring_model=None, params=None, *, method="least_squares", starts=None,
         sigma=None, verbose=True, label="", max_simulations=None, processes=2, pool=None, step=None,
-        scales=None, stop=None, max_iterations=None, chi2_tolerance=0.1, final_jacobian=True):
+        scales=None, stop=None, max_iterations=None, chi2_tolerance=0.1, final_jacobian=True, max_starts=1):
     """Fit the varied parameters to the datasets.
 
     ``starts``: list of dicts of starting values tried in turn (the best result is kept).
@@ -748,7 +761,8 @@ def fit(datasets, effects, spring_model=None, params=None, *, method="least_squa
     ``pool``: a :class:`SimulationPool` to run simulations on (default: one of ``processes``
     processes for this fit, when it would help). ``step``: integration step override (s).
     ``max_simulations``: budget of the simplex (default 150 per varied parameter).
-    Returns a :class:`FitResult`.
+    ``max_starts``: with several starts, all are simulated once (in parallel) and the optimiser
+    runs from the ``max_starts`` best. Returns a :class:`FitResult`.
     """
     datasets = list(datasets)
     rig0 = datasets[0].rig
@@ -763,14 +777,15 @@ def fit(datasets, effects, spring_model=None, params=None, *, method="least_squa
             own = pool = SimulationPool(processes)
     try:
         return _fit(datasets, effects, spring_model, params, method, starts, sigma, verbose, label,
-                    max_simulations, pool, step, scales, stop, max_iterations, chi2_tolerance, final_jacobian)
+                    max_simulations, pool, step, scales, stop, max_iterations, chi2_tolerance, final_jacobian,
+                    max_starts)
     finally:
         if own is not None:
             own.close()
 
 
 def _fit(datasets, effects, spring_model, params, method, starts, sigma, verbose, label, max_simulations, pool,
-         step, scales, stop, max_iterations, chi2_tolerance, final_jacobian):
+         step, scales, stop, max_iterations, chi2_tolerance, final_jacobian, max_starts=1):
     if scales is None:
         scales = {(i, ch): sigma for i, d in enumerate(datasets) for ch in d.fitted_channels}
     obj = _Objective(datasets, effects, spring_model, params, pool, scales, step, stop)
@@ -783,8 +798,11 @@ def _fit(datasets, effects, spring_model, params, method, starts, sigma, verbose
             start_points.append(np.array([p.to_internal(float(np.clip(s.get(p.name, p.value), p.min, p.max)))
                                           for p in varied]))
         lo, hi = obj.bounds()
+        start_points = [np.clip(x0, lo + 1e-9 * np.minimum(hi - lo, 1e9), hi - 1e-9 * np.minimum(hi - lo, 1e9))
+                        for x0 in start_points]
+        if len(start_points) > 1 and method != "nelder-mead":
+            start_points = _rank_starts(obj, start_points)[:max_starts]
         for k, x0 in enumerate(start_points):
-            x0 = np.clip(x0, lo + 1e-9 * np.minimum(hi - lo, 1e9), hi - 1e-9 * np.minimum(hi - lo, 1e9))
             x0 = obj.aligned(x0)
             if method == "nelder-mead":
                 span = np.where(np.isfinite(hi - lo), hi - lo, 1.0)
@@ -846,17 +864,14 @@ def levenberg_marquardt(obj, x0, lo, hi, max_iterations, chi2_tolerance=0.1, fin
         # current cost: far from the optimum a small predicted gain means a poor linear model
         tolerance = max(chi2_tolerance, RELATIVE_TOLERANCE * min(cost, r.size))
         for attempt in range(6):
-            step = np.zeros_like(x)
-            if free.any():
-                A = H[np.ix_(free, free)] + lam * np.diag(d[free])
-                try:
-                    step[free] = np.linalg.solve(A, -g[free])
-                except np.linalg.LinAlgError:
-                    step[free] = -g[free] / (d[free] * (1 + lam))
+            step = _bounded_step(H, g, d, lam, x, lo, hi, free)
             x_new = np.clip(x + step, lo, hi)
             step = x_new - x
             predicted = -(2 * g @ step + step @ H @ step)
             if predicted < tolerance:
+                if predicted < -1e-9 * max(cost, 1.0):  # not a descent step (bounds): damp more
+                    lam *= 10.0
+                    continue
                 return x, cost, J, True, f"converged (predicted chi2 change {predicted:.2g}) after {it} iterations"
             r_new = obj.residual(x_new)
             cost_new = float(np.dot(r_new, r_new))
@@ -881,6 +896,43 @@ def levenberg_marquardt(obj, x0, lo, hi, max_iterations, chi2_tolerance=0.1, fin
         if gain < tolerance:
             return x, cost, J, True, f"converged (chi2 change {gain:.2g}) after {it + 1} iterations"
     return x, cost, J, True, f"at the iteration limit ({max_iterations})"
+
+
+def _bounded_step(H, g, d, lam, x, lo, hi, free):
+    """The damped Gauss-Newton step with parameters that would cross a bound held at it (the
+    step solved again for the others: an active set)."""
+    free = free.copy()
+    step = np.zeros_like(x)
+    for _ in range(x.size + 1):
+        step[:] = 0.0
+        if not free.any():
+            break
+        A = H[np.ix_(free, free)] + lam * np.diag(d[free])
+        # parameters already held at a bound contribute their move to it
+        try:
+            step[free] = np.linalg.solve(A, -g[free])
+        except np.linalg.LinAlgError:
+            step[free] = -g[free] / (d[free] * (1 + lam))
+        out = free & ((x + step < lo) | (x + step > hi))
+        if not out.any():
+            break
+        free &= ~out
+    return step
+
+
+def _rank_starts(obj, points):
+    """Start points ordered by their cost (all simulated at once on the pool, alignment fitted
+    for each): the optimiser then runs from the best only."""
+    vals = [obj.values(x) for x in points]
+    curves = obj.curves(vals)
+    scored = []
+    for x, v, cur in zip(points, vals, curves):
+        v = obj.align(v, cur)
+        r = np.concatenate(obj.residual_parts(v, cur))
+        xa = np.array([p.to_internal(v[p.name]) if not p.simulated else xi for p, xi in zip(obj.varied, x)])
+        scored.append((float(np.dot(r, r)), xa))
+    scored.sort(key=lambda c: c[0])
+    return [x for _, x in scored]
 
 
 def _rms_of_cost(obj, x):
@@ -991,7 +1043,7 @@ def truncated(dataset, t_max):
     return replace(dataset, measurement=sub)
 
 
-def scan_starts(datasets, effects, spring_model, params, grid, keep=2, pool=None, scales=None, step=None):
+def scan_starts(datasets, effects, spring_model, params, grid, keep=1, pool=None, scales=None, step=None):
     """Evaluate the cost on a coarse grid (dict name -> values) with the other parameters
     at their current values (all grid points simulated at once, on the pool); return the
     ``keep`` best grid points as start dicts."""
@@ -1001,6 +1053,7 @@ def scan_starts(datasets, effects, spring_model, params, grid, keep=2, pool=None
     combos = [dict(zip(names, c)) for c in itertools.product(*(grid[n] for n in names))]
     if not combos:
         return []
+    combos.append({n: params[n].value for n in names})  # the parameters' own starting values
     vals_list = []
     for start in combos:
         vals = {p.name: p.value for p in params.values()}

@@ -155,7 +155,9 @@ def record_setup(rig, measurement, sigma) -> RecordSetup:
     onset, level, still = motion_onset(t, y, sigma)
     hand = False
     if rig.experiment == "pendulum":
-        window_start, release, level, hand = _pendulum_start(t, y, sigma, onset, level, still, notes)
+        p = rig.pendulum
+        accel = p.mass * rig.gravity * p.com_distance * abs(math.sin(p.initial_angle)) / p.inertia
+        window_start, release, level, hand = _pendulum_start(t, y, sigma, onset, level, still, notes, accel)
         offset = _swing_centre(t, y, release, sigma)
     else:
         window_start = float(t[0])
@@ -193,48 +195,50 @@ def record_setup(rig, measurement, sigma) -> RecordSetup:
                        float(level), notes)
 
 
-def _pendulum_start(t, y, sigma, onset, level, still, notes):
-    """(window start, release estimate, reading at release, hand start?) of a free swing."""
-    # the free swing: extremes whose half periods are regular
-    tp, _, vals = swing_peaks(t, y, signed=True)
-    if still and (tp.size == 0 or tp[0] <= t[onset] + 1e-9 or onset < y.size // 2):
-        j = _departure_end(t, y, level, onset, sigma)
-        release = _parabola_release(t, y, level, sigma, float(t[max(0, onset - 200)]), float(t[max(j, 3)]))
-        if onset > 8:
+def _pendulum_start(t, y, sigma, onset, level, still, notes, accel):
+    """(window start, release estimate, reading at release, hand start?) of a free swing.
+
+    A pendulum released from rest first moves towards the swing's centre; a hand that brings it
+    to the release angle moves it away from the centre (or the record starts while it does).
+    So: if the first motion is towards the centre and the record is at rest before it, the
+    record starts at rest (a pre-trigger, or none). Otherwise the release is the largest
+    excursion before the swing first crosses its centre; if the pendulum was held still there,
+    it was let go at the end of the hold."""
+    n = y.size
+    centre = float(np.median(y[n // 3:]))
+    j = _departure_end(t, y, level, onset, sigma)
+    towards = np.sign(centre - level) == np.sign(y[j] - level)
+    if still and towards:
+        release = _parabola_release(t, y, level, sigma, float(t[max(0, onset - 400)]), float(t[max(j, 3)]))
+        if release - t[0] > 5 * (t[1] - t[0]):
             notes.append(f"record starts at rest: pre-trigger of about {release - t[0]:.3g} s before the release")
         return float(t[0]), release, level, False
-    k = _first_regular_extreme(tp)
-    if k is None:
-        return float(t[0]), float(t[0]), float(y[0]), False
-    tk = float(tp[k])
-    i = int(np.searchsorted(t, tk))
+    # the largest excursion before the first crossing of the centre
+    z = y - centre
+    side = np.sign(z[min(j, n - 1)]) if z[min(j, n - 1)] != 0 else 1.0
+    cross = np.nonzero(np.sign(z) == -side)[0]
+    end = int(cross[0]) if cross.size else n
+    i = int(np.argmax(np.abs(z[:max(end, 2)])))
     vk = float(np.median(y[max(0, i - 2):i + 3]))
-    # a hold before the release: a still stretch ending near the turning point
     near = np.abs(y - vk) < 4 * sigma
-    a = i
+    a = b = i
     while a > 0 and near[a - 1]:
         a -= 1
-    b = i
-    while b < y.size - 1 and near[b + 1]:
+    while b < n - 1 and near[b + 1]:
         b += 1
-    natural = 2 * math.sqrt(2 * 4 * sigma / max(_curvature(t, y, i), 1e-9))  # still time of a turning point
-    if t[b] - t[a] > 2.5 * natural:  # a hold: release at its end
+    # how long a free turning point stays within 4 sigma (``accel``: the release's angular
+    # acceleration by the rig); a longer still stretch is a hold
+    natural = 2 * math.sqrt(2 * 4 * sigma / max(accel, 1e-9))
+    if t[b] - t[a] > 2.5 * natural:  # held still: let go at the end of the hold
         level = float(np.median(y[a:b + 1]))
-        j = _departure_end(t, y, level, b, sigma)
-        release = _parabola_release(t, y, level, sigma, float(t[a]), float(t[max(j, a + 3)]))
-        notes.append(f"record starts moving (hand-driven); held still from {t[a]:.3g} s, released at about {release:.3g} s")
+        jj = _departure_end(t, y, level, b, sigma)
+        release = _parabola_release(t, y, level, sigma, float(t[a]), float(t[max(jj, a + 3)]))
+        notes.append(f"record starts moving (hand-driven); held still from {t[a]:.3g} s, released at about "
+                     f"{release:.3g} s; fitted from {t[a]:.3g} s")
         return float(t[a]), release, level, True
-    notes.append(f"record starts moving (hand-driven); fitted from the free swing's first turning point at {tk:.3g} s")
+    tk = float(t[i])
+    notes.append(f"record starts moving (hand-driven); fitted from the release at the largest excursion, {tk:.3g} s")
     return tk, tk, vk, True
-
-
-def _curvature(t, y, i, half=30):
-    """|y''| near sample i from a local quadratic (rad/s^2)."""
-    a, b = max(0, i - half), min(y.size, i + half + 1)
-    if b - a < 5:
-        return 0.0
-    c = np.polyfit(t[a:b] - t[i], y[a:b], 2)
-    return abs(2 * c[0])
 
 
 def _first_regular_extreme(tp):
@@ -261,3 +265,22 @@ def _swing_centre(t, y, release, sigma):
     mids = 0.5 * (vals[1:] + vals[:-1])
     m = mids.size - (mids.size % 2)
     return float(np.mean(mids[:m])) if m else float(mids[0])
+
+
+def release_from_model(setup, t, y, model_t, model_y, sigma, span=None):
+    """Re-estimate the release time when the measured channel does not move at the release (a
+    closing's follower waits until the cam's rise reaches the roller): the record's departure
+    from rest minus the model's (both where they first leave their rest by 15 sigma)."""
+    level = setup.level
+    k_rec = np.nonzero(np.abs(y - level) > 15 * sigma)[0]
+    k_mod = np.nonzero(np.abs(model_y - model_y[0]) > 15 * sigma)[0]
+    if not k_rec.size or not k_mod.size:
+        return setup
+    release = float(t[k_rec[0]] - model_t[k_mod[0]])
+    span = span or RELEASE_SPAN["default"]
+    setup.release = release
+    setup.release_bounds = (release - span, release + span)
+    setup.notes.append(f"the record leaves rest {model_t[k_mod[0]]:.4g} s after the model's release: released at about "
+                       f"{release:.4g} s in the record")
+    return setup
+

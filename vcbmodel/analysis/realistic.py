@@ -66,6 +66,20 @@ HIDDEN = {
     "cam_two": ("cam_drop", (), ("coulomb_friction", "spring_mass")),
 }
 QUANTUM = math.radians(0.09)  # encoder step (4000 counts per revolution)
+#: Whole-breaker closings recorded as a breaker analyser gives them: the follower's travel (a
+#: camera, 0.05 mm) and one 0/1 contact channel per pole (optionally each pole's travel, 0.02 mm).
+#: Start effects, truth effects; the rig gives every value but the hidden effects'. Truth
+#: spring: the ANCF continuum with 16 elements (the rig's model: lumped-2, paper).
+CLOSING = {
+    "closing_none": (("coulomb_friction", "stribeck", "spring_mass", "contact_damping", "bellows_force"),
+                     ("coulomb_friction", "stribeck", "spring_mass", "contact_damping", "bellows_force")),
+    "closing_damping": (("coulomb_friction", "stribeck", "spring_mass", "bellows_force"),
+                        ("coulomb_friction", "stribeck", "spring_mass", "contact_damping", "bellows_force")),
+    "closing_friction": (("spring_mass", "contact_damping", "bellows_force"),
+                         ("coulomb_friction", "spring_mass", "contact_damping", "bellows_force")),
+}
+for _name, (_start, _truth) in CLOSING.items():
+    HIDDEN[_name] = ("vcb_closing", _start, _truth)
 
 
 def hidden_answer(case):
@@ -178,6 +192,81 @@ def position_dependent_pendulum(p, gravity, radius, friction, amplitude, wavelen
     return theta
 
 
+def realistic_closing(case, seed, folder, complications=(), analyser=True, travels=False, values=None):
+    """A closing record as a breaker analyser gives it (follower travel from a camera, one 0/1
+    contact channel per pole, optionally each pole's travel), from a truth with a 16-element ANCF
+    spring.
+    Complications: ``pre_trigger`` (0.5-3 ms), ``offset`` (up to 0.2 mm), ``correlated``."""
+    from .. import parameters as P
+
+    rng = np.random.default_rng(seed)
+    _, start, truth_effects = HIDDEN[case]
+    folder = Path(folder)
+    rig = copy.deepcopy(P.REFERENCE_BREAKER)
+    rig["friction"] = {"mu_k": float(rng.uniform(0.1, 0.16)), "stick_velocity": 1e-3,
+                       "stribeck_velocity": float(rng.uniform(0.08, 0.12))}
+    rig["friction"]["mu_s"] = rig["friction"]["mu_k"] * float(rng.uniform(1.4, 1.7))
+    truth_values = dict(rig["friction"])
+    restitution = float(rng.uniform(0.45, 0.85))
+    bellows = float(rng.uniform(100.0, 250.0))
+    truth_values.update(restitution=restitution, bellows_force=bellows)
+    rig["breaker"]["contact"]["restitution"] = restitution
+    rig["breaker"]["poles"]["bellows_force"] = bellows
+    if "contact_damping" not in start:
+        rig["breaker"]["contact"].pop("restitution")
+    if "coulomb_friction" not in start:
+        rig["friction"] = {"stick_velocity": 1e-3}
+    rig["model"] = {"effects": list(start), "spring_model": "lumped-2", "lumped_convention": "paper"}
+    drawn = {}
+    for name in complications:
+        if name == "pre_trigger":
+            drawn[name] = float(rng.uniform(0.0005, 0.003))
+        elif name == "offset":
+            drawn[name] = float(rng.uniform(5e-5, 2e-4) * rng.choice([-1, 1]))
+        elif name == "correlated":
+            drawn[name] = float(rng.uniform(0.5, 0.9))
+        else:
+            raise ValueError(f"complication {name!r} does not apply to a closing record")
+    drawn.update(values or {})
+    rig["name"] = f"{case}-{seed}" + ("+" + "+".join(complications) if complications else "")
+    truth_rig = copy.deepcopy(rig)
+    truth_rig["breaker"]["contact"]["restitution"] = restitution
+    truth_rig["breaker"]["poles"]["bellows_force"] = bellows
+    trig = rig_from_data(truth_rig, str(folder / "truth.rig.json"))
+    rec = experiment_of("vcb_closing")
+    dt = 1.0 / rec.sample_rate
+    pre = drawn.get("pre_trigger", 0.0)
+    t_end = P.BREAKER_T_END
+    n = int(round((t_end + pre) / dt)) + 1
+    t_rec = np.arange(n) * dt
+    tau_grid = np.arange(int(math.ceil((t_end + 2 * dt) / dt)) + 1) * dt
+    res = simulate(trig, truth_effects, truth_values, spring_model="ancf", ancf_elements=16, sample_times=tau_grid)
+    tau = np.clip(t_rec - pre, 0.0, None)
+    channels = {"follower_displacement": np.interp(tau, tau_grid, res.channels["follower_displacement"])
+                + drawn.get("offset", 0.0) + _noise(rng, n, rec.noise_sigma, drawn.get("correlated", 0.0))}
+    from ..laws.breaker import pole_gaps
+    gaps = pole_gaps(trig.breaker.poles)
+    if analyser:
+        for i, gap in enumerate(gaps, start=1):
+            z = np.interp(tau, tau_grid, res.channels[f"pole_{i}_travel"])
+            channels[f"pole_{i}_contact"] = (z > gap).astype(float)
+            if travels:
+                channels[f"pole_{i}_travel"] = z - res.channels[f"pole_{i}_travel"][0] + rng.normal(0, 2e-5, n)
+    rig_path = folder / f"{rig['name']}.rig.json"
+    rig_path.write_text(json.dumps(rig, indent=2) + "\n")
+    meas_path = folder / f"{rig['name']}.csv"
+    write_measurement(Measurement(str(meas_path), t_rec, channels,
+                                  (f"SYNTHETIC (realistic closing): case {case}, seed {seed}, complications "
+                                   f"{json.dumps(drawn, default=float)}",)), meas_path)
+    from ..records.analyser import figures_of_merit as analyser_figures
+    figs = analyser_figures(tau_grid, [(res.channels[f"pole_{i}_travel"] > g).astype(float) for i, g in
+                                       enumerate(gaps, start=1)], res.channels["follower_displacement"])
+    truth = {"case": case, "answer": hidden_answer(case), "truth_effects": list(truth_effects),
+             "truth_values": truth_values, "truth_spring_model": "ancf (16 elements)", "complications": drawn,
+             "release_time": pre, "noise_sigma": rec.noise_sigma, "registered": True, "figures_of_merit": figs}
+    return rig_path, meas_path, truth
+
+
 def _noise(rng, n, sigma, phi):
     u = rng.normal(0.0, sigma * math.sqrt(1 - phi**2), n)
     e = np.empty(n)
@@ -191,8 +280,10 @@ def realistic_record(case, seed, folder, complications=(), t_end=None, values=No
     """A rig file and a realistic record for hidden-effect ``case`` (:data:`HIDDEN`) with the
     listed ``complications`` (:data:`COMPLICATIONS`; random values from the seed, or ``values``
     name -> value). Returns (rig path, record path, truth dict)."""
-    rng = np.random.default_rng(seed)
     experiment, start, truth_effects = HIDDEN[case]
+    if experiment == "vcb_closing":
+        return realistic_closing(case, seed, folder, complications, values=values)
+    rng = np.random.default_rng(seed)
     rec = experiment_of(experiment)
     folder = Path(folder)
     drawn = _draw_complications(experiment, rng, complications)
@@ -272,3 +363,29 @@ def realistic_record(case, seed, folder, complications=(), t_end=None, values=No
              "truth_friction": friction, "truth_spring_model": spring or "massless", "complications": drawn,
              "release_time": lead, "noise_sigma": sigma_used, "registered": "position_dependent_friction" not in truth_effects}
     return rig_path, meas_path, truth
+
+
+#: Complication groups of the realism study: name -> (complications, experiments it applies to).
+GROUPS = {
+    "clean": ((), ("pendulum", "cam_drop")),
+    "pre_trigger": (("pre_trigger",), ("pendulum", "cam_drop")),
+    "initial_angle": (("initial_angle",), ("pendulum", "cam_drop")),
+    "offset": (("offset",), ("pendulum", "cam_drop")),
+    "gain": (("gain",), ("pendulum",)),
+    "correlated": (("correlated",), ("pendulum", "cam_drop")),
+    "hand_start": (("hand_start",), ("pendulum",)),
+    "lab": (("quantised", "time_base", "period", "hand_start"), ("pendulum",)),
+    "all_camera": (("pre_trigger", "initial_angle", "offset", "correlated"), ("cam_drop",)),
+    "all_potentiometer": (("pre_trigger", "initial_angle", "offset", "correlated"), ("pendulum",)),
+}
+
+
+def draw_cases(group, n, seed, include_unregistered=True):
+    """``n`` (case, seed) draws for a complication group: hidden-effect cases of the group's
+    experiments, cycled in a seeded random order (the unregistered effect among them)."""
+    _, experiments = GROUPS[group]
+    cases = [c for c, (e, _, truth) in HIDDEN.items() if e in experiments
+             and (include_unregistered or "position_dependent_friction" not in truth)]
+    rng = np.random.default_rng(seed)
+    order = list(rng.permutation(cases))
+    return [(order[k % len(order)], int(seed * 1000 + k)) for k in range(n)]

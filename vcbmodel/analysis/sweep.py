@@ -15,9 +15,10 @@ Studies with their own design (Sobol samples, tied parameters) pass ``runs`` ins
 Execution: each run is an independent job that sends only JSON (the rig's object and the
 run's overrides) and gets back numbers: the worker loads the rig and builds its own Exudyn
 system (symbolic user functions do not pickle; exudyn-notes "Sweeps and scale-out").
-Locally a process pool on all cores; beyond one machine a Dask ``distributed`` cluster
-(``scheduler=ADDRESS``: ``dask scheduler`` on one machine, ``dask worker ADDRESS --nthreads 1``
-on each). Dask was chosen over Ray by measurement (README, "Design studies at scale").
+Locally a process pool on all cores (forked workers, a few runs queued each); beyond one
+machine a Dask ``distributed`` cluster (``scheduler=ADDRESS``: ``dask scheduler`` on one
+machine, ``dask worker ADDRESS --nworkers -1 --nthreads 1`` on each; the rig goes to the
+workers once). Dask was chosen over Ray by measurement (README, "Design studies at scale").
 
 Rows are written (and flushed) to the output as runs finish; ``resume=True`` keeps the runs
 already in the output (checked against this sweep's design) and runs the rest. When every
@@ -130,7 +131,8 @@ def parse_vary(item, source="--vary") -> Vary:
         if len(parts) != 3:
             raise InputError(source, path, f"{parts[0]} needs two numbers: {parts[0]}:"
                              f"{'MEAN:SD' if parts[0] == 'normal' else 'LO:HI'}, got {spec!r}")
-        a, b = number(parts[1], "MEAN" if parts[0] == "normal" else "LO"), number(parts[2], "SD" if parts[0] == "normal" else "HI")
+        first, second = ("MEAN", "SD") if parts[0] == "normal" else ("LO", "HI")
+        a, b = number(parts[1], first), number(parts[2], second)
         if parts[0] == "normal" and not b > 0:
             raise InputError(source, path, f"the standard deviation must be positive, got {b:g}")
         if parts[0] == "uniform" and not b > a:
@@ -346,8 +348,16 @@ def _serial(jobs, call):
 
 
 def _pool_context():
-    """Workers start from a fork server that has imported vcbmodel (Exudyn) once: quick to
-    start, and safe when the caller runs threads (a plain fork is not)."""
+    """How the pool's workers start. Forked from this process when it runs no other thread
+    (quick: vcbmodel and Exudyn are imported already; any script works, guarded by
+    ``if __name__ == "__main__"`` or not); a fork of a multi-threaded process can deadlock, so
+    then from a fork server that imports vcbmodel and Exudyn once (the calling script must
+    then guard its top level with ``if __name__ == "__main__":``)."""
+    if threading.active_count() == 1 and "fork" in multiprocessing.get_all_start_methods():
+        from ..builders.core import exudyn_modules
+
+        exudyn_modules()  # imported once here, inherited by every worker
+        return multiprocessing.get_context("fork")
     ctx = multiprocessing.get_context("forkserver")
     ctx.set_forkserver_preload(["vcbmodel.analysis.sweep", "exudyn"])
     return ctx
@@ -386,7 +396,8 @@ def connect(scheduler, timeout=10):
         return distributed.Client(scheduler, timeout=timeout, set_as_default=False), True
     except (OSError, TimeoutError, ValueError) as e:
         raise InputError("--scheduler", scheduler, f"cannot connect to a Dask scheduler there ({one_line(e, 160)}); "
-                         "start one with 'dask scheduler' and workers with 'dask worker ADDRESS --nthreads 1'") from None
+                         "start one with 'dask scheduler' and workers with "
+                         "'dask worker ADDRESS --nworkers -1 --nthreads 1'") from None
 
 
 def _dask(jobs, call, client):

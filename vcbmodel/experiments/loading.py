@@ -11,6 +11,7 @@ from pathlib import Path
 from ..errors import InputError
 from ..model.choice import read_model
 from ..model.values import rig_values
+from ..records.analyser import analyser_channels, check_contacts
 from ..records.measurement import load_measurement, sibling_rig_path
 from ..rig.data import Rig
 from ..rig.reader import Reader, read_json
@@ -60,14 +61,19 @@ def load_record(measurement_path, rig):
     """A measurement file for ``rig``: it must carry the experiment's channel and a plausible
     time axis (seconds)."""
     record = EXPERIMENTS[rig.experiment]
-    meas = load_measurement(measurement_path, record.measured_channel, known_channels())
+    meas = load_measurement(measurement_path, record.measured_channel, known_channels(rig))
     record.check_duration(float(meas.t[-1] - meas.t[0]), meas.path, "column 't'")
+    check_contacts(meas)
     return meas
 
 
-def known_channels():
-    """Channel names a measurement file may carry: every experiment's measured channel."""
-    return tuple(dict.fromkeys(r.measured_channel for r in EXPERIMENTS.values()))
+def known_channels(rig=None):
+    """Channel names a measurement file may carry: every experiment's measured channel, and for
+    a closing the breaker analyser's ``pole_i_contact`` (0/1) and ``pole_i_travel`` (m)."""
+    names = tuple(dict.fromkeys(r.measured_channel for r in EXPERIMENTS.values()))
+    if rig is not None and rig.breaker is not None:
+        names += analyser_channels(rig.breaker.poles.count)
+    return names
 
 
 def load_pair(measurement_path, rig_path=None):

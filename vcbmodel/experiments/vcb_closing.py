@@ -98,4 +98,6 @@ VCB_CLOSING = Experiment(
     # the cam drop's camera (12 kHz) filming the follower: about 0.1 mm resolved over a 100 mm field
     sample_rate=12000.0, noise_sigma=5e-5, default_duration=P.BREAKER_T_END, max_duration=1.0,
     build=build, channels=closing_channels, step=default_step, figures_of_merit=figures_of_merit,
-    has_closing_spring=True, signature=spring_signature)
+    has_closing_spring=True, signature=spring_signature,
+    # a breaker analyser's timing and travel channels (vcbmodel.records.analyser), fitted when present
+    extra_channels=(r"pole_\d+_contact", r"pole_\d+_travel"))
