@@ -28,7 +28,12 @@ EXPECTED = {
 }
 
 
-@pytest.mark.parametrize("script", sorted(EXPECTED))
+#: Smoke runs over a minute each on 2 cores: run with plain `python -m pytest` (CI keeps its 10-minute
+#: budget; the sweep machinery itself is tested in test_sweep.py, the conclusion map stays in CI).
+SLOW = {"design_sensitivity.py", "design_tolerance.py", "design_optimum.py", "benchmark.py"}
+
+
+@pytest.mark.parametrize("script", [pytest.param(s, marks=pytest.mark.slow) if s in SLOW else s for s in sorted(EXPECTED)])
 def test_study_runs_and_writes_outputs(script, tmp_path):
     p = subprocess.run([sys.executable, str(STUDIES / script), "--quick", "--out", str(tmp_path)],
                        capture_output=True, text=True, timeout=600)
