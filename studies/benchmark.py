@@ -14,10 +14,10 @@ from _common import parse_args, write_json
 from vcbmodel import parameters as P
 from vcbmodel.analysis.diagnose import diagnose
 from vcbmodel.analysis.identify import identify
-from vcbmodel.analysis.synthetic import random_case, synthetic_measurement, write_rig
+from vcbmodel.analysis.synthetic import synthetic_measurement, write_rig
 from vcbmodel.builders.pendulum import build_pendulum
 from vcbmodel.experiments import experiment_of
-from vcbmodel.experiments.loading import load_record, load_rig
+from vcbmodel.experiments.loading import load_rig
 from vcbmodel.experiments.simulation import model_spec, output_times, simulate, simulate_rigid_ties
 
 HYBRID = ("coulomb_friction", "stribeck", "viscous_friction")
@@ -88,6 +88,8 @@ def main():
     closing["lumped2_target_met"] = closing["lumped2_s"] <= 10.0
     print(closing, flush=True)
 
+    res["identification"] = identification_cost(tmp, truth, args.quick)
+    print(res["identification"], flush=True)
     if not args.quick:
         pairs = []
         for i, rd in enumerate((P.REFERENCE_PENDULUM, P.REFERENCE_PENDULUM_15)):
@@ -98,15 +100,8 @@ def main():
         identify(pairs, "hybrid", verbose=False)
         res["hybrid_identification_two_measurements_s"] = time.perf_counter() - t0
         res["hybrid_identification_target_s"] = 60.0
-        diag = res["diagnosis_s"] = {}
-        for case in ("pend_visc", "cam_mass"):
-            rp, mp, _ = random_case(case, 7, tmp)
-            rig = load_rig(rp)
-            t0 = time.perf_counter()
-            diagnose(rig, load_record(mp, rig), verbose=False)
-            diag[case] = time.perf_counter() - t0
-        diag["target_s"] = 120.0
-        print(res, flush=True)
+        res["diagnosis_s"] = diagnosis_times(tmp)
+        print(res["diagnosis_s"], flush=True)
 
     # memory: repeated build + solve with symbolic user functions (exudyn-notes: leaks without SC.Reset)
     before = rss_mb()
@@ -117,6 +112,56 @@ def main():
     res["sweep_scaling"] = sweep_scaling(args.quick)
     write_json(out / "benchmark.json", res)
     print(res)
+
+
+def identification_cost(tmp, truth, quick):
+    """Issue 10: one hybrid identification of one 6 s pendulum record, in single simulations of
+    that record (wall time, measured in this run: the median of five simulations before and five
+    after; the machine's load changes both alike). Target 20, moonshot 8."""
+    write_rig(P.REFERENCE_PENDULUM, tmp / "id1.rig.json")
+    rig = load_rig(tmp / "id1.rig.json")
+    out = {"record_s": 6.0, "target_ratio": 20.0, "moonshot_ratio": 8.0, "runs": []}
+    seeds = (31,) if quick else (31, 32, 33)
+    for seed in seeds:
+        meas = synthetic_measurement(rig, HYBRID, truth, seed=seed)
+        single = [median_time(lambda: simulate(rig, HYBRID, truth, sample_times=meas.t), 5)]
+        t0 = time.perf_counter()
+        r = identify([(rig, meas)], "hybrid", verbose=False)
+        seconds = time.perf_counter() - t0
+        single.append(median_time(lambda: simulate(rig, HYBRID, truth, sample_times=meas.t), 5))
+        one = statistics.median(single)
+        out["runs"].append({"seed": seed, "identification_s": seconds, "single_simulation_s": one,
+                            "ratio": seconds / one, "simulations": r.fit.nfev,
+                            "mu_k": r.values["mu_k"], "viscous": r.values["viscous"], "rms": r.fit.rms})
+    out["ratio"] = statistics.median(x["ratio"] for x in out["runs"])
+    out["target_met"] = out["ratio"] <= out["target_ratio"]
+    return out
+
+
+def diagnosis_times(tmp):
+    """Issue 11: one diagnosis of each kind of realistic record (vcbmodel.analysis.realistic),
+    wall time on 2 cores; target 60 s. Also the time against the diagnosis' own budget
+    (processor seconds per process) and the simulations it ran."""
+    from vcbmodel.analysis.realistic import realistic_record
+    from vcbmodel.experiments.loading import load_pair
+
+    cases = [("pend_visc", 41, ("pre_trigger", "offset", "initial_angle")), ("pend_none", 42, ("correlated",)),
+             ("pend_two", 4, ()), ("pend_unregistered", 5, ()), ("pend_visc", 9, ("quantised", "time_base", "period")),
+             ("pend_none", 8, ("hand_start",)), ("cam_mass", 6, ("pre_trigger", "offset")),
+             ("cam_none", 43, ("correlated",)), ("closing_damping", 44, ())]
+    out = {"target_s": 60.0, "cases": []}
+    for case, seed, comps in cases:
+        rp, mp, truth = realistic_record(case, seed, tmp, comps)
+        rig, meas = load_pair(mp)
+        t0 = time.perf_counter()
+        d = diagnose(rig, meas, verbose=False)
+        seconds = time.perf_counter() - t0
+        out["cases"].append({"case": case, "complications": list(comps), "seconds": seconds,
+                             "budget_used_s": d.timing["budget_used_s"], "simulations": d.timing["simulations"],
+                             "named": d.missing_effects, "answer": truth["answer"], "explained": d.explained})
+    out["max_s"] = max(c["seconds"] for c in out["cases"])
+    out["target_met"] = out["max_s"] <= out["target_s"]
+    return out
 
 
 def sweep_scaling(quick):

@@ -6,7 +6,7 @@ from pathlib import Path
 
 HERE = Path(__file__).resolve().parent
 STUDIES = ["friction_identification.py", "spring_models.py", "vcb_closing.py", "discrepancy_demo.py",
-           "diagnosis_sweep.py", "design_sensitivity.py", "design_tolerance.py", "design_conclusion_map.py",
+           "diagnosis_sweep.py", "diagnosis_realism.py", "design_sensitivity.py", "design_tolerance.py", "design_conclusion_map.py",
            "design_optimum.py", "benchmark.py"]
 
 if __name__ == "__main__":

@@ -39,7 +39,11 @@ def check(d, truth):
         assert truth["answer"] in d.final.effects
 
 
-@pytest.mark.parametrize("case", sorted(CASES))
+#: Case kinds run by default (one per effect kind and a control); the rest with the slow checks.
+QUICK = {"pend_visc", "pend_strib", "cam_mass", "cam_none"}
+
+
+@pytest.mark.parametrize("case", [c if c in QUICK else pytest.param(c, marks=pytest.mark.slow) for c in sorted(CASES)])
 def test_names_hidden_effect(case, tmp_path):
     """One random draw per case kind (both experiments, every registry effect, and controls)."""
     d, truth = run_case(case, 11, tmp_path)
@@ -101,7 +105,7 @@ def test_registering_an_effect_makes_it_a_candidate(monkeypatch, tmp_path):
 
 
 @pytest.mark.skipif(not examples_available(), reason="shared example data not present")
-@pytest.mark.parametrize("name", ["example03", "example05"])
+@pytest.mark.parametrize("name", ["example05"])
 def test_examples_quick(name):
     answers = json.loads((EXAMPLES / "answers.json").read_text())
     rig = load_rig(EXAMPLES / f"{name}.rig.json")
@@ -111,7 +115,7 @@ def test_examples_quick(name):
 
 @pytest.mark.slow
 @pytest.mark.skipif(not examples_available(), reason="shared example data not present")
-@pytest.mark.parametrize("name", ["example01", "example02", "example04", "example06", "example07"])
+@pytest.mark.parametrize("name", ["example01", "example02", "example03", "example04", "example06", "example07"])
 def test_examples_all(name):
     answers = json.loads((EXAMPLES / "answers.json").read_text())
     rig = load_rig(EXAMPLES / f"{name}.rig.json")

@@ -54,12 +54,16 @@ BIC_MARGIN = 10.0
 #: that small is "significant" by BIC, and an extra parameter can absorb part of it. An effect must
 #: explain five times more.
 MIN_VARIANCE_GAIN = 0.02
+#: Optimiser runs per fit: from the best of its ranked starts (and the next best, when 2 and the
+#: first does not reach the noise).
+MAX_STARTS = 2
 #: Time budget of one diagnosis (s on its processes: processor seconds of this process and the
 #: simulation workers divided by their number, so that a machine shared with other work does
 #: not cut the search short). Past 80 % of it no new fit starts; at the budget the running fits
 #: stop and the diagnosis reports what it has (``timing.budget_reached``). Four times the budget
 #: in wall time stops it in any case.
 TIME_BUDGET = 50.0
+WALL_FACTOR = 4.0
 #: A period mismatch is reported when the record's swing period differs from the model's by
 #: more than this fraction (and by more than 4 standard errors).
 PERIOD_TOLERANCE = 0.002
@@ -153,7 +157,7 @@ class Diagnosis:
                  + (f", quantised in steps of {nz.quantisation:.3g} {u}" if nz.quantisation else "") + ")",
                  f"  baseline {', '.join(self.baseline.effects) or '(none)'} [{self.baseline.spring_model_label}]: "
                  f"rms {self.baseline.rms:.3g} {u}",
-                 f"  nuisance: " + ", ".join(f"{k} {v:.5g}" for k, v in self.nuisance.get("values", {}).items()),
+                 "  nuisance: " + ", ".join(f"{k} {v:.5g}" for k, v in self.nuisance.get("values", {}).items()),
                  f"  disagreement largest in t = [{self.window[0]:.4g}, {self.window[1]:.4g}] s",
                  "  candidates (delta BIC of the whitened residual, positive = better):"]
         for c in self.candidates:
@@ -225,7 +229,7 @@ class Context:
     def over(self, fraction=0.8):
         """Past ``fraction`` of the time budget (no new fit should start)?"""
         return (self.stop.is_set() or self.used() > fraction * self.budget
-                or time.monotonic() - self.started > 4 * fraction * self.budget)
+                or time.monotonic() - self.started > WALL_FACTOR * fraction * self.budget)
 
     def _release_from_model(self, measurement, y):
         """The follower of a closing stays at rest until the cam's rise reaches the roller: place
@@ -312,17 +316,25 @@ class Context:
         return params
 
     def fit(self, effects, spring_model, params, label, starts=None, scan=None, step=None):
-        """One fit of the record (staged for a free swing)."""
+        """One fit of the record (staged for a free swing). With a ``scan`` of new parameters,
+        the grid is laid around the current values and around the record's own starting values
+        (a model without the new effect bends its other values to make up for it); the
+        optimiser runs from the best point, and from the second best when the first does not
+        reach the noise."""
         ds = [self.dataset]
         kw = dict(sigma=self.sigma_hf, verbose=False, label=label, pool=self.pool, processes=1,
-                  scales=self.scales(), stop=self.stop)
+                  scales=self.scales(), stop=self.stop, max_starts=MAX_STARTS)
+        bases = None
+        if scan:
+            guess = {k: v for k, v in self.guesses[0].items() if k in params and params[k].vary}
+            bases = [{}, guess] if guess else None
         if self.rig.experiment == "pendulum":
             r = fitting.staged_fit(ds, effects, spring_model, params, starts=starts, scan=scan,
-                                   coarse_step=self.coarse_step, **kw)
+                                   coarse_step=self.coarse_step, bases=bases, **kw)
         else:
             if scan:
                 starts = fitting.scan_starts(ds, effects, spring_model, params, scan, pool=self.pool,
-                                             scales=kw["scales"]) + list(starts or [])
+                                             scales=kw["scales"], bases=bases) + list(starts or [])
             r = fitting.fit(ds, effects, spring_model, params, starts=starts, step=step, **kw)
         r.label = label
         self.fits += 1
@@ -588,7 +600,7 @@ def diagnose(rig, measurement, processes=2, verbose=True, time_budget=TIME_BUDGE
 
         def watch():
             while not done.wait(0.5):
-                if ctx.used() > time_budget or time.monotonic() - started > 4 * time_budget:
+                if ctx.used() > time_budget or time.monotonic() - started > WALL_FACTOR * time_budget:
                     ctx.stop.set()
                     return
 
@@ -798,7 +810,7 @@ def _backward(ctx, current, path, all_fits):
     explain the record as well (the effect no longer earns the margin), it is dropped.
     Returns (model, records of the removals tried)."""
     records = []
-    if len(path) < 2:
+    if len({step["round"] for step in path}) < 2:  # one round (a pair found together): nothing to undo
         return current, records
     for step in list(path):
         if ctx.over():
@@ -906,10 +918,30 @@ def describe_signature(ctx, baseline, final=None):
     sig.update(ctx.record.signature(ctx.rig, meas, model, baseline.residuals[0], ctx.noise.marginal_sd))
     if final is not None and final is not baseline:
         sig["final"] = feats(final)
+    if any(ch.endswith("_contact") for ch in ctx.dataset.fitted_channels):
+        sig["figures_of_merit"] = closing_figures(ctx, final or baseline)
     if ctx.rig.experiment == "pendulum":
         p = rig_get(ctx.rig, "pendulum.inertia"), rig_get(ctx.rig, "pendulum.mass"), rig_get(ctx.rig, "pendulum.com_distance")
         sig["swing_frequency_hz"] = math.sqrt(p[1] * ctx.rig.gravity * p[2] / p[0]) / (2 * math.pi)
     return sig
+
+
+def closing_figures(ctx, fit):
+    """A closing's figures of merit as a breaker analyser computes them
+    (:mod:`vcbmodel.records.analyser`), from the record (times from the fitted release) and from
+    the fitted model on the same time axis."""
+    from ..records.analyser import figures_of_merit
+
+    t = ctx.measurement.t
+    release = fit.values.get("release_time_0", ctx.setup.release)
+    chans = sorted((c for c in ctx.dataset.fitted_channels if c.endswith("_contact")),
+                   key=lambda c: int(c.split("_")[1]))
+    measured = figures_of_merit(t, [ctx.measurement.channel(c) for c in chans],
+                                ctx.measurement.channel(ctx.record.measured_channel), release)
+    model = fit.simulations[0]
+    modelled = figures_of_merit(t, [(np.nan_to_num(model.channels[c]) > 0.5).astype(float) for c in chans],
+                                np.nan_to_num(model.measured), release)
+    return {"record": measured, "model": modelled}
 
 
 def _evidence(ctx, baseline, final, missing, window, signature, verdict, period, backward=()):

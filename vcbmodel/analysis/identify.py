@@ -109,9 +109,14 @@ def identify(pairs, law="hybrid", verbose=True, polish=False, processes=2) -> Id
     # of the mu_k guess
     scan = [{"mu_s": f * guesses[0].get("mu_k", 0.1)} for f in (1.3, 2.0)] if law == "hybrid" else []
     with SimulationPool(processes, inline_single=True) as pool:
-        result = staged_fit(datasets, effects, MASSLESS, params, starts=guesses[1:] + scan,
-                            verbose=verbose,
-                            label=f"{law} (least squares)", pool=pool, coarse_step=COARSE_STEP)
+        # from the record's own starting values; the other starts only if that misses the noise
+        result = staged_fit(datasets, effects, MASSLESS, params, verbose=verbose, label=f"{law} (least squares)",
+                            pool=pool, coarse_step=COARSE_STEP)
+        if result.rms > 1.1 * result.sigma:
+            retry = staged_fit(datasets, effects, MASSLESS, params, starts=guesses[1:] + scan, verbose=verbose,
+                               label=f"{law} (least squares, more starts)", pool=pool, coarse_step=COARSE_STEP)
+            retry.nfev += result.nfev
+            result = retry if retry.chi2 < result.chi2 else result
     if polish:
         polished = fit(datasets, effects, MASSLESS, result.parameters, method="nelder-mead", verbose=verbose,
                        label=f"{law} (simplex polish)", max_simulations=SIMPLEX_BUDGET)

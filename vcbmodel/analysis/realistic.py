@@ -119,6 +119,17 @@ def _draw_complications(experiment, rng, complications):
     return c
 
 
+def _small_pendulum_rig(rng):
+    """A small laboratory pendulum: a 0.3-0.8 kg bob on a 0.1-0.2 m rod, a 4-8 mm shaft in
+    plain bearings, let go from 15-25 deg; it swings for tens of seconds."""
+    m, L = float(rng.uniform(0.3, 0.8)), float(rng.uniform(0.1, 0.2))
+    return {"format": "vcb-rig/1", "experiment": "pendulum", "gravity": 9.81,
+            "shaft": {"radius": float(rng.uniform(0.002, 0.004))},
+            "pendulum": {"mass": m, "inertia": m * L**2 * float(rng.uniform(1.05, 1.3)), "com_distance": L,
+                         "initial_angle": float(np.radians(rng.uniform(15.0, 25.0))), "initial_velocity": 0.0},
+            "friction": {}}
+
+
 def _pendulum_rig(rng):
     rig = {"format": "vcb-rig/1", "experiment": "pendulum", "gravity": 9.81,
            "shaft": {"radius": float(rng.uniform(0.015, 0.025))},
@@ -276,10 +287,11 @@ def _noise(rng, n, sigma, phi):
     return e
 
 
-def realistic_record(case, seed, folder, complications=(), t_end=None, values=None):
+def realistic_record(case, seed, folder, complications=(), t_end=None, values=None, small=False):
     """A rig file and a realistic record for hidden-effect ``case`` (:data:`HIDDEN`) with the
     listed ``complications`` (:data:`COMPLICATIONS`; random values from the seed, or ``values``
-    name -> value). Returns (rig path, record path, truth dict)."""
+    name -> value). ``small``: a small laboratory pendulum (:func:`_small_pendulum_rig`, 20 s).
+    Returns (rig path, record path, truth dict)."""
     experiment, start, truth_effects = HIDDEN[case]
     if experiment == "vcb_closing":
         return realistic_closing(case, seed, folder, complications, values=values)
@@ -291,7 +303,17 @@ def realistic_record(case, seed, folder, complications=(), t_end=None, values=No
     friction = {"mu_k": float(rng.uniform(0.09, 0.16)), "stick_velocity": 1e-3,
                 "stribeck_velocity": float(rng.uniform(0.09, 0.15))}
     friction["mu_s"] = friction["mu_k"] * float(rng.uniform(1.8, 2.0))
-    if experiment == "pendulum":
+    if experiment == "pendulum" and small:
+        rig = _small_pendulum_rig(rng)
+        p = rig["pendulum"]
+        # damping ratio 0.3-0.6 %: Cv = 2 zeta sqrt(I M g L)
+        friction["viscous"] = float(2 * rng.uniform(0.003, 0.006) * math.sqrt(p["inertia"] * p["mass"] * 9.81
+                                                                               * p["com_distance"]))
+        friction["mu_k"] *= 0.3  # plain bearing, light load
+        friction["mu_s"] *= 0.3
+        friction["stribeck_velocity"] *= 3
+        t_end = t_end or 20.0
+    elif experiment == "pendulum":
         friction["viscous"] = float(rng.uniform(0.5, 0.75))
         rig = _pendulum_rig(rng)
         t_end = t_end or 6.0
@@ -308,7 +330,13 @@ def realistic_record(case, seed, folder, complications=(), t_end=None, values=No
     section = "pendulum" if experiment == "pendulum" else "cam"
     truth_rig[section]["initial_angle"] += drawn.get("initial_angle", 0.0)
     if "period" in drawn:  # the rig file's inertia is nominal: the true period differs by the factor
-        truth_rig["pendulum"]["inertia"] = rig["pendulum"]["inertia"] * (1 + drawn["period"]) ** 2
+        p = rig["pendulum"]
+        floor = 1.0 * p["mass"] * p["com_distance"] ** 2
+        true_inertia = max(p["inertia"], 1.1 * floor)
+        if true_inertia / (1 + drawn["period"]) ** 2 < floor:
+            drawn["period"] = -drawn["period"]
+        truth_rig["pendulum"]["inertia"] = true_inertia
+        p["inertia"] = true_inertia / (1 + drawn["period"]) ** 2
     dt = 1.0 / rec.sample_rate
     pre = drawn.get("pre_trigger", 0.0)
     hand = drawn.get("hand_start")
@@ -374,7 +402,7 @@ GROUPS = {
     "gain": (("gain",), ("pendulum",)),
     "correlated": (("correlated",), ("pendulum", "cam_drop")),
     "hand_start": (("hand_start",), ("pendulum",)),
-    "lab": (("quantised", "time_base", "period", "hand_start"), ("pendulum",)),
+    "lab": (("quantised", "time_base", "period", "hand_start", "gain"), ("pendulum",)),
     "all_camera": (("pre_trigger", "initial_angle", "offset", "correlated"), ("cam_drop",)),
     "all_potentiometer": (("pre_trigger", "initial_angle", "offset", "correlated"), ("pendulum",)),
 }

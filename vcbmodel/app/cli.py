@@ -164,7 +164,10 @@ def cmd_diagnose(args):
     if args.plot:
         plot_diagnosis(d, args.plot)
     if args.json:
-        print(json.dumps({**envelope(rig, {"rms": d.unit, "noise_estimate": d.unit, "window": "s"}), **d.to_json()}))
+        print(json.dumps({**envelope(rig, {"rms": d.unit, "noise_estimate": d.unit, "window": "s",
+                                           "release_time": "s", "initial_angle": "rad", "sensor_offset": d.unit,
+                                           "sensor_gain": "-", "noise_correlation": "-", "timing": "s"}),
+                          **d.to_json()}, default=float))
     else:
         print(d.report())
     return 0

@@ -22,27 +22,48 @@ def save(fig, path):
 
 
 def plot_diagnosis(diagnosis, path, measured_label="measurement"):
-    """Measurement, model before and after; residuals before and after, window shaded."""
+    """The record and the models before and after, aligned by the fitted nuisance (release time,
+    offset, gain); the residuals over the fitted window with the noise band and the window of
+    largest disagreement shaded; the part of the record left out (before a hand-driven release)
+    greyed."""
     d = diagnosis
     u = d.unit
     t = d.measurement.t
-    y = d.baseline.simulations[0].measured - d.baseline.residuals[0]  # the measured channel
+    y = d.measurement.channel(_measured_channel(d))
     fig, (ax1, ax2) = plt.subplots(2, 1, figsize=(8, 6.5), sharex=True)
     ax1.plot(t, y, ".", ms=2, color="0.5", label=measured_label)
     ax1.plot(t, d.baseline.simulations[0].measured, lw=1.5,
              label=f"starting model ({', '.join(d.baseline.effects) or 'no friction'}; {d.baseline.spring_model.label})")
-    if d.missing_effect:
-        ax1.plot(t, d.final.simulations[0].measured, "--", lw=1.5, label=f"+ {d.missing_effect} ({d.final.spring_model.label})")
+    if d.final is not d.baseline:
+        added = ", ".join(d.missing_effects) or "refit"
+        ax1.plot(t, d.final.simulations[0].measured, "--", lw=1.5, label=f"+ {added} ({d.final.spring_model.label})")
+    w0 = d.nuisance.get("window", [t[0], t[-1]])[0] if d.nuisance else t[0]
+    if w0 > t[0]:
+        for ax in (ax1, ax2):
+            ax.axvspan(t[0], w0, color="0.85", alpha=0.6, lw=0)
+    release = (d.nuisance or {}).get("values", {}).get("release_time")
+    if release is not None:
+        ax1.axvline(release, color="k", lw=0.6, ls="--", label=f"release (fitted) {release:.4g} s")
     ax1.set_ylabel(f"measured channel ({u})")
-    ax1.legend(fontsize=8)
-    ax1.set_title(f"diagnosis: missing effect = {d.missing_effect}")
-    ax2.plot(t, d.baseline.residuals[0], lw=0.8, label=f"residual before (rms {d.baseline.rms:.3g} {u})")
-    if d.missing_effect:
-        ax2.plot(t, d.final.residuals[0], lw=0.8, label=f"residual after (rms {d.final.rms:.3g} {u})")
+    ax1.legend(fontsize=7)
+    verdict = "explained" if d.explained else "NOT explained"
+    ax1.set_title(f"diagnosis: missing {', '.join(d.missing_effects) or 'none'}; {verdict}", fontsize=10)
+    ax2.plot(d.baseline.times[0], d.baseline.residuals[0], lw=0.8,
+             label=f"residual before (rms {d.baseline.rms:.3g} {u})")
+    if d.final is not d.baseline:
+        ax2.plot(d.final.times[0], d.final.residuals[0], lw=0.8, label=f"residual after (rms {d.final.rms:.3g} {u})")
     for k in (-2, 2):
         ax2.axhline(k * d.noise, color="k", lw=0.6, ls=":")
     ax2.axvspan(*d.window, color="orange", alpha=0.25, label="largest disagreement")
-    ax2.set_xlabel("t (s)")
+    left = d.verdict.get("left") if d.verdict else None
+    if left:
+        ax2.axvspan(*left["window"], color="red", alpha=0.15, label="left unexplained")
+    ax2.set_xlabel("t (s, record time)")
     ax2.set_ylabel(f"model - measurement ({u})")
-    ax2.legend(fontsize=8)
+    ax2.legend(fontsize=7)
     save(fig, path)
+
+
+def _measured_channel(d):
+    from ..experiments import experiment_of
+    return experiment_of(d.rig.experiment).measured_channel
