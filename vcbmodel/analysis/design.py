@@ -6,6 +6,7 @@ the sweep's workers import them by name (nothing Exudyn-side is pickled).
 """
 from __future__ import annotations
 
+import copy
 import math
 from dataclasses import dataclass
 
@@ -172,8 +173,6 @@ class Factor:
 def with_viscous_shaft(data):
     """A copy of a rig's JSON object whose model lists the shaft's viscous friction, at the
     rig's value or 0 (the same closing), so that its uncertainty can be varied."""
-    import copy
-
     out = copy.deepcopy(data)
     out.setdefault("friction", {}).setdefault("viscous", 0.0)
     if "viscous_friction" not in out["model"]["effects"]:

@@ -34,14 +34,15 @@ from dataclasses import dataclass, field, replace
 import numpy as np
 
 from ..experiments import experiment_of
-from ..model.effects import EFFECTS
+from ..model.effects import EFFECTS, parameter_specs
 from ..model.values import rig_values
+from ..records.analyser import channel_setup, figures_of_merit
 from ..records.signals import (disagreement_window, dominant_frequency, lag1_autocorrelation, noise_estimate_floored,
                                quantisation_step, swing_peaks)
 from . import fitting
 from .fitting import Dataset, FitAborted, FitResult, Parameter, SimulationPool, make_parameters
-from .noise import NoiseModel, consistency, fit_noise
-from .nuisance import record_setup, rig_get
+from .noise import STRUCTURE_TOLERANCE, NoiseModel, consistency, fit_noise
+from .nuisance import record_setup, release_from_model, rig_get, swing_period_mismatch
 from .progress import progress
 
 #: BIC improvement (in units of chi^2 of the whitened residual) required to name an effect.
@@ -205,7 +206,6 @@ class Context:
         self.channel_sigma = {ch: noise_estimate_floored(measurement.channel(ch)) for ch in chans}
         self.channel_sigma[self.record.measured_channel] = self.sigma_hf
         if len(chans) > 1:
-            from ..records.analyser import channel_setup
             channel_setup(rig, self.setup, chans, self.channel_sigma)
         if rig.experiment == "vcb_closing" and "release_time" not in self.setup.pinned:
             self._release_from_model(measurement, y)
@@ -245,7 +245,6 @@ class Context:
                              fitting.user_function_for(self.rig))
         res = self.pool.run([job])[0]
         if not isinstance(res, Exception):
-            from .nuisance import release_from_model
             release_from_model(self.setup, t, y, res["t"], res[self.record.measured_channel], self.sigma_hf)
 
     def scales(self):
@@ -326,8 +325,12 @@ class Context:
                   scales=self.scales(), stop=self.stop, max_starts=MAX_STARTS)
         bases = None
         if scan:
-            guess = {k: v for k, v in self.guesses[0].items() if k in params and params[k].vary}
-            bases = [{}, guess] if guess else None
+            # afresh: the record's own starting values, else the registry's (a model that lacked the
+            # new effect has bent its other values to make up for it)
+            fresh = {spec.name: spec.initial for spec in parameter_specs(effects)
+                     if spec.name in params and params[spec.name].vary}
+            fresh.update({k: v for k, v in self.guesses[0].items() if k in params and params[k].vary})
+            bases = [{}, fresh] if fresh else None
         if self.rig.experiment == "pendulum":
             r = fitting.staged_fit(ds, effects, spring_model, params, starts=starts, scan=scan,
                                    coarse_step=self.coarse_step, bases=bases, **kw)
@@ -527,6 +530,23 @@ def _run_candidates(ctx, current, jobs, round_no):
     return results, variants
 
 
+def _excess_share_left(ctx, current, fit):
+    """The share of the current model's residual variance in excess of the noise that ``fit``
+    still leaves."""
+    floor = ctx.sigma_hf**2
+    before = current.rms**2 - floor
+    after = max(fit.rms**2 - floor, 0.0)
+    return after / before if before > 0 else 0.0
+
+
+def _min_gain(ctx):
+    """The share of the noise variance an effect must remove (MIN_VARIANCE_GAIN; a quantised
+    sensor's rounding is deterministic, and a model a little off can follow some of it: there
+    an effect must remove STRUCTURE_TOLERANCE, what the verdict tolerates as structure)."""
+    rounding = ctx.quantisation / math.sqrt(12.0)
+    return STRUCTURE_TOLERANCE if rounding >= 0.5 * ctx.sigma_hf else MIN_VARIANCE_GAIN
+
+
 def _variance_gain(ctx, current, fit):
     """The share of the noise variance a candidate removes from the residual: the drop of the
     white chi^2 (every fitted channel) per sample of the measured channel."""
@@ -581,6 +601,15 @@ def period_mismatch(ctx, fit):
             "record_half_period_s": half * (1 + rel), "model_half_period_s": half, "extremes_compared": int(k)}
 
 
+def _imply_period(ctx, period):
+    """A period mismatch the rig does not allow for: fit the period's first field (the
+    pendulum's inertia) as a nuisance, with an uncertainty three times the mismatch's."""
+    field_name = ctx.record.period_fields[0]
+    ctx.implied[field_name] = max(0.02, 3 * abs(2 * period["relative"]))
+    ctx.say(f"the record's swing period differs from the rig's by {100 * period['relative']:+.2f} %: "
+            f"fitting {field_name} as a nuisance")
+
+
 def _period_fields_fitted(ctx):
     fields = ctx.record.period_fields
     return any(f in ctx.uncertain or f in ctx.implied for f in fields)
@@ -620,15 +649,19 @@ def _diagnose(ctx, started):
             + "; ".join(s.notes or ["record starts at the release or at rest"]))
     ctx.say(f"fitting the starting model ({', '.join(rig.model.effects) or 'no effects'}, "
             f"{rig.model.spring_model.label}) with the record's nuisance")
+    period = None
+    if rig.experiment == "pendulum":  # model-free first: the swing's period against the rig's
+        period = swing_period_mismatch(rig, ctx.measurement.t, ctx.measurement.channel(rec.measured_channel),
+                                       ctx.setup.window[0], ctx.sigma_hf)
+        if period and period["significant"] and not _period_fields_fitted(ctx):
+            _imply_period(ctx, period)
     base_params = ctx.parameters(rig.model.effects, initial=ctx.guesses[0])
     baseline = ctx.fit(rig.model.effects, rig.model.spring_model, base_params, "starting model",
                        starts=ctx.guesses[1:])
-    period = period_mismatch(ctx, baseline)
-    if period and period["significant"] and not _period_fields_fitted(ctx):
-        field_name = rec.period_fields[0]
-        ctx.implied[field_name] = max(0.02, 3 * abs(2 * period["relative"]))
-        ctx.say(f"the record's swing period differs from the model's by {100 * period['relative']:+.2f} %: "
-                f"fitting {field_name} as a nuisance")
+    drift = period_mismatch(ctx, baseline)
+    if drift and drift["significant"] and not _period_fields_fitted(ctx):
+        period = drift
+        _imply_period(ctx, period)
         params = ctx.parameters(rig.model.effects, baseline.values)
         baseline = ctx.fit(rig.model.effects, rig.model.spring_model, params, "starting model (period fitted)")
     ctx.noise = fit_noise(baseline.residuals, ctx.sigma_hf, ctx.quantisation)
@@ -662,12 +695,15 @@ def _diagnose(ctx, started):
         candidates.extend(round_cands)
         best = max(round_cands, key=lambda c: c.delta_bic)
         gain = _variance_gain(ctx, current, best.fit)
-        if (best.delta_bic <= BIC_MARGIN or gain < MIN_VARIANCE_GAIN) and not _consistent(ctx, current) \
-                and not ctx.over():
+        weak = best.delta_bic <= BIC_MARGIN or gain < _min_gain(ctx)
+        # the best single effect leaves most of the gap: two may be missing together
+        partial = _excess_share_left(ctx, current, best.fit) > 0.5
+        if (weak or partial) and not _consistent(ctx, current) and not ctx.over():
             pairs = _pair_jobs(rig, current, jobs)
             if pairs:
-                ctx.say(f"round {round_no}: no single effect earns the evidence and the model leaves more than the "
-                        f"noise: trying {len(pairs)} pair(s): {', '.join(j[0] for j in pairs)}")
+                why = "no single effect earns the evidence" if weak else "the best single effect leaves most of the gap"
+                ctx.say(f"round {round_no}: {why} and the model leaves more than the noise: trying {len(pairs)} "
+                        f"pair(s): {', '.join(j[0] for j in pairs)}")
                 pfits, _ = _run_candidates(ctx, current, pairs, round_no)
                 for (name, _, _), f in zip(pairs, pfits):
                     if f is not None:
@@ -680,7 +716,7 @@ def _diagnose(ctx, started):
                     c.delta_bic = current.bic_with(ctx.noise) - c.fit.bic_with(ctx.noise)
                 best = max(round_cands, key=lambda c: c.delta_bic)
                 gain = _variance_gain(ctx, current, best.fit)
-        if best.delta_bic <= BIC_MARGIN or gain < MIN_VARIANCE_GAIN:
+        if best.delta_bic <= BIC_MARGIN or gain < _min_gain(ctx):
             break
         for effect in best.effect.split("+"):
             path.append({"effect": effect, "round": round_no, "delta_bic": best.delta_bic, "rms": best.fit.rms,
@@ -828,7 +864,7 @@ def _backward(ctx, current, path, all_fits):
         noise = _noise_of_best(ctx, all_fits)
         evidence = reduced.bic_with(noise) - current.bic_with(noise)
         gain = _variance_gain(ctx, reduced, current)
-        dropped = bool(evidence <= BIC_MARGIN or gain < MIN_VARIANCE_GAIN)
+        dropped = bool(evidence <= BIC_MARGIN or gain < _min_gain(ctx))
         records.append({"effect": effect, "backward": True, "delta_bic_without": evidence, "rms_without": reduced.rms,
                         "dropped": dropped, "_without": reduced, "_with": current})
         ctx.say(f"backward: without {effect} the whitened BIC rises by {evidence:.0f} (rms {reduced.rms:.3g}): "
@@ -887,7 +923,7 @@ def _nuisance_report(ctx, final, period):
         vals[key] = p.value
         if p.vary:
             stderr[key] = p.stderr
-    out = {"values": vals, "stderr": stderr, "estimated": [k for k in vals if k not in s.pinned],
+    out = {"values": vals, "stderr": stderr, "estimated": list(stderr),
            "pinned": dict(s.pinned), "window": list(s.window), "hand_start": s.hand_start,
            "pre_trigger_s": max(0.0, vals.get("release_time", s.release) - float(ctx.measurement.t[0]))
            if not s.hand_start else None, "notes": list(s.notes),
@@ -930,8 +966,6 @@ def closing_figures(ctx, fit):
     """A closing's figures of merit as a breaker analyser computes them
     (:mod:`vcbmodel.records.analyser`), from the record (times from the fitted release) and from
     the fitted model on the same time axis."""
-    from ..records.analyser import figures_of_merit
-
     t = ctx.measurement.t
     release = fit.values.get("release_time_0", ctx.setup.release)
     chans = sorted((c for c in ctx.dataset.fitted_channels if c.endswith("_contact")),

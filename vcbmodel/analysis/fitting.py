@@ -27,6 +27,7 @@ from __future__ import annotations
 import itertools
 import math
 import multiprocessing
+import os
 import threading
 from concurrent.futures import ProcessPoolExecutor
 from dataclasses import dataclass, field, replace
@@ -52,6 +53,8 @@ DIFF_STEP = 1e-3
 #: Scaled residual of a sample whose simulation failed (a diverged trial scores badly).
 FAILED = 100.0
 DEBUG = False
+#: Levenberg-Marquardt's first damping (relative to the diagonal of J^T J)
+INITIAL_DAMPING = 1e-3
 #: A fit has converged when the next step would lower chi^2 by less than this fraction of the
 #: number of samples (the chi^2 of noise alone) or than ``chi2_tolerance``: with stick-slip friction the cost is not smooth at finer scales
 #: (a stop one step earlier or later), so steps below it are noise.
@@ -370,7 +373,6 @@ class SimulationPool:
         total = __import__("time").process_time()
         if self.pool is None:
             return total
-        import os
         tick = os.sysconf("SC_CLK_TCK") if hasattr(os, "sysconf") else 100
         for pid in list(getattr(self.pool, "_processes", {}) or {}):
             try:
@@ -867,7 +869,7 @@ def levenberg_marquardt(obj, x0, lo, hi, max_iterations, chi2_tolerance=0.1, fin
     r = obj.residual(x)
     cost = float(np.dot(r, r))
     J = jacobian(x)
-    lam = 1e-3
+    lam = INITIAL_DAMPING
     widened = False
     for it in range(max_iterations):
         g = J.T @ r
@@ -1005,9 +1007,13 @@ def _standard_errors(result, obj, x, jac=None):
     dof = max(1, r0.size - len(x))
     s2 = float(np.dot(r0, r0)) / dof
     try:
-        cov = np.linalg.pinv(J.T @ J) * s2
+        # by the singular values of J: a direction the data do not determine gets the huge
+        # variance it has (a pseudo-inverse would set it to zero and report false precision)
+        _, sv, vt = np.linalg.svd(J, full_matrices=False)
     except np.linalg.LinAlgError:
         return
+    inv = np.where(sv > 1e-300, 1.0 / np.maximum(sv, 1e-300) ** 2, np.inf)
+    cov = (vt.T * inv) @ vt * s2
     for i, p in enumerate(obj.varied):
         var = cov[i, i]
         if not (var >= 0 and math.isfinite(var)):

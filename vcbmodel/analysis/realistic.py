@@ -43,9 +43,12 @@ from pathlib import Path
 import numpy as np
 from scipy.integrate import solve_ivp
 
+from .. import parameters as P
 from ..experiments import experiment_of
 from ..experiments.loading import rig_from_data
 from ..experiments.simulation import simulate
+from ..laws.breaker import pole_gaps
+from ..records.analyser import figures_of_merit as analyser_figures
 from ..records.measurement import Measurement, write_measurement
 
 COMPLICATIONS = ("pre_trigger", "initial_angle", "offset", "gain", "correlated", "hand_start", "quantised",
@@ -208,8 +211,6 @@ def realistic_closing(case, seed, folder, complications=(), analyser=True, trave
     contact channel per pole, optionally each pole's travel), from a truth with a 16-element ANCF
     spring.
     Complications: ``pre_trigger`` (0.5-3 ms), ``offset`` (up to 0.2 mm), ``correlated``."""
-    from .. import parameters as P
-
     rng = np.random.default_rng(seed)
     _, start, truth_effects = HIDDEN[case]
     folder = Path(folder)
@@ -255,7 +256,6 @@ def realistic_closing(case, seed, folder, complications=(), analyser=True, trave
     tau = np.clip(t_rec - pre, 0.0, None)
     channels = {"follower_displacement": np.interp(tau, tau_grid, res.channels["follower_displacement"])
                 + drawn.get("offset", 0.0) + _noise(rng, n, rec.noise_sigma, drawn.get("correlated", 0.0))}
-    from ..laws.breaker import pole_gaps
     gaps = pole_gaps(trig.breaker.poles)
     if analyser:
         for i, gap in enumerate(gaps, start=1):
@@ -269,7 +269,6 @@ def realistic_closing(case, seed, folder, complications=(), analyser=True, trave
     write_measurement(Measurement(str(meas_path), t_rec, channels,
                                   (f"SYNTHETIC (realistic closing): case {case}, seed {seed}, complications "
                                    f"{json.dumps(drawn, default=float)}",)), meas_path)
-    from ..records.analyser import figures_of_merit as analyser_figures
     figs = analyser_figures(tau_grid, [(res.channels[f"pole_{i}_travel"] > g).astype(float) for i, g in
                                        enumerate(gaps, start=1)], res.channels["follower_displacement"])
     truth = {"case": case, "answer": hidden_answer(case), "truth_effects": list(truth_effects),

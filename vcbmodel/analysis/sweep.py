@@ -41,6 +41,7 @@ from pathlib import Path
 
 import numpy as np
 import pandas as pd
+from scipy.stats import norm, qmc
 
 from ..errors import InputError, SimulationError
 from ..experiments import experiment_of
@@ -90,7 +91,6 @@ class Vary:
 
     def from_unit(self, u):
         """Values at probabilities ``u`` in (0, 1) (the inverse CDF)."""
-        from scipy.stats import norm
 
         u = np.clip(np.asarray(u, float), 1e-12, 1 - 1e-12)
         return norm.ppf(u, self.a, self.b) if self.kind == "normal" else self.a + u * (self.b - self.a)
@@ -201,7 +201,6 @@ def design(varies, samples=None, seed=None, sampling="lhs") -> pd.DataFrame:
         raise ValueError(f"sampling must be one of {', '.join(SAMPLING)}")
     rng = np.random.default_rng(int(seed))
     if sampling == "lhs":
-        from scipy.stats import qmc
 
         try:
             lhs = qmc.LatinHypercube(d=len(varies), rng=rng)

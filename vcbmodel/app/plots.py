@@ -7,6 +7,8 @@ matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 from matplotlib.backend_bases import FigureCanvasBase  # noqa: E402
 
+from ..experiments import experiment_of  # noqa: E402
+
 DPI = 110
 
 
@@ -65,5 +67,4 @@ def plot_diagnosis(diagnosis, path, measured_label="measurement"):
 
 
 def _measured_channel(d):
-    from ..experiments import experiment_of
     return experiment_of(d.rig.experiment).measured_channel

@@ -7,6 +7,7 @@ from __future__ import annotations
 import math
 
 import numpy as np
+from scipy.stats import chi2, kstwobign
 
 
 def noise_estimate(y):
@@ -275,7 +276,6 @@ def ar_autocorrelation(coefficients, lags):
 def ljung_box(x, lags):
     """Ljung-Box portmanteau statistic of ``x`` over lags 1..``lags`` and its p-value
     (chi-square with ``lags`` degrees of freedom): small p means not white."""
-    from scipy.stats import chi2
 
     x = np.asarray(x, float)
     n = x.size
@@ -292,7 +292,6 @@ def cumulative_periodogram_test(x):
     """Bartlett's cumulative-periodogram test of whiteness: the largest deviation of the
     normalised cumulative periodogram from a straight line, and its p-value (Kolmogorov).
     Sensitive to power concentrated at low frequencies (slow structure left in a residual)."""
-    from scipy.stats import kstwobign
 
     x = np.asarray(x, float) - np.mean(x)
     spec = np.abs(np.fft.rfft(x)) ** 2
