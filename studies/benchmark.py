@@ -2,6 +2,8 @@
 
 Wall times are medians of several runs on this machine; tests never assert them.
 """
+import copy
+import os
 import platform
 import resource
 import statistics
@@ -9,15 +11,19 @@ import tempfile
 import time
 from pathlib import Path
 
+import numpy as np
 from _common import parse_args, write_json
 
+import vcbmodel.experiments.vcb_closing as closing_module
 from vcbmodel import parameters as P
 from vcbmodel.analysis.diagnose import diagnose
 from vcbmodel.analysis.identify import identify
+from vcbmodel.analysis.realistic import realistic_record
+from vcbmodel.analysis.sweep import figures_of_merit, sweep
 from vcbmodel.analysis.synthetic import synthetic_measurement, write_rig
 from vcbmodel.builders.pendulum import build_pendulum
 from vcbmodel.experiments import experiment_of
-from vcbmodel.experiments.loading import load_rig
+from vcbmodel.experiments.loading import load_pair, load_rig, rig_from_data
 from vcbmodel.experiments.simulation import model_spec, output_times, simulate, simulate_rigid_ties
 
 HYBRID = ("coulomb_friction", "stribeck", "viscous_friction")
@@ -142,9 +148,6 @@ def diagnosis_times(tmp):
     """Issue 11: one diagnosis of each kind of realistic record (vcbmodel.analysis.realistic),
     wall time on 2 cores; target 60 s. Also the time against the diagnosis' own budget
     (processor seconds per process) and the simulations it ran."""
-    from vcbmodel.analysis.realistic import realistic_record
-    from vcbmodel.experiments.loading import load_pair
-
     cases = [("pend_visc", 41, ("pre_trigger", "offset", "initial_angle")), ("pend_none", 42, ("correlated",)),
              ("pend_two", 4, ()), ("pend_unregistered", 5, ()), ("pend_visc", 9, ("quantised", "time_base", "period")),
              ("pend_none", 8, ("hand_start",)), ("cam_mass", 6, ("pre_trigger", "offset")),
@@ -170,15 +173,6 @@ def sweep_scaling(quick):
     parallel efficiency T1 / (2 T2); one run's parts (rig load, Exudyn build, solve, the rest:
     channels and figures of merit) measured in this process; throughput in closings per
     core-minute; and a paper estimate of a 10 000-run tolerance study on 16 and 256 cores."""
-    import copy
-    import os
-
-    import numpy as np
-
-    import vcbmodel.experiments.vcb_closing as closing_module
-    from vcbmodel.analysis.sweep import figures_of_merit, sweep
-    from vcbmodel.experiments.loading import rig_from_data
-
     data = copy.deepcopy(P.REFERENCE_BREAKER)
     parts = {"load_s": [], "build_s": [], "solve_s": [], "run_s": []}
     original = closing_module.build_vcb_closing

@@ -12,7 +12,7 @@ without knowing the answer.
 A run is a hit when the named effects are exactly the hidden ones (for the unregistered effect:
 when the verdict is ``explained: false``). The verdict is right when ``explained`` is true
 exactly for the registered truths. The gap is the rms residual before (starting model) and after
-(final model) in multiples of the true noise. Writes results/diagnosis_realism.{json,md}.
+(final model) in multiples of the true noise. Writes results/diagnosis_realism.{json,md,png}.
 """
 import tempfile
 import time
@@ -23,6 +23,7 @@ from _common import markdown_table, parse_args, write_json
 
 from vcbmodel.analysis.diagnose import diagnose
 from vcbmodel.analysis.realistic import GROUPS, draw_cases, realistic_record
+from vcbmodel.app.plots import plt, save
 from vcbmodel.experiments.loading import load_pair
 
 RUNS_PER_GROUP = 4
@@ -46,6 +47,37 @@ def run_one(case, seed, complications, folder, t_end=None):
             "rms_before_over_noise": j["rms_before"] / sigma, "rms_after_over_noise": j["rms_after"] / sigma,
             "noise_estimate": j["noise_estimate"], "noise_correlation": j["noise_correlation"],
             "nuisance": j["nuisance"]["values"], "seconds": seconds, "simulations": j["timing"]["simulations"]}
+
+
+def figure(records, path):
+    """Per complication group: hits and right verdicts (bars), and every run's gap before and
+    after (rms in multiples of the true noise, log scale; a miss drawn in red)."""
+    groups = list(dict.fromkeys(r["group"] for r in records))
+    x = np.arange(len(groups))
+    fig, (a1, a2) = plt.subplots(2, 1, figsize=(9, 6.5), sharex=True)
+    runs = np.array([sum(r["group"] == g for r in records) for g in groups])
+    hits = np.array([sum(r["hit"] for r in records if r["group"] == g) for g in groups])
+    right = np.array([sum(r["verdict_right"] for r in records if r["group"] == g) for g in groups])
+    a1.bar(x - 0.2, hits / runs, 0.4, label="hit (named exactly the hidden effects)")
+    a1.bar(x + 0.2, right / runs, 0.4, label="verdict right (explained iff registered)")
+    a1.set_ylabel("share of runs")
+    a1.set_ylim(0, 1.05)
+    a1.legend(fontsize=8, loc="lower left")
+    a1.set_title("Diagnosis on realistic SYNTHETIC records, by complication")
+    for i, g in enumerate(groups):
+        rs = [r for r in records if r["group"] == g]
+        for k, r in enumerate(rs):
+            dx = (k - (len(rs) - 1) / 2) * 0.12
+            c = "tab:green" if r["hit"] else "tab:red"
+            a2.plot([i + dx, i + dx], [r["rms_before_over_noise"], r["rms_after_over_noise"]], color=c, lw=1)
+            a2.plot(i + dx, r["rms_after_over_noise"], "o", color=c, ms=4)
+            a2.plot(i + dx, r["rms_before_over_noise"], "_", color=c, ms=8)
+    a2.axhline(1.0, color="k", lw=0.8, ls="--")
+    a2.set_yscale("log")
+    a2.set_ylabel("rms residual / true noise\n(dash: before, dot: after)")
+    a2.set_xticks(x)
+    a2.set_xticklabels(groups, rotation=30, ha="right")
+    save(fig, path)
 
 
 def main():
@@ -85,6 +117,7 @@ def main():
                "verdict_right": verdicts, "seconds_median": float(np.median(times)), "seconds_max": float(max(times)),
                "by_group": by_group, "records": records}
     write_json(out / "diagnosis_realism.json", summary)
+    figure(records, out / "diagnosis_realism.png")
     detail = [[r["group"], r["case"], r["seed"], ", ".join(r["truth"]["answer"] or ["(unregistered)"]) or "none",
                ", ".join(r["named"]) or "none", r["explained"], "yes" if r["hit"] else "NO",
                f"{r['rms_before_over_noise']:.1f}", f"{r['rms_after_over_noise']:.2f}",

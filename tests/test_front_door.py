@@ -168,6 +168,7 @@ UNKNOWN_SECTION_KEYS = [  # file, the unknown dotted name, the known name a hint
     ("unknown_spring_key", "closing_spring.stifness", "stiffness"),
     ("unknown_model_key", "model.effect", "effects"),
     ("unknown_pendulum_key", "pendulum.intertia", "inertia"),
+    ("unknown_contact_key", "breaker.contact.cam_roller_lwa", "cam_roller_law"),
 ]
 
 

@@ -128,6 +128,10 @@ def rigs():
     del closing["breaker"]["poles"]["bellows_force"]
     write_text("closing_without_bellows.rig.json", dump(closing))
 
+    closing = copy.deepcopy(CLOSING)
+    closing["breaker"] = renamed(closing["breaker"], "contact", "cam_roller_law", "cam_roller_lwa")
+    write_text("unknown_contact_key.rig.json", dump(closing))
+
 
 def with_comment_keys(obj, depth=0):
     """A copy with a ``_note`` comment key added to every JSON object in it."""

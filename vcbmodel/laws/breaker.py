@@ -306,8 +306,8 @@ class BreakerLaws:
 
     One object serves the Exudyn user functions, the reference solve and the evaluation
     (forces and energies from the recorded states). ``breaker``: the rig's breaker data (its
-    optional ``cam_roller`` :class:`CamRollerLaw` and ``latch_point`` :class:`LatchPoint`, read by
-    :mod:`vcbmodel.experiments.vcb_closing`; defaults without them); ``cam``: the rig's cam (its
+    ``cam_roller`` :class:`CamRollerLaw` and ``latch_point`` :class:`LatchPoint`, read by
+    :func:`vcbmodel.rig.sections.read_breaker`); ``cam``: the rig's cam (its
     axis A and the start angle); ``gravity`` (m/s^2); ``restitution`` of the Lankarani-Nikravesh
     contacts (1 = elastic) and ``bellows_force`` per pole (N) are the effect-dependent values
     (effects ``contact_damping`` and ``bellows_force``); ``damped``: whether contact damping is
@@ -328,7 +328,7 @@ class BreakerLaws:
         o = breaker.opening_spring
         self.opening_free_length = o.length - o.preload / o.stiffness
         # the cam-roller contact's law
-        self.roller_law = getattr(breaker, "cam_roller", None) or CamRollerLaw()
+        self.roller_law = breaker.cam_roller
         law = breaker.contact
         if self.roller_law.law == "line":
             self.roller_stiffness = palmgren_line_stiffness(self.roller_law.roller_width)
@@ -337,7 +337,7 @@ class BreakerLaws:
             self.roller_stiffness, self.roller_exponent = law.cam_roller_stiffness, law.exponent
         self.roller_hunt_crossley = self.roller_law.damping == "hunt_crossley"
         self.roller_alpha = self.roller_law.damping_factor if self.damped else 0.0
-        latch = getattr(breaker, "latch_point", None) or LatchPoint()
+        latch = breaker.latch_point
         self.latch_arm = cam.arm_length if latch.arm is None else latch.arm
         self.latch_angle = latch.angle
 

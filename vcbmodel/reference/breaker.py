@@ -177,9 +177,8 @@ class _Closing:
         self.k_open, self.l_open = o.stiffness, o.length - o.preload / o.stiffness
         # contacts
         con = b.contact
-        roller = getattr(b, "cam_roller", None)
-        law = getattr(roller, "law", "hertz_point")
-        if law == "line":
+        roller = b.cam_roller
+        if roller.law == "line":
             width_mm = 1000.0 * roller.roller_width
             self.K_roller = (1000.0 * width_mm**0.8 / PALMGREN) ** (1.0 / 0.9)  # Q = (delta_mm l^0.8 / C)^(1/0.9)
             self.n_roller = 1.0 / 0.9
@@ -187,13 +186,13 @@ class _Closing:
             self.K_roller, self.n_roller = con.cam_roller_stiffness, con.exponent
         damped = "contact_damping" in spec.effects
         self.e = spec.restitution if damped else 1.0
-        self.hunt_crossley = getattr(roller, "damping", "lankarani_nikravesh") == "hunt_crossley"
-        self.alpha = getattr(roller, "damping_factor", 0.0) if damped else 0.0
+        self.hunt_crossley = roller.damping == "hunt_crossley"
+        self.alpha = roller.damping_factor if damped else 0.0
         self.K_pole, self.n_pole, self.v_floor = con.pole_stiffness, con.exponent, con.min_impact_speed
         # latch
-        lp = getattr(b, "latch_point", None)
-        self.latch_arm = self.lab if lp is None or lp.arm is None else lp.arm
-        self.latch_angle = 0.0 if lp is None else lp.angle
+        lp = b.latch_point
+        self.latch_arm = self.lab if lp.arm is None else lp.arm
+        self.latch_angle = lp.angle
         self.t_release = b.latch_release_time
         self.holding = 0.0
         self.impact = [0.0] * (self.n + 1)  # LN impact speeds [cam-roller, poles]

@@ -9,6 +9,7 @@ from __future__ import annotations
 
 from dataclasses import dataclass, field, replace
 
+from ..laws.breaker import CamRollerLaw, LatchPoint
 from .spring_model import SpringModel
 
 
@@ -130,6 +131,8 @@ class Breaker:
     opening_spring: OpeningSpring
     contact: ContactLaw
     latch_release_time: float  # s: the latch's holding torque falls linearly to 0 over it
+    cam_roller: CamRollerLaw = CamRollerLaw()  # the cam-roller contact's law (breaker.contact)
+    latch_point: LatchPoint = LatchPoint()  # where the latch holds the cam (breaker.latch)
 
 
 # --- the rig ------------------------------------------------------------------------------------

@@ -8,7 +8,8 @@ from __future__ import annotations
 
 import math
 
-from ..laws.breaker import TWO_PI, pitch_radius, rest_geometry
+from ..laws.breaker import TWO_PI, CamRollerLaw, LatchPoint, pitch_radius, rest_geometry
+from ..laws.contact import CAM_ROLLER_LAWS, DAMPING_LAWS
 from ..laws.mechanics import cam_pin
 from .data import (Breaker, Cam, CamProfile, ClosingSpring, ContactLaw, Follower, OpeningSpring, Pendulum,
                    Poles)
@@ -141,9 +142,18 @@ BREAKER_KEYS = {
     "poles": ("count", "moving_mass", "contact_gap", "gap_offsets", "push_rod_length", "wipe_preload", "wipe_rate",
               "rod_stiffness", "rod_damping", "bellows_force"),
     "opening_spring": ("stiffness", "preload", "length"),
-    "contact": ("cam_roller_stiffness", "pole_stiffness", "exponent", "restitution", "min_impact_speed"),
-    "latch": ("release_time",),
+    "contact": ("cam_roller_stiffness", "pole_stiffness", "exponent", "restitution", "min_impact_speed",
+                "cam_roller_law", "roller_width", "cam_roller_damping", "cam_roller_damping_factor"),
+    "latch": ("release_time", "arm", "angle"),
 }
+
+
+def _choice(rd, obj, key, prefix, options, default):
+    """``obj[key]`` (default ``default``), which must be one of ``options``."""
+    value = obj.get(key, default)
+    if value not in options:
+        rd.fail(prefix + key, f"must be one of {', '.join(options)}")
+    return value
 
 
 def read_breaker(rd, data, cam) -> Breaker:
@@ -197,10 +207,17 @@ def read_breaker(rd, data, cam) -> Breaker:
                          min_impact_speed=rd.number(co, "min_impact_speed", p, positive=True, default=0.05))
     if contact.restitution is not None and contact.restitution > 1.0:
         rd.fail(p + "restitution", f"must be in (0, 1], got {contact.restitution:g}")
+    law = _choice(rd, co, "cam_roller_law", p, CAM_ROLLER_LAWS, "hertz_point")
+    damping = _choice(rd, co, "cam_roller_damping", p, DAMPING_LAWS, "lankarani_nikravesh")
+    width = rd.number(co, "roller_width", p, positive=True) if "roller_width" in co or law == "line" else None
+    factor = (rd.number(co, "cam_roller_damping_factor", p, nonnegative=True)
+              if "cam_roller_damping_factor" in co or damping == "hunt_crossley" else 0.0)
     latch, p = part("latch", optional=True)
     release = rd.number(latch, "release_time", p, nonnegative=True, default=0.0)
+    latch_point = LatchPoint(rd.number(latch, "arm", p, positive=True) if "arm" in latch else None,
+                             rd.number(latch, "angle", p, default=0.0))
     breaker = Breaker(profile, rd.number(b, "roller_radius", "breaker.", positive=True), follower, poles, opening,
-                      contact, release)
+                      contact, release, CamRollerLaw(law, width, damping, factor), latch_point)
     try:
         rest_geometry(breaker, cam.pivot)
     except ValueError as e:
