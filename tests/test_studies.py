@@ -16,7 +16,7 @@ EXPECTED = {
                          "synthetic/cam_drop_m0_1kg.csv"],
     "discrepancy_demo.py": ["discrepancy_demo_cam.png", "discrepancy_demo_pendulum.png", "discrepancy_demo.json"],
     "diagnosis_sweep.py": ["diagnosis_sweep.json", "diagnosis_sweep.md"],
-    "diagnosis_realism.py": ["diagnosis_realism.json", "diagnosis_realism.md"],
+    "diagnosis_realism.py": ["diagnosis_realism.json", "diagnosis_realism.md", "diagnosis_realism.png"],
     "benchmark.py": ["benchmark.json"],
     "vcb_closing.py": ["vcb_closing_fig12.png", "vcb_closing_detail.png", "vcb_closing.json", "vcb_closing.md",
                        "synthetic/vcb_closing.csv"],
