@@ -225,3 +225,16 @@ def test_lab_pendulum_period_mismatch_is_reported(tmp_path):
     assert j["nuisance"]["period_mismatch"]["significant"]
     assert "period" in j["evidence"]
     assert j["missing_effects"] == ["viscous_friction"]
+
+
+@pytest.mark.slow
+def test_two_effects_under_strongly_correlated_camera_noise(tmp_path):
+    """Coulomb friction and a 0.34 kg spring hidden, camera noise with lag-1 correlation 0.87, a
+    pre-trigger, an initial-angle error and a tracking offset: viscous friction alone (with a
+    47 mrad sensor offset) leaves a residual that passes for such noise; the diagnosis must see
+    that the noise is too correlated to tell, try pairs, and name the two hidden effects."""
+    d, truth = realistic("cam_two", 19000, tmp_path, ("pre_trigger", "initial_angle", "offset", "correlated"))
+    j = d.to_json()
+    assert sorted(j["missing_effects"]) == ["coulomb_friction", "spring_mass"]
+    assert j["nuisance"]["values"]["sensor_offset"] == pytest.approx(truth["complications"]["offset"], abs=3e-3)
+    assert j["rms_after"] < 1.0 * truth["noise_sigma"]

@@ -65,6 +65,10 @@ MAX_STARTS = 2
 #: in wall time stops it in any case.
 TIME_BUDGET = 50.0
 WALL_FACTOR = 4.0
+#: A residual that passes the noise tests ends forward selection only when the noise model's
+#: marginal level is within this factor of the record's high-frequency noise (white-ish noise);
+#: above it the noise is so correlated that a slow model error passes for it (_noise_separable).
+SEPARABLE_NOISE_RATIO = 2.0
 #: A period mismatch is reported when the record's swing period differs from the model's by
 #: more than this fraction (and by more than 4 standard errors).
 PERIOD_TOLERANCE = 0.002
@@ -412,9 +416,11 @@ def _fit_candidate_raw(ctx, current, name, effects, variants, scan):
 
 def _pair_jobs(rig, current, singles):
     """Two effects at once, for when no single one earns the evidence (each alone may fit worse
-    than neither: Stribeck friction without the viscous term it shares the decay with). The
-    spring's mass is left out of pairs (its variants are a search of their own)."""
-    names = [name for name, _, _ in singles if name != "spring_mass"]
+    than neither: Stribeck friction without the viscous term it shares the decay with), or one
+    passes for noise only as strongly correlated noise. A pair with the spring's mass searches
+    the same spring variants as the single candidate did."""
+    names = [name for name, _, _ in singles]
+    spring_variants = {name: variants for name, (_, variants, _), _ in singles}
     given = rig_values(rig)
     jobs = []
     for a_i in range(len(names)):
@@ -425,7 +431,8 @@ def _pair_jobs(rig, current, singles):
             scan = {p.name: p.scan for p in new if p.scan}
             if len(scan) > 2:  # keep the grid small: the two most influential
                 scan = dict(list(scan.items())[:2])
-            jobs.append(("+".join(pair), (effects, (), scan), len(new)))
+            variants = spring_variants[pair[0]] or spring_variants[pair[1]]
+            jobs.append(("+".join(pair), (effects, variants, scan), len(new) + (1 if variants else 0)))
     return jobs
 
 
@@ -559,6 +566,14 @@ def _variance_gain(ctx, current, fit):
 def _consistent(ctx, fit):
     noise = fit_noise(fit.residuals, ctx.sigma_hf, ctx.quantisation)
     return consistency(fit.residuals, noise)["consistent"] and fit.rms <= 1.5 * max(ctx.sigma_hf, noise.marginal_sd)
+
+
+def _noise_separable(ctx, fit):
+    """Can a residual consistent with the noise be told from a model error? Not when the noise
+    model fitted to that residual is far above the record's own high-frequency noise (strongly
+    correlated noise: a slow model error passes for it). Then pairs of effects are tried too."""
+    noise = fit_noise(fit.residuals, ctx.sigma_hf, ctx.quantisation)
+    return noise.marginal_sd <= SEPARABLE_NOISE_RATIO * max(ctx.sigma_hf, 1e-300)
 
 
 # --- the period of a free swing --------------------------------------------------------------------
@@ -698,17 +713,22 @@ def _diagnose(ctx, started):
         weak = best.delta_bic <= BIC_MARGIN or gain < _min_gain(ctx)
         # the best single effect leaves most of the gap: two may be missing together
         partial = _excess_share_left(ctx, current, best.fit) > 0.5
-        if (weak or partial) and not _consistent(ctx, current) and not ctx.over():
+        # the best passes the noise tests only because the noise is so correlated that a slow
+        # model error passes for it: a pair may explain the record better
+        ambiguous = not weak and not _noise_separable(ctx, best.fit) and _consistent(ctx, best.fit)
+        if (weak or partial or ambiguous) and not _consistent(ctx, current) and not ctx.over():
             pairs = _pair_jobs(rig, current, jobs)
             if pairs:
-                why = "no single effect earns the evidence" if weak else "the best single effect leaves most of the gap"
+                why = ("no single effect earns the evidence" if weak else
+                       "the best single effect leaves most of the gap" if partial else
+                       "the best single effect passes for noise only as strongly correlated noise")
                 ctx.say(f"round {round_no}: {why} and the model leaves more than the noise: trying {len(pairs)} "
                         f"pair(s): {', '.join(j[0] for j in pairs)}")
-                pfits, _ = _run_candidates(ctx, current, pairs, round_no)
-                for (name, _, _), f in zip(pairs, pfits):
+                pfits, pvariants = _run_candidates(ctx, current, pairs, round_no)
+                for (name, _, _), f, var in zip(pairs, pfits, pvariants):
                     if f is not None:
                         all_fits.append(f)
-                        c = Candidate(name, f, 0.0, round_no)
+                        c = Candidate(name, f, 0.0, round_no, var)
                         round_cands.append(c)
                         candidates.append(c)
                 ctx.noise = _noise_of_best(ctx, all_fits)
