@@ -1,4 +1,4 @@
-"""Regenerate results/: every study in turn (about 30 minutes on 2 cores; --quick: a smoke run)."""
+"""Regenerate results/: every study in turn (about 1.5 hours on 2 cores; --quick: a smoke run)."""
 import subprocess
 import sys
 import time
