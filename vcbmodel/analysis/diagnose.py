@@ -443,10 +443,9 @@ def _pair_jobs(rig, current, singles):
 def _fit_spring_variants(ctx, current, effects, variants, previous, initial):
     """Adding the spring's mass is a discrete choice among mass models. Every model is first
     simulated at the current values (one simulation each, all at once on the pool; alignment
-    refitted without simulating); the best is fitted, or when the continuum screens best, the best
-    lumped chain is fitted and the continuum refined from it with the chain's Jacobian (one
-    simulation per step: the ANCF spring costs five to ten lumped ones). If the fit leaves more
-    than the noise, the runners-up and the continuum are refined the same way."""
+    refitted without simulating); the best is fitted. If it leaves more than the noise, the
+    runner-up is refined from its values with its Jacobian (one simulation per step: the ANCF
+    spring costs five to ten lumped ones)."""
     params = ctx.parameters(effects, previous, initial)
     ds = [ctx.dataset]
     vals = {p.name: p.value for p in params.values()}
@@ -463,21 +462,14 @@ def _fit_spring_variants(ctx, current, effects, variants, previous, initial):
         costs.append(float(np.dot(r, r)))
     order = sorted(range(len(variants)), key=lambda i: costs[i])
     fits = {}
-    screened = variants[order[0]]
-    lumped_order = [variants[i] for i in order if variants[i].kind == "lumped" and math.isfinite(costs[i])]
-    # a full fit with the continuum costs tens of its simulations: fit the best lumped chain and
-    # refine the continuum from it (with the chain's Jacobian) when the screen prefers it
-    first = lumped_order[0] if screened.kind != "lumped" and lumped_order else screened
+    first = variants[order[0]]
     fits[first.label] = ctx.fit(effects, first, ctx.parameters(effects, previous, initial),
                                 f"+spring_mass [{first.label}]", starts=[dict(current.values)])
     best = fits[first.label]
-    runners = [] if first is screened else [screened]
     if not _consistent(ctx, best):
-        runners += [variants[i] for i in order[1:3] if math.isfinite(costs[i]) and variants[i] not in runners
-                    and variants[i] is not first]
-        runners += [v for v in variants if v.kind == "ancf" and v not in runners and v is not first]
-    if runners:
         hint = fitting.jacobian_of(best)
+        runners = [variants[i] for i in order[1:3] if math.isfinite(costs[i])]
+        runners += [v for v in variants if v.kind == "ancf" and v not in runners and v is not first]
         for v in runners:
             p2 = {k: replace(p, stderr=None) for k, p in best.parameters.items()}
             try:
