@@ -17,8 +17,9 @@ from vcbmodel.analysis.diagnose import BIC_MARGIN, diagnose
 from vcbmodel.analysis.noise import consistency, fit_noise
 from vcbmodel.analysis.nuisance import record_setup
 from vcbmodel.analysis.realistic import realistic_record
+from vcbmodel.analysis.synthetic import random_case
 from vcbmodel.errors import InputError
-from vcbmodel.experiments.loading import load_pair, load_rig
+from vcbmodel.experiments.loading import load_pair, load_record, load_rig
 from vcbmodel.records.analyser import figures_of_merit
 from vcbmodel.records.signals import (ar_fit, ljung_box, noise_estimate, noise_estimate_floored,
                                       quantisation_step)
@@ -244,9 +245,6 @@ def test_gap_before_is_measured_on_the_final_alignment(tmp_path):
     """A weak viscous term hidden in a cam drop: fitted with the starting model, the record's
     nuisance (offset, initial angle) bends to hide most of it (rms 3.7 mrad, under twice the
     noise); the reported gap is the starting model on the record as the final model aligns it."""
-    from vcbmodel.analysis.synthetic import random_case
-    from vcbmodel.experiments.loading import load_record
-
     rig_path, meas_path, truth = random_case("cam_visc", 1001, tmp_path)
     rig = load_rig(rig_path)
     j = diagnose(rig, load_record(meas_path, rig), verbose=False).to_json()

@@ -41,7 +41,7 @@ from ..records.signals import (disagreement_window, dominant_frequency, lag1_aut
                                quantisation_step, swing_peaks)
 from . import fitting
 from .fitting import Dataset, FitAborted, FitResult, Parameter, SimulationPool, make_parameters
-from .noise import STRUCTURE_TOLERANCE, NoiseModel, consistency, fit_noise
+from .noise import STRUCTURE_TOLERANCE, NoiseModel, consistency, fit_noise, rounding_dominates
 from .nuisance import record_setup, release_from_model, rig_get, swing_period_mismatch
 from .progress import progress
 
@@ -65,9 +65,10 @@ MAX_STARTS = 2
 #: in wall time stops it in any case.
 TIME_BUDGET = 50.0
 WALL_FACTOR = 4.0
-#: A residual that passes the noise tests ends forward selection only when the noise model's
-#: marginal level is within this factor of the record's high-frequency noise (white-ish noise);
-#: above it the noise is so correlated that a slow model error passes for it (_noise_separable).
+#: A residual that passes the noise tests is told from a model error only when the noise model
+#: fitted to it stays within this factor of the record's high-frequency noise; above it the noise
+#: is so correlated that a slow model error passes for it, and pairs of effects are tried too
+#: (_noise_separable).
 SEPARABLE_NOISE_RATIO = 2.0
 #: A period mismatch is reported when the record's swing period differs from the model's by
 #: more than this fraction (and by more than 4 standard errors).
@@ -443,9 +444,9 @@ def _pair_jobs(rig, current, singles):
 def _fit_spring_variants(ctx, current, effects, variants, previous, initial):
     """Adding the spring's mass is a discrete choice among mass models. Every model is first
     simulated at the current values (one simulation each, all at once on the pool; alignment
-    refitted without simulating); the best is fitted. If it leaves more than the noise, the
-    runner-up is refined from its values with its Jacobian (one simulation per step: the ANCF
-    spring costs five to ten lumped ones)."""
+    refitted without simulating); the best is fitted. If it leaves more than the noise, the two
+    runners-up and the ANCF continuum are refined from its values with its Jacobian (one
+    simulation per step: the ANCF spring costs five to ten lumped ones)."""
     params = ctx.parameters(effects, previous, initial)
     ds = [ctx.dataset]
     vals = {p.name: p.value for p in params.values()}
@@ -554,8 +555,7 @@ def _min_gain(ctx):
     """The share of the noise variance an effect must remove (MIN_VARIANCE_GAIN; a quantised
     sensor's rounding is deterministic, and a model a little off can follow some of it: there
     an effect must remove STRUCTURE_TOLERANCE, what the verdict tolerates as structure)."""
-    rounding = ctx.quantisation / math.sqrt(12.0)
-    return STRUCTURE_TOLERANCE if rounding >= 0.5 * ctx.sigma_hf else MIN_VARIANCE_GAIN
+    return STRUCTURE_TOLERANCE if rounding_dominates(ctx.quantisation, ctx.sigma_hf) else MIN_VARIANCE_GAIN
 
 
 def _variance_gain(ctx, current, fit):
@@ -567,16 +567,18 @@ def _variance_gain(ctx, current, fit):
     return (white(current) - white(fit)) / max(1, current.n_data)
 
 
-def _consistent(ctx, fit):
-    noise = fit_noise(fit.residuals, ctx.sigma_hf, ctx.quantisation)
+def _consistent(ctx, fit, noise=None):
+    """Is ``fit``'s residual what the noise alone leaves (``noise``: its noise model, fitted
+    here when not given)?"""
+    if noise is None:
+        noise = fit_noise(fit.residuals, ctx.sigma_hf, ctx.quantisation)
     return consistency(fit.residuals, noise)["consistent"] and fit.rms <= 1.5 * max(ctx.sigma_hf, noise.marginal_sd)
 
 
-def _noise_separable(ctx, fit):
+def _noise_separable(ctx, noise):
     """Can a residual consistent with the noise be told from a model error? Not when the noise
-    model fitted to that residual is far above the record's own high-frequency noise (strongly
-    correlated noise: a slow model error passes for it). Then pairs of effects are tried too."""
-    noise = fit_noise(fit.residuals, ctx.sigma_hf, ctx.quantisation)
+    model fitted to that residual (``noise``) is far above the record's own high-frequency noise
+    (strongly correlated noise: a slow model error passes for it). Then pairs are tried too."""
     return noise.marginal_sd <= SEPARABLE_NOISE_RATIO * max(ctx.sigma_hf, 1e-300)
 
 
@@ -719,7 +721,9 @@ def _diagnose(ctx, started):
         partial = _excess_share_left(ctx, current, best.fit) > 0.5
         # the best passes the noise tests only because the noise is so correlated that a slow
         # model error passes for it: a pair may explain the record better
-        ambiguous = not weak and not _noise_separable(ctx, best.fit) and _consistent(ctx, best.fit)
+        best_noise = None if weak else fit_noise(best.fit.residuals, ctx.sigma_hf, ctx.quantisation)
+        ambiguous = (best_noise is not None and not _noise_separable(ctx, best_noise)
+                     and _consistent(ctx, best.fit, best_noise))
         if (weak or partial or ambiguous) and not _consistent(ctx, current) and not ctx.over():
             pairs = _pair_jobs(rig, current, jobs)
             if pairs:

@@ -29,6 +29,7 @@ import math
 import multiprocessing
 import os
 import threading
+import time
 from concurrent.futures import ProcessPoolExecutor
 from dataclasses import dataclass, field, replace
 
@@ -370,7 +371,7 @@ class SimulationPool:
     def cpu_seconds(self):
         """Processor time (s) used so far by this process and the pool's workers (Linux /proc;
         elsewhere this process only)."""
-        total = __import__("time").process_time()
+        total = time.process_time()
         if self.pool is None:
             return total
         tick = os.sysconf("SC_CLK_TCK") if hasattr(os, "sysconf") else 100
@@ -927,7 +928,6 @@ def _bounded_step(H, g, d, lam, x, lo, hi, free):
         if not free.any():
             break
         A = H[np.ix_(free, free)] + lam * np.diag(d[free])
-        # parameters already held at a bound contribute their move to it
         try:
             step[free] = np.linalg.solve(A, -g[free])
         except np.linalg.LinAlgError:

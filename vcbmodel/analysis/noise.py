@@ -131,6 +131,12 @@ def fit_noise(segments, high_frequency, quantisation=0.0, source="residual"):
     return NoiseModel(max(sigma, floor, 1e-300), a, quantisation, high_frequency, source, details)
 
 
+def rounding_dominates(quantisation, high_frequency):
+    """Is a quantised sensor's rounding noise, q / sqrt(12), at least half the record's
+    high-frequency noise? Then rounding (deterministic) rules the residual, not white noise."""
+    return quantisation > 0 and quantisation / math.sqrt(12.0) >= 0.5 * high_frequency
+
+
 def consistency(segments, noise: NoiseModel, lags=20, smooth=None):
     """Is the residual (contiguous segments) what the noise alone would leave?
 
@@ -152,7 +158,7 @@ def consistency(segments, noise: NoiseModel, lags=20, smooth=None):
     # the level of the high frequencies must match the record's own (model-free) level
     hf_pred = noise.sigma * math.sqrt(third_difference_gain(noise.ar) / 20.0)
     out["high_frequency_ratio"] = hf_pred / noise.high_frequency if noise.high_frequency > 0 else float("nan")
-    if noise.quantisation > 0 and noise.quantisation / math.sqrt(12.0) >= 0.5 * noise.high_frequency:
+    if rounding_dominates(noise.quantisation, noise.high_frequency):
         # rounding dominates: deterministic, so test the band, not whiteness
         r = np.concatenate(segments)
         width = smooth or max(5, r.size // 100)

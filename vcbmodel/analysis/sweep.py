@@ -91,7 +91,6 @@ class Vary:
 
     def from_unit(self, u):
         """Values at probabilities ``u`` in (0, 1) (the inverse CDF)."""
-
         u = np.clip(np.asarray(u, float), 1e-12, 1 - 1e-12)
         return norm.ppf(u, self.a, self.b) if self.kind == "normal" else self.a + u * (self.b - self.a)
 
@@ -201,7 +200,6 @@ def design(varies, samples=None, seed=None, sampling="lhs") -> pd.DataFrame:
         raise ValueError(f"sampling must be one of {', '.join(SAMPLING)}")
     rng = np.random.default_rng(int(seed))
     if sampling == "lhs":
-
         try:
             lhs = qmc.LatinHypercube(d=len(varies), rng=rng)
         except TypeError:  # scipy < 1.15

@@ -168,6 +168,13 @@ class Reader:
             self.fail(prefix + key, "must be true or false")
         return v
 
+    def choice(self, obj, key, prefix, options, default=None):
+        """``obj[key]`` (``default`` when absent), which must be one of ``options``."""
+        v = obj.get(key, default)
+        if v not in options:
+            self.fail(prefix + key, f"must be one of {', '.join(options)}")
+        return v
+
     def text(self, obj, key, prefix="", default=None):
         v = obj.get(key, default)
         if not isinstance(v, str):

@@ -33,9 +33,7 @@ def read_friction(rd, data):
     rd.known_keys(f, FRICTION_KEYS, "friction.")
     friction = {key: rd.number(f, key, "friction.", nonnegative=True) for key in f if key != "sticking"}
     if "sticking" in f:
-        if f["sticking"] not in STICKING:
-            rd.fail("friction.sticking", f"must be one of {', '.join(STICKING)}")
-        friction["sticking"] = f["sticking"]
+        friction["sticking"] = rd.choice(f, "sticking", "friction.", STICKING)
     if "mu_s" in friction and "mu_k" in friction and friction["mu_s"] < friction["mu_k"]:
         rd.fail("friction.mu_s", "must not be smaller than friction.mu_k")
     return friction
@@ -148,14 +146,6 @@ BREAKER_KEYS = {
 }
 
 
-def _choice(rd, obj, key, prefix, options, default):
-    """``obj[key]`` (default ``default``), which must be one of ``options``."""
-    value = obj.get(key, default)
-    if value not in options:
-        rd.fail(prefix + key, f"must be one of {', '.join(options)}")
-    return value
-
-
 def read_breaker(rd, data, cam) -> Breaker:
     """Parse and check the ``breaker`` section of a ``vcb_closing`` rig, and that the roller
     rests on the cam's base circle at ``cam.initial_angle``."""
@@ -207,8 +197,8 @@ def read_breaker(rd, data, cam) -> Breaker:
                          min_impact_speed=rd.number(co, "min_impact_speed", p, positive=True, default=0.05))
     if contact.restitution is not None and contact.restitution > 1.0:
         rd.fail(p + "restitution", f"must be in (0, 1], got {contact.restitution:g}")
-    law = _choice(rd, co, "cam_roller_law", p, CAM_ROLLER_LAWS, "hertz_point")
-    damping = _choice(rd, co, "cam_roller_damping", p, DAMPING_LAWS, "lankarani_nikravesh")
+    law = rd.choice(co, "cam_roller_law", p, CAM_ROLLER_LAWS, "hertz_point")
+    damping = rd.choice(co, "cam_roller_damping", p, DAMPING_LAWS, "lankarani_nikravesh")
     width = rd.number(co, "roller_width", p, positive=True) if "roller_width" in co or law == "line" else None
     factor = (rd.number(co, "cam_roller_damping_factor", p, nonnegative=True)
               if "cam_roller_damping_factor" in co or damping == "hunt_crossley" else 0.0)
