@@ -108,3 +108,35 @@ def test_tie_error_falls_as_one_over_k_and_extrapolates(heavy_cam):
     rigid = simulate_rigid_ties(heavy_cam, EFFECTS, sample_times=t, stiffnesses=(1e8, 1e9)).measured
     coarse = simulate_rigid_ties(heavy_cam, EFFECTS, sample_times=t, stiffnesses=(1e7, 1e8)).measured
     assert np.max(np.abs(rigid - coarse)) < 0.05 * d1  # both extrapolate to the same rigid limit
+
+
+def _with_spring_mass(rig, mass):
+    from vcbmodel.analysis.nuisance import rig_with
+    return rig_with(rig, {"closing_spring.mass": mass})
+
+
+@pytest.mark.parametrize("mass", [0.1, 3.0])
+def test_stable_step_tracks_the_ties_fast_mode(heavy_cam, mass):
+    """The step bound sqrt(m_end / k_tie) is the real stability limit: at the bound a 0.1 kg and
+    a 3 kg spring run (a 0.1 kg spring diverged at the old fixed 2.5e-6 s), at 1.5x it RK4
+    diverges for both (measured limit 1.19-1.35x the bound), and the studies' step never exceeds it."""
+    from vcbmodel.builders.ancf import AncfOptions
+    rig = _with_spring_mass(heavy_cam, mass)
+    h = AncfOptions().stable_step(rig.closing_spring)
+    assert AncfOptions().step(rig.closing_spring) <= h
+    t = np.arange(121) / 12000.0
+    r = simulate(rig, EFFECTS, spring_model="ancf", sample_times=t)
+    assert np.all(np.isfinite(r.measured)) and r.info["step"] <= h
+    with pytest.raises(SimulationError):
+        simulate(rig, EFFECTS, spring_model="ancf", sample_times=t, step=1.5 * h)
+
+
+def test_fit_step_of_the_continuum_is_accurate(heavy_cam):
+    """Fits run the continuum at its stability-bounded step (1.7x the studies' for 1 kg): the
+    cam angle stays within 0.01 mrad of the studies' step, far below any sensor's noise."""
+    from vcbmodel.analysis.fitting import fit_step
+    h = fit_step(heavy_cam, "ancf")
+    assert h > 1.5 * P.ANCF_STEP
+    fine = simulate(heavy_cam, EFFECTS, spring_model="ancf", sample_times=T).measured
+    fast = simulate(heavy_cam, EFFECTS, spring_model="ancf", sample_times=T, step=h).measured
+    assert np.max(np.abs(fast - fine)) < 1e-5

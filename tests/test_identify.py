@@ -63,3 +63,22 @@ def test_fit_report_flags_parameter_at_bound():
     assert p.at_bound()
     assert not Parameter("mu_k", 0.5, 0.0, 1.0).at_bound()
     assert not Parameter("mu_k", 0.0, 0.0, 1.0, vary=False).at_bound()
+
+
+def test_further_starts_stop_once_the_callers_test_passes(pendulum_rig):
+    """``enough``: after the first optimiser run passes the caller's test (in the diagnosis:
+    "the residual is consistent with the noise"), the second start is not run; the fit is the
+    same and costs fewer simulations. A test that never passes runs both."""
+    truth = {"mu_k": 0.11, "stick_velocity": 1e-3}
+    meas = synthetic_measurement(pendulum_rig, ("coulomb_friction",), truth, seed=4, t_end=1.5)
+    runs = {}
+    for name, test in (("never", lambda f: False), ("always", lambda f: True)):
+        seen = []
+        # sigma far below the record's noise: the fitter's own "at the noise" stop never fires
+        runs[name] = fit([Dataset(pendulum_rig, meas)], ("coulomb_friction",), verbose=False, max_starts=2, sigma=1e-6,
+                         params=make_parameters(pendulum_rig, ("coulomb_friction",), initial={"mu_k": 0.10}),
+                         starts=[{"mu_k": 0.3}], enough=lambda f, test=test, seen=seen: seen.append(f.rms) or test(f))
+        runs[name].seen = seen
+    assert len(runs["never"].seen) == 1 and len(runs["always"].seen) == 1  # asked once: before the last start
+    assert runs["always"].nfev < runs["never"].nfev
+    assert runs["always"].parameters["mu_k"].value == pytest.approx(0.11, rel=0.02)

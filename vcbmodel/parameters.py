@@ -104,6 +104,13 @@ ANCF_PENALTY_STIFFNESS = 1e8
 #: RK4 step for the ANCF cam drop (s) up to ANCF_ELEMENTS elements: halving it changes the
 #: 35 ms cam angle by about 1e-5 rad (5e-6 s: 3e-4 rad; 1e-5 s diverges at 4 elements).
 ANCF_STEP = 2.5e-6
+#: The RK4 step's stability limit is set by the ties' damped fast mode: h < C sqrt(m_end / k_tie),
+#: m_end = m0 / (2 N) the end element's half mass per spring, k_tie the tie stiffness per spring.
+#: Measured (studies/benchmark-free bisection, cam drop with Coulomb friction, m0 0.1-3 kg, N 4-16,
+#: 1e8 N/m): C = 0.208-0.236. Steps are capped at this factor (0.84 of the lowest limit): before,
+#: a spring under 0.3 kg diverged at the default step. Fits run at the cap (0.001-0.006 mrad from a
+#: step half as long in a 1 kg cam drop; the default ANCF_STEP is kept for studies).
+ANCF_STEP_FACTOR = 0.175
 
 # --- whole breaker (paper section 4; vcbmodel/laws/breaker.py) --------------------------------
 #: A 12 kV, 40 kA class three-pole vacuum breaker around the reference cam (the closing springs

@@ -347,7 +347,11 @@ class Context:
             if scan:
                 starts = fitting.scan_starts(ds, effects, spring_model, params, scan, pool=self.pool,
                                              scales=kw["scales"], bases=bases) + list(starts or [])
-            r = fitting.fit(ds, effects, spring_model, params, starts=starts, step=step, **kw)
+            # a further start is pointless once a residual is consistent with the noise (level and
+            # whiteness under the noise model fitted to it): with correlated noise the rms stays above
+            # the white level the fitter's own test uses, and an ANCF start costs half a minute
+            r = fitting.fit(ds, effects, spring_model, params, starts=starts, step=step,
+                            enough=lambda f: _consistent(self, f), **kw)
         r.label = label
         self.fits += 1
         return r

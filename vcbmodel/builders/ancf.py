@@ -68,12 +68,21 @@ class AncfOptions:
             return value
         return cls() if value is None else cls(elements=int(value))
 
-    def step(self):
-        """RK4 step (s): ANCF_STEP up to ANCF_ELEMENTS elements and the default tie stiffness,
-        shorter in proportion to the elements above and by sqrt(k_default / k) for stiffer ties
-        (the ties' damped fast mode; measured stable: 1e9 N/m at 7.9e-7 s)."""
-        return (P.ANCF_STEP * min(1.0, P.ANCF_ELEMENTS / self.elements)
-                * min(1.0, math.sqrt(P.ANCF_PENALTY_STIFFNESS / self.penalty_stiffness)))
+    def step(self, spring=None):
+        """RK4 step (s) for studies: ANCF_STEP up to ANCF_ELEMENTS elements and the default tie
+        stiffness, shorter in proportion to the elements above and by sqrt(k_default / k) for
+        stiffer ties, and never above :meth:`stable_step` for ``spring`` (a rig's
+        ``closing_spring``; a light spring's ties are faster)."""
+        accurate = (P.ANCF_STEP * min(1.0, P.ANCF_ELEMENTS / self.elements)
+                    * min(1.0, math.sqrt(P.ANCF_PENALTY_STIFFNESS / self.penalty_stiffness)))
+        return accurate if spring is None else min(accurate, self.stable_step(spring))
+
+    def stable_step(self, spring):
+        """The longest step (s) kept well inside RK4's stability limit, set by the ties' damped
+        fast mode: ANCF_STEP_FACTOR sqrt(m_end / k_tie), m_end = m0 / (2 N) per spring (the
+        count cancels). Fits use it: within 0.01 mrad of a step half as long."""
+        end_mass = spring.mass / (2 * self.elements)
+        return P.ANCF_STEP_FACTOR * math.sqrt(end_mass / self.penalty_stiffness)
 
 
 def build_cam_drop_ancf(rig, law, user_function="auto", options=None, extra_loads=None):

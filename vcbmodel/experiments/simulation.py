@@ -73,7 +73,7 @@ def simulate(rig: Rig, effects=None, values=None, *, spring_model=None, t_end=No
                            penalty_stiffness=ancf_tie_stiffness or P.ANCF_PENALTY_STIFFNESS)
     if backend == "exudyn":
         if step is None:
-            step = ancf.step() if spec.spring_model.kind == "ancf" else record.step(rig)
+            step = ancf.step(rig.closing_spring) if spec.spring_model.kind == "ancf" else record.step(rig)
         period = None
         if sample_times is not None and len(sample_times) > 2:
             # uniform samples from t = 0 (a sensor's rate): shrink the step to divide the sample
