@@ -118,7 +118,7 @@ def main():
                "by_group": by_group, "records": records}
     write_json(out / "diagnosis_realism.json", summary)
     figure(records, out / "diagnosis_realism.png")
-    detail = [[r["group"], r["case"], r["seed"], ", ".join(r["truth"]["answer"] or ["(unregistered)"]) or "none",
+    detail = [[r["group"], r["case"], r["seed"], ("(unregistered)" if r["truth"]["answer"] is None else ", ".join(r["truth"]["answer"]) or "none"),
                ", ".join(r["named"]) or "none", r["explained"], "yes" if r["hit"] else "NO",
                f"{r['rms_before_over_noise']:.1f}", f"{r['rms_after_over_noise']:.2f}",
                f"{r['noise_correlation']:.2f}", f"{r['seconds']:.0f}"] for r in records]

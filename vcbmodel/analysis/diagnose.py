@@ -346,7 +346,8 @@ class Context:
         else:
             if scan:
                 starts = fitting.scan_starts(ds, effects, spring_model, params, scan, pool=self.pool,
-                                             scales=kw["scales"], bases=bases) + list(starts or [])
+                                             scales=kw["scales"], bases=bases,
+                                             step=fitting.scan_step(self.rig)) + list(starts or [])
             # a further start is pointless once a residual is consistent with the noise (level and
             # whiteness under the noise model fitted to it): with correlated noise the rms stays above
             # the white level the fitter's own test uses, and an ANCF start costs half a minute
