@@ -839,6 +839,11 @@ def _fit(datasets, effects, spring_model, params, method, starts, sigma, verbose
         lo, hi = obj.bounds()
         start_points = [np.clip(x0, lo + 1e-9 * np.minimum(hi - lo, 1e9), hi - 1e-9 * np.minimum(hi - lo, 1e9))
                         for x0 in start_points]
+        # a start given twice (a scan's own point is the fit's own start) would run the optimiser twice
+        unique = {}
+        for x0 in start_points:
+            unique.setdefault(tuple(np.round(x0, 12)), x0)
+        start_points = list(unique.values())
         if len(start_points) > 1 and method != "nelder-mead":
             start_points = _rank_starts(obj, start_points)[:max_starts]
         for k, x0 in enumerate(start_points):
