@@ -451,6 +451,21 @@ def _pair_jobs(rig, current, singles):
     return jobs
 
 
+def _screen_spring_models(ctx, effects, variants, params, values):
+    """chi^2 of each spring model at ``values`` (one simulation each, all at once on the pool; the
+    alignment refitted without simulating); inf where the simulation failed."""
+    objs = [fitting._Objective([ctx.dataset], effects, v, params, ctx.pool, ctx.scales()) for v in variants]
+    costs = []
+    for o, res in zip(objs, ctx.pool.run([o._job(values, 0) for o in objs])):
+        if isinstance(res, Exception):
+            costs.append(math.inf)
+            continue
+        cur = fitting._Curves(res)
+        r = np.concatenate(o.residual_parts(o.align(values, [cur]), [cur]))
+        costs.append(float(np.dot(r, r)))
+    return costs
+
+
 def _fit_spring_variants(ctx, current, effects, variants, previous, initial):
     """Adding the spring's mass is a discrete choice among mass models. Every model is first
     simulated at the current values (one simulation each, all at once on the pool; alignment
@@ -459,18 +474,7 @@ def _fit_spring_variants(ctx, current, effects, variants, previous, initial):
     simulation per step: the ANCF spring costs five to ten lumped ones)."""
     params = ctx.parameters(effects, previous, initial)
     ds = [ctx.dataset]
-    vals = {p.name: p.value for p in params.values()}
-    objs = [fitting._Objective(ds, effects, v, params, ctx.pool, ctx.scales()) for v in variants]
-    results = ctx.pool.run([o._job(vals, 0) for o in objs])
-    costs = []
-    for o, res in zip(objs, results):
-        if isinstance(res, Exception):
-            costs.append(math.inf)
-            continue
-        cur = fitting._Curves(res)
-        aligned = o.align(vals, [cur])
-        r = np.concatenate(o.residual_parts(aligned, [cur]))
-        costs.append(float(np.dot(r, r)))
+    costs = _screen_spring_models(ctx, effects, variants, params, {p.name: p.value for p in params.values()})
     order = sorted(range(len(variants)), key=lambda i: costs[i])
     fits = {}
     first = variants[order[0]]
@@ -878,17 +882,7 @@ def _finer_spring(ctx, current, path, all_fits):
     if not variants:
         return current, None
     ds = [ctx.dataset]
-    vals = dict(current.values)
-    objs = [fitting._Objective(ds, current.effects, v, current.parameters, ctx.pool, ctx.scales()) for v in variants]
-    results = ctx.pool.run([o._job(vals, 0) for o in objs])
-    costs = []
-    for o, res in zip(objs, results):
-        if isinstance(res, Exception):
-            costs.append(math.inf)
-            continue
-        cur = fitting._Curves(res)
-        r = np.concatenate(o.residual_parts(o.align(vals, [cur]), [cur]))
-        costs.append(float(np.dot(r, r)))
+    costs = _screen_spring_models(ctx, current.effects, variants, current.parameters, dict(current.values))
     best_i = min(range(len(variants)), key=lambda i: costs[i])
     if not math.isfinite(costs[best_i]):
         return current, None
