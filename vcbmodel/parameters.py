@@ -106,7 +106,7 @@ ANCF_PENALTY_STIFFNESS = 1e8
 ANCF_STEP = 2.5e-6
 #: The RK4 step's stability limit is set by the ties' damped fast mode: h < C sqrt(m_end / k_tie),
 #: m_end = m0 / (2 N) the end element's half mass per spring, k_tie the tie stiffness per spring.
-#: Measured (studies/benchmark-free bisection, cam drop with Coulomb friction, m0 0.1-3 kg, N 4-16,
+#: Measured by bisection on the step (cam drop with Coulomb friction, m0 0.1-3 kg, N 4-16,
 #: 1e8 N/m): C = 0.208-0.236. Steps are capped at this factor (0.84 of the lowest limit): before,
 #: a spring under 0.3 kg diverged at the default step. Fits run at the cap (0.001-0.006 mrad from a
 #: step half as long in a 1 kg cam drop; the default ANCF_STEP is kept for studies).
