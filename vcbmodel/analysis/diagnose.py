@@ -785,9 +785,9 @@ def _diagnose(ctx, started):
         current = _swap(ctx, current, path, all_fits, backward)
     if ctx.spring_final is not None and "spring_mass" in current.effects and not ctx.stop.is_set():
         current = _final_spring(ctx, current, path, all_fits)
-    spring_refined = None
+    coarse_spring = None
     if not ctx.over() and not _consistent(ctx, current):
-        current, spring_refined = _finer_spring(ctx, current, path, all_fits)
+        current, coarse_spring = _finer_spring(ctx, current, path, all_fits)
     if not ctx.over() and not _consistent(ctx, current):
         current = _search_harder(ctx, current, path, all_fits)
     final = current
@@ -805,9 +805,9 @@ def _diagnose(ctx, started):
     verdict = _verdict(ctx, final)
     if period:
         verdict["period"] = period
-    if spring_refined:
-        spring_refined["delta_bic"] = spring_refined.pop("_coarse").bic_with(ctx.noise) - final.bic_with(ctx.noise)
-        verdict["spring_model_refined"] = spring_refined
+    if coarse_spring is not None:
+        verdict["spring_model_refined"] = {"from": coarse_spring.spring_model_label, "to": final.spring_model_label,
+                                           "delta_bic": coarse_spring.bic_with(ctx.noise) - final.bic_with(ctx.noise)}
     stopped = sorted(stopped_all - {c.effect for c in candidates})
     own_alignment = baseline
     if final is not baseline and not ctx.stop.is_set():
@@ -863,10 +863,15 @@ def _final_spring(ctx, current, path, all_fits):
     all_fits.append(fine)
     if fine.chi2 >= current.chi2:
         return current
-    for step in path:
-        if step["_fit"] is current:
-            step["_fit"] = fine
+    _adopt(path, current, fine)
     return fine
+
+
+def _adopt(path, old, new):
+    """Selection steps that ended in fit ``old`` now end in ``new`` (a refinement of it)."""
+    for step in path:
+        if step["_fit"] is old:
+            step["_fit"] = new
 
 
 def _finer_spring(ctx, current, path, all_fits):
@@ -875,7 +880,8 @@ def _finer_spring(ctx, current, path, all_fits):
     lumped chain of the spring_mass variants is simulated once at the current values (all at once on
     the pool, alignment refitted), the best is refined from the current fit with its Jacobian (one
     simulation per step), and kept if it lowers the whitened BIC by more than the margin. The ANCF
-    continuum is not tried here (a closing with it costs 8 s). Returns (fit, {"from", "to"} or None)."""
+    continuum is not tried here (a closing with it costs 8 s). Returns (fit, the coarser fit it
+    replaced or None)."""
     if "spring_mass" not in current.effects or current.spring_model.is_massless:
         return current, None
     variants = [v for v in EFFECTS["spring_mass"].variants if v.kind == "lumped" and v != current.spring_model]
@@ -903,10 +909,8 @@ def _finer_spring(ctx, current, path, all_fits):
         return current, None
     ctx.say(f"spring model {current.spring_model_label} -> {finer.spring_model_label}: rms {current.rms:.3g} -> "
             f"{finer.rms:.3g} {ctx.record.unit} (delta BIC {gain:.0f})")
-    for step in path:
-        if step["_fit"] is current:
-            step["_fit"] = finer
-    return finer, {"from": current.spring_model_label, "to": finer.spring_model_label, "_coarse": current}
+    _adopt(path, current, finer)
+    return finer, current
 
 
 def _search_harder(ctx, current, path, all_fits):
@@ -924,10 +928,7 @@ def _search_harder(ctx, current, path, all_fits):
         return current
     kept = [s["effect"] for s in path]
     order = [e for e in kept if e in current.effects] + [e for e in current.effects if e not in kept]
-    params = ctx.parameters(current.effects, current.values)
-    for name, p in params.items():  # the nuisance from the final fit, too
-        if p.kind != "model" and name in current.parameters:
-            p.value = float(np.clip(current.parameters[name].value, p.min, p.max))
+    params = ctx.parameters(current.effects, current.values)  # the nuisance from the final fit, too
     scan = {}
     for e in order:
         for spec in EFFECTS[e].parameters:
@@ -953,9 +954,7 @@ def _search_harder(ctx, current, path, all_fits):
     if wider.chi2 >= current.chi2:
         return current
     ctx.say(f"wider search: rms {current.rms:.3g} -> {wider.rms:.3g} {ctx.record.unit}")
-    for step in path:
-        if step["_fit"] is current:
-            step["_fit"] = wider
+    _adopt(path, current, wider)
     return wider
 
 
