@@ -14,6 +14,7 @@ from vcbmodel import parameters as P
 from vcbmodel.analysis import sweep as S
 from vcbmodel.app.cli import main
 from vcbmodel.errors import InputError
+from vcbmodel.experiments import experiment_of
 
 
 def pendulum_data():
@@ -232,8 +233,8 @@ def test_dask_cluster_started_here_runs_a_sweep(rig, tmp_path, capsys):
 def test_every_experiment_gives_its_figures_of_merit(data):
     """The columns docs/cli.md lists, filled from the experiment's own figures_of_merit."""
     df = S.sweep(copy.deepcopy(data), ["cam.initial_velocity=0:0:1"], workers=1, verbose=False)
-    assert list(df.columns) == ["run", "cam.initial_velocity", *S.FIGURES[data["experiment"]], "status"]
-    assert df.status[0] == "ok" and df[list(S.FIGURES[data["experiment"]])].notna().all(axis=None)
+    assert list(df.columns) == ["run", "cam.initial_velocity", *experiment_of(data["experiment"]).figure_columns, "status"]
+    assert df.status[0] == "ok" and df[list(experiment_of(data["experiment"]).figure_columns)].notna().all(axis=None)
 
 
 def test_the_pool_works_from_a_script_without_a_main_guard(tmp_path):

@@ -15,7 +15,6 @@ import numpy as np
 from ..experiments import experiment_of
 from ..experiments.simulation import simulate
 from ..laws.mechanics import cam_pin
-from .sweep import FIGURES
 
 #: The shaft friction's effects: "dropping the friction" turns all of them off.
 FRICTION_EFFECTS = ("coulomb_friction", "stribeck", "viscous_friction")
@@ -62,7 +61,7 @@ def free_length_for(rig, pull, stiffness=None):
 
 #: Columns of :func:`closing_design`: the closing's figures of merit, the springs' charged pull
 #: and stored energy, and their smallest static pull during the run.
-DESIGN_COLUMNS = FIGURES["vcb_closing"] + ("preload_N", "stored_energy_J", "min_spring_force_N")
+DESIGN_COLUMNS = experiment_of("vcb_closing").figure_columns + ("preload_N", "stored_energy_J", "min_spring_force_N")
 
 
 def closing_design(rig, t_end=None):
@@ -72,7 +71,7 @@ def closing_design(rig, t_end=None):
     record = experiment_of(rig.experiment)
     result = simulate(rig, t_end=t_end)
     fom = record.figures_of_merit(result, rig)
-    out = {k: fom.get(k) for k in FIGURES[rig.experiment]}
+    out = {k: fom.get(k) for k in experiment_of(rig.experiment).figure_columns}
     s = rig.closing_spring
     lengths = spring_length(rig, result.channels["cam_angle"])
     out.update(preload_N=preload(rig), stored_energy_J=stored_energy(rig),

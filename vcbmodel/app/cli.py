@@ -11,8 +11,8 @@ import io
 import json
 import math
 import os
+import signal
 import sys
-import tempfile
 
 from .. import __version__
 from ..analysis.diagnose import diagnose
@@ -24,6 +24,7 @@ from ..experiments.loading import load_pair, load_rig, require_experiment
 from ..experiments.simulation import output_times, simulate
 from ..model.choice import parse_effects_option
 from ..rig.spring_model import SpringModel
+from .outputs import check_output, write_file
 from .plots import plot_diagnosis, supported_image_formats
 
 
@@ -45,6 +46,7 @@ def build_parser():
     s.add_argument("--effects", help="comma-separated effect names (overrides the rig's model)")
     s.add_argument("--t-end", type=float, help="simulated duration in s (default: the experiment's usual duration)")
     s.add_argument("-o", "--output", help="output CSV (default: stdout)")
+    s.add_argument("--force", action="store_true", help="replace the output file if it exists")
 
     i = sub.add_parser("identify", help="fit the shaft friction law to pendulum measurements (paper section 2.2)")
     i.add_argument("measurements", nargs="+", help="pendulum measurement files NAME.csv")
@@ -57,7 +59,9 @@ def build_parser():
     d.add_argument("measurement", help="measurement file NAME.csv")
     d.add_argument("--rig", help="rig file (default: the sibling NAME.rig.json)")
     d.add_argument("--json", action="store_true", help="print one JSON object")
-    d.add_argument("--plot", help="write a figure of the diagnosis (PNG, PDF or SVG by the file's suffix)")
+    d.add_argument("--plot", help="write a figure of the diagnosis; the format by the file's suffix: "
+                   + ", ".join(supported_image_formats()))
+    d.add_argument("--force", action="store_true", help="replace the --plot file if it exists")
     d.add_argument("--processes", type=int, default=2, help="parallel candidate fits (default 2)")
 
     w = sub.add_parser("sweep", help="run the rig's experiment over a grid or random draws of rig fields: one row per run",
@@ -78,29 +82,8 @@ def build_parser():
                        help="address of a running Dask cluster's scheduler (tcp://HOST:8786) to run on instead")
     w.add_argument("-o", "--output", metavar="OUT.csv", help="output CSV, written as runs finish (default: stdout)")
     w.add_argument("--resume", action="store_true", help="keep the runs already in -o and run the rest")
+    w.add_argument("--force", action="store_true", help="replace -o if it exists (without it an existing table is refused)")
     return p
-
-
-def check_output(path, argname, formats=None):
-    """Refuse an output path that cannot be written, before any work; nothing is left behind."""
-    if path is None:
-        return
-    if os.path.isdir(path):
-        raise InputError(path, argname, "is a folder: give a file name")
-    folder = os.path.dirname(os.path.abspath(path))
-    if not os.path.isdir(folder):
-        raise InputError(path, argname, "the folder does not exist")
-    if formats is not None:
-        suffix = os.path.splitext(path)[1].lstrip(".").lower()
-        if suffix not in formats:
-            raise InputError(path, argname, f"unknown image format {suffix or '(none)'!r} (known: {', '.join(formats)})")
-    if os.path.exists(path) and not os.access(path, os.W_OK):
-        raise InputError(path, argname, "cannot be written (permission denied)")
-    try:
-        with tempfile.NamedTemporaryFile(dir=folder, prefix=".vcbmodel-check-"):
-            pass
-    except OSError as e:
-        raise InputError(path, argname, f"cannot be written here ({e.strerror or 'not writable'})") from None
 
 
 def envelope(rig, unit):
@@ -125,7 +108,7 @@ def cmd_simulate(args):
         if not (math.isfinite(args.t_end) and args.t_end > 0):
             raise InputError("--t-end", "t_end", "must be a positive number of seconds")
         record.check_duration(args.t_end, "--t-end", "t_end")
-    check_output(args.output, "-o")
+    check_output(args.output, "-o", inputs=(args.rig,), force=args.force)
     t_end = args.t_end or record.default_duration
     result = simulate(rig, effects, spring_model=spring_model, sample_times=output_times(rig, t_end))
     buf = io.StringIO()
@@ -137,8 +120,7 @@ def cmd_simulate(args):
     for t, y in zip(result.t, result.measured):
         buf.write(f"{t:.7f},{y:.9g}\n")
     if args.output:
-        with open(args.output, "w") as f:
-            f.write(buf.getvalue())
+        write_file(args.output, buf.getvalue())
     else:
         sys.stdout.write(buf.getvalue())
     return 0
@@ -159,7 +141,8 @@ def cmd_identify(args):
 
 def cmd_diagnose(args):
     rig, meas = load_pair(args.measurement, args.rig)
-    check_output(args.plot, "--plot", supported_image_formats())
+    check_output(args.plot, "--plot", inputs=(args.measurement, rig.path), force=args.force,
+                 formats=supported_image_formats())
     d = diagnose(rig, meas, processes=max(1, args.processes))
     if args.plot:
         plot_diagnosis(d, args.plot)
@@ -176,14 +159,22 @@ def cmd_diagnose(args):
 def cmd_sweep(args):
     if args.resume and not args.output:
         raise InputError("--resume", "output", "needs -o OUT.csv (the file to resume)")
-    check_output(args.output, "-o")
+    check_output(args.output, "-o", inputs=(args.rig,), force=args.force, keep=args.resume, resumable=True)
     table = sweep(args.rig, args.vary, samples=args.samples, seed=args.seed, workers=args.workers,
                   scheduler=args.scheduler, output=args.output, stream=None if args.output else sys.stdout,
-                  resume=args.resume)
+                  resume=args.resume, force=args.force)
     return 0 if len(table) else 1
 
 
 COMMANDS = {"simulate": cmd_simulate, "identify": cmd_identify, "diagnose": cmd_diagnose, "sweep": cmd_sweep}
+
+
+class Terminated(KeyboardInterrupt):
+    """SIGTERM (``timeout``, a batch system): handled like Ctrl-C, so workers stop and files close."""
+
+
+def _on_sigterm(signum, frame):
+    raise Terminated()
 
 
 def main(argv=None):
@@ -192,17 +183,38 @@ def main(argv=None):
     if args.command is None:
         parser.print_help()
         return 0
+    previous = signal.signal(signal.SIGTERM, _on_sigterm)
     try:
-        return COMMANDS[args.command](args)
+        status = COMMANDS[args.command](args)
+        sys.stdout.flush()
+        return status
     except InputError as e:
         print(f"vcbmodel: bad input: {e}", file=sys.stderr)
         return 2
     except SimulationError as e:
         print(f"vcbmodel: simulation failed: {e}", file=sys.stderr)
         return 1
+    except Terminated:
+        print("vcbmodel: stopped (SIGTERM)", file=sys.stderr)
+        return 128 + signal.SIGTERM
     except KeyboardInterrupt:
         print("vcbmodel: interrupted", file=sys.stderr)
         return 1
+    except OSError as e:  # writing an output failed (a full disk, a closed pipe): nothing half-written is kept
+        _quiet_stdout()
+        where = e.filename or "output"
+        print(f"vcbmodel: cannot write {where}: {e.strerror or e}", file=sys.stderr)
+        return 1
+    finally:
+        signal.signal(signal.SIGTERM, previous)
+
+
+def _quiet_stdout():
+    """After stdout failed (``> /dev/full``), keep Python's exit from reporting it a second time."""
+    try:
+        sys.stdout = open(os.devnull, "w")
+    except OSError:
+        pass
 
 
 if __name__ == "__main__":

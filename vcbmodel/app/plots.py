@@ -1,6 +1,9 @@
 """Figures (matplotlib, Agg backend). Synthetic measurements are labelled as such."""
 from __future__ import annotations
 
+import io
+import os
+
 import matplotlib
 
 matplotlib.use("Agg")
@@ -8,6 +11,7 @@ import matplotlib.pyplot as plt  # noqa: E402
 from matplotlib.backend_bases import FigureCanvasBase  # noqa: E402
 
 from ..experiments import experiment_of  # noqa: E402
+from .outputs import write_file  # noqa: E402
 
 DPI = 110
 
@@ -18,9 +22,13 @@ def supported_image_formats():
 
 
 def save(fig, path):
+    """Save ``fig`` to ``path`` in the format its suffix names; a failed write (a full disk) leaves no
+    partial file."""
     fig.tight_layout()
-    fig.savefig(path, dpi=DPI)
+    buf = io.BytesIO()
+    fig.savefig(buf, dpi=DPI, format=os.path.splitext(str(path))[1].lstrip(".").lower() or "png")
     plt.close(fig)
+    write_file(path, buf.getvalue())
 
 
 def plot_diagnosis(diagnosis, path, measured_label="measurement"):

@@ -37,7 +37,10 @@ class Experiment:
       estimates as a nuisance (None: the experiment's start is fixed by its geometry);
     - ``period_fields``: rig fields that set a free swing's period (a period mismatch points at them);
     - ``extra_channels``: further record channels the experiment accepts (regular expressions,
-      e.g. a breaker analyser's ``pole_1_contact``), fitted when present.
+      e.g. a breaker analyser's ``pole_1_contact``), fitted when present;
+    - ``figure_units``: the figures of merit a sweep tabulates, {column: unit}, in column order;
+    - ``run_status(values) -> str``: ``ok``, or why a run's figures of merit are not a result
+      (a breaker that never closed: ``not_closed``), counted apart by sweeps and tolerance studies.
     """
 
     name: str
@@ -61,6 +64,22 @@ class Experiment:
     initial_angle_field: str | None = None
     period_fields: tuple = ()
     extra_channels: tuple = ()
+    figure_units: tuple = ()  # ((column, unit), ...): what a sweep tabulates
+    missing_means: tuple = ()  # ((column, status), ...): see run_status
+
+    @property
+    def figure_columns(self) -> tuple:
+        """The sweep's result columns (figures of merit, SI units in their names)."""
+        return tuple(c for c, _ in self.figure_units)
+
+    def run_status(self, values) -> str:
+        """``ok``; an experiment whose figures can be missing for a physical reason overrides it via
+        ``missing_means``: {column: status} (a closing without a closing time: ``not_closed``)."""
+        for column, status in self.missing_means:
+            v = values.get(column)
+            if v is None or (isinstance(v, float) and v != v):
+                return status
+        return "ok"
 
     def check_duration(self, duration, source, field):
         """Refuse an implausibly long record or simulation (one line with a hint)."""

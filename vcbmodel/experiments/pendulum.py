@@ -83,4 +83,5 @@ PENDULUM = Experiment(
     sample_rate=1000.0, noise_sigma=0.5e-3, default_duration=P.PENDULUM_T_END, max_duration=600.0,
     build=build, channels=channels, step=default_step, figures_of_merit=figures_of_merit,
     start_guesses=start_guesses, swinging_part=swinging_part, signature=signature,
-    initial_angle_field="pendulum.initial_angle", period_fields=("pendulum.inertia", "pendulum.com_distance"))
+    initial_angle_field="pendulum.initial_angle", period_fields=("pendulum.inertia", "pendulum.com_distance"),
+    figure_units=(("first_peak_rad", "rad"), ("stop_time_s", "s")))

@@ -30,4 +30,7 @@ VCB_CLOSING = Experiment(
     build=build, channels=closing_channels, step=default_step, figures_of_merit=figures_of_merit,
     has_closing_spring=True, signature=spring_signature,
     # a breaker analyser's timing and travel channels (vcbmodel.records.analyser), fitted when present
-    extra_channels=(r"pole_\d+_contact", r"pole_\d+_travel"))
+    extra_channels=(r"pole_\d+_contact", r"pole_\d+_travel"),
+    figure_units=(("closing_time_s", "s"), ("touch_speed_m_s", "m/s"), ("pole_spread_s", "s"), ("bounce_count", "-"),
+                  ("bounce_duration_s", "s"), ("overtravel_m", "m"), ("peak_cam_roller_force_N", "N")),
+    missing_means=(("closing_time_s", "not_closed"),))

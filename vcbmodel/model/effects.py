@@ -72,6 +72,13 @@ class Effect:
     def off(self, spec: ModelSpec, values: dict, rig) -> None:
         raise NotImplementedError
 
+    @property
+    def rig_fields(self) -> tuple:
+        """The rig fields (dotted paths) this effect reads: a model without the effect ignores them."""
+        return tuple(p.rig_field for p in self.parameters) + self.extra_rig_fields
+
+    extra_rig_fields: tuple = ()  # rig fields read besides the parameters' own
+
     def rig_values(self, rig) -> dict:
         """The values of this effect's parameters that the rig gives (by ``rig_field``)."""
         out = {}
@@ -120,6 +127,7 @@ class ViscousFriction(Effect):
     name = "viscous_friction"
     description = "viscous shaft torque Cv w"
     parameters = (_friction("viscous", 0.3, 0.0, 20.0, "N m s/rad", scan=(0.1, 0.4, 1.2, 4.0)),)
+    extra_rig_fields = ("friction.zeta",)
 
     def on(self, spec, values, rig):
         spec.viscous = values["viscous"]
@@ -143,6 +151,7 @@ class SpringMass(Effect):
     name = "spring_mass"
     description = "the closing spring's own inertia (surge, lateral motion) as a mass model"
     parameters = ()
+    extra_rig_fields = ("closing_spring.mass",)
     experiments = ("cam_drop", "vcb_closing")
     #: mass models the diagnosis tries when adding this effect (a discrete choice, no fitted
     #: parameter); the best by BIC is kept. Cheapest first: a candidate that explains the data
@@ -200,6 +209,14 @@ class BellowsForce(BreakerScalarEffect):
 # Order matters: Stribeck's "off" copies mu_k, so Coulomb comes first.
 EFFECTS = {e.name: e for e in (CoulombFriction(), Stribeck(), ViscousFriction(), SpringMass(), ContactDamping(),
                                BellowsForce())}
+
+
+def effect_reading(path, registry=None):
+    """The name of the effect that reads rig field ``path``, or None (a field every model uses)."""
+    for name, effect in (registry or EFFECTS).items():
+        if path in effect.rig_fields:
+            return name
+    return None
 
 
 def parameter_specs(effects, registry=None):

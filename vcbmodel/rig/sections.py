@@ -11,6 +11,7 @@ import math
 from ..laws.breaker import TWO_PI, CamRollerLaw, LatchPoint, pitch_radius, rest_geometry
 from ..laws.contact import CAM_ROLLER_LAWS, DAMPING_LAWS
 from ..laws.mechanics import cam_pin
+from .paths import numeric_at
 from .data import (Breaker, Cam, CamProfile, ClosingSpring, ContactLaw, Follower, OpeningSpring, Pendulum,
                    Poles)
 
@@ -52,16 +53,6 @@ def read_record(rd, data):
     return out
 
 
-def _numeric_field(data, path):
-    """The value at a dotted path of a rig's JSON object, or None."""
-    obj = data
-    for key in path.split("."):
-        if not isinstance(obj, dict) or key not in obj:
-            return None
-        obj = obj[key]
-    return obj if isinstance(obj, (int, float)) and not isinstance(obj, bool) else None
-
-
 def read_uncertain(rd, data):
     """The optional ``uncertain`` section: dotted path of a numeric rig field -> its relative
     standard deviation (0.05: known to +-5 %). The field must be in the rig and non-zero."""
@@ -74,7 +65,7 @@ def read_uncertain(rd, data):
         if path == "record.sensor_gain":  # the gain of the sensor: estimated with this uncertainty
             out[path] = value
             continue
-        nominal = _numeric_field(data, path)
+        nominal = numeric_at(data, path)
         if nominal is None or nominal == 0:
             rd.fail(f"uncertain.{path}", "must name a numeric, non-zero field of this rig (e.g. pendulum.inertia)")
         if path.split(".")[0] in ("format", "name", "experiment", "model", "record", "uncertain"):

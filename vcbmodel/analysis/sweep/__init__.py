@@ -1,0 +1,273 @@
+"""Parameter studies: one rig, many runs, one table (docs/cli.md, ``vcbmodel sweep``).
+
+A sweep varies numeric rig fields, named by their dotted path into the rig's JSON object
+(``friction.mu_k``, ``breaker.poles.gap_offsets.1``: list items by index), runs the rig's
+experiment with its ``model`` once per parameter set and returns one row per run: ``run``,
+the varied paths, the experiment's figures of merit and ``status`` (``ok`` or ``failed:
+reason``; a failed run does not stop the sweep).
+
+Parameter sets come from grids ``LO:HI:N`` (the full product of all grids) or from
+distributions ``normal:MEAN:SD`` / ``uniform:LO:HI`` (``samples`` draws by Latin hypercube
+sampling: scipy's scrambled ``LatinHypercube``, each axis mapped through the distribution's
+inverse CDF; repeatable: the default seed is :data:`DEFAULT_SEED`), never both in one sweep.
+Studies with their own design (Sobol samples, tied parameters) pass ``runs`` instead.
+
+Execution: each run is an independent job that sends only JSON (the rig's object and the
+run's overrides) and gets back numbers: the worker loads the rig and builds its own Exudyn
+system (symbolic user functions do not pickle; exudyn-notes "Sweeps and scale-out").
+Locally a process pool on all cores (forked workers, a few runs queued each); beyond one
+machine a Dask ``distributed`` cluster (``scheduler=ADDRESS``: ``dask scheduler`` on one
+machine, ``dask worker ADDRESS --nworkers -1 --nthreads 1`` on each; the rig goes to the
+workers once). Dask was chosen over Ray by measurement (docs/findings.md, "Design studies at scale").
+
+Rows are written (and flushed) to the output as runs finish; ``resume=True`` keeps the runs
+already in the output (checked against this sweep's design) and runs the rest. When every
+run is in, the file is rewritten in run order. An existing output is replaced only with
+``force=True``, and a sweep holds a lock on its output while it writes it.
+
+Rooms: :mod:`.design` (the parameter sets), :mod:`.runs` (one run and the checks of the paths),
+:mod:`.executors` (where runs go), :mod:`.table` (the file); this module wires them.
+"""
+from __future__ import annotations
+
+import csv
+import math
+import os
+import time
+from dataclasses import dataclass, field
+
+import pandas as pd
+
+from ...errors import InputError
+from ...experiments import experiment_of
+from ...experiments.loading import rig_from_data
+from ...experiments.simulation import model_spec
+from ...rig.data import Rig
+from ...rig.paths import get_path, with_overrides
+from ...rig.reader import read_json
+from ..progress import Progress, progress
+from .design import DEFAULT_SEED, DIGITS, DISTRIBUTIONS, MAX_RUNS, SAMPLING, Vary, design, parse_vary, parse_varies
+from .executors import _dask, _local_pool, _serial, connect, default_workers
+from .runs import check_paths, check_used, figures_of_merit, one_line, run_one
+from .table import cell_text, read_finished, rewrite_in_order, table_lock, typed_row, value_text
+
+__all__ = ["sweep", "design", "parse_vary", "parse_varies", "Vary", "figures_of_merit", "run_one", "connect",
+           "default_workers", "check_paths", "check_used", "one_line", "DEFAULT_SEED", "DIGITS", "DISTRIBUTIONS",
+           "MAX_RUNS", "SAMPLING", "get_path", "with_overrides"]
+
+
+@dataclass
+class SweepPlan:
+    """A checked sweep, before anything runs: the rig, the parameter sets and the table's columns."""
+
+    data: dict
+    rig_path: str
+    experiment: str
+    name: str
+    table: pd.DataFrame  # one row per run, one column per varied path
+    kind: str  # grid | random | given
+    columns: tuple  # result columns (figures of merit, SI units in their names)
+    draw: str  # how the parameter sets were made, for the progress line
+    column_units: dict = field(default_factory=dict)
+
+    @property
+    def paths(self):
+        return list(self.table.columns)
+
+    @property
+    def header(self):
+        return ["run", *self.paths, *self.columns, "status"]
+
+
+def _rig_input(rig):
+    """(JSON object, path label) of a rig given as a path, a JSON object or a loaded Rig."""
+    if isinstance(rig, Rig):
+        return rig.data, rig.path
+    if isinstance(rig, dict):
+        return rig, "(rig)"
+    return read_json(str(rig)), str(rig)
+
+
+def _design_table(vary, runs, samples, seed, sampling):
+    """(table, kind) from ``vary`` texts or given ``runs``."""
+    if runs is None:
+        varies = parse_varies(vary)
+        return design(varies, samples, seed, sampling), ("grid" if varies[0].is_grid else "random")
+    if vary:
+        raise ValueError("give vary or runs, not both")
+    table = pd.DataFrame(list(runs) if not isinstance(runs, pd.DataFrame) else runs).reset_index(drop=True)
+    if table.empty:
+        raise InputError("runs", "runs", "no parameter sets given")
+    return table.astype(float), "given"
+
+
+def plan(rig, vary=(), *, runs=None, samples=None, seed=None, sampling="lhs", evaluate=None, columns=None,
+         label=None) -> SweepPlan:
+    """Check a sweep before anything runs (bad input raises InputError naming the rig and the path):
+    paths that are numeric fields of this rig, read by its model, and a nominal model that runs."""
+    data, rig_path = _rig_input(rig)
+    nominal = rig_from_data(data, rig_path)
+    table, kind = _design_table(vary, runs, samples, seed, sampling)
+    check_paths(data, table.columns, rig_path, nominal.experiment)
+    record = experiment_of(nominal.experiment)
+    if evaluate is None:
+        columns = record.figure_columns
+    elif columns is None:
+        raise ValueError("a custom evaluate needs its columns")
+    # the nominal model must run: a value it needs but the rig lacks is bad input, before the sweep
+    # (fields the rig does not give take the first run's value)
+    absent = {}
+    for p in table.columns:
+        try:
+            get_path(data, p)
+        except KeyError:
+            given = table[p].dropna()
+            if len(given):
+                absent[p] = float(given.iloc[0])
+    spec = model_spec(rig_from_data(with_overrides(data, absent), rig_path) if absent else nominal)
+    check_used(table.columns, spec.effects, rig_path, nominal.experiment)
+    draw = (f"{SAMPLING[sampling]}, seed {DEFAULT_SEED if seed is None else seed}" if kind == "random"
+            else "grid" if kind == "grid" else "given parameter sets")
+    return SweepPlan(data, rig_path, nominal.experiment, label or f"sweep {nominal.name}", table, kind,
+                     tuple(columns), draw, dict(record.figure_units) if evaluate is None else {})
+
+
+def sweep(rig, vary=(), *, runs=None, samples=None, seed=None, sampling="lhs", workers=None, scheduler=None,
+          output=None, stream=None, resume=False, force=False, evaluate=None, columns=None, t_end=None,
+          verbose=True, label=None) -> pd.DataFrame:
+    """Run the rig's experiment once per parameter set; return the table (a DataFrame).
+
+    Parameters
+    ----------
+    rig : rig file path, its JSON object (dict), or a loaded :class:`~vcbmodel.rig.data.Rig`.
+    vary : ``PATH=SPEC`` texts (or a dict {path: spec}); see :func:`design`.
+    runs : instead of ``vary``: the parameter sets (a DataFrame or list of {path: value}).
+    samples, seed, sampling : random draws of distributions (see :func:`design`).
+    workers : local processes (default: all cores; 1 runs in this process).
+    scheduler : address of a running Dask scheduler (``tcp://host:8786``) or a
+        ``distributed.Client``: the runs go to that cluster instead.
+    output : CSV file, written row by row as runs finish; ``stream``: a text stream as well
+        (the command line's stdout).
+    resume : keep the runs already in ``output`` and run the rest.
+    force : replace an existing ``output`` (without it, or ``resume``, an existing file is refused).
+        While a sweep writes ``output`` it holds a lock on it: a second sweep of the same file is
+        refused at once.
+    evaluate, columns : a top-level function ``f(rig, t_end) -> dict`` (it must be importable
+        by the workers) and its result columns, instead of the experiment's figures of merit.
+    t_end : simulated duration (s), default the experiment's.
+
+    Returns the table sorted by run: ``run``, the paths, the figures, ``status`` (``ok``,
+    ``not_closed`` for a breaker that never closed, or ``failed: reason``); ``attrs`` carry the
+    experiment, the design kind, the sampling and seed, and wall-clock numbers. Bad input
+    (unknown path, a path the model does not read, bad spec, a rig whose model lacks a value, an
+    existing output without ``force``, a table another sweep is writing) raises
+    :class:`~vcbmodel.errors.InputError` before anything runs or is written.
+    """
+    p = plan(rig, vary, runs=runs, samples=samples, seed=seed, sampling=sampling, evaluate=evaluate,
+             columns=columns, label=label)
+    if workers is not None and (isinstance(workers, bool) or int(workers) != workers or workers < 1):
+        raise InputError("--workers", "workers", f"must be a whole number >= 1, got {workers}")
+    if output and not (resume or force) and os.path.isfile(output) and os.path.getsize(output) > 0:
+        raise InputError(output, "output", "exists already: give --force to replace it (or --resume to continue it)")
+    with table_lock(output):
+        has_rows = resume and output and os.path.exists(output) and os.path.getsize(output) > 0
+        finished = read_finished(output, p.header, p.table) if has_rows else {}
+        client, own_client = (connect(scheduler) if scheduler is not None else (None, False))
+        try:
+            return _execute(p, finished, client, workers, output, stream, evaluate, t_end, verbose, seed, sampling)
+        finally:
+            if own_client:
+                client.close()
+
+
+def _announce(p, finished, todo, where, output, verbose):
+    if verbose:
+        progress(f"{p.name}: {len(p.table)} runs ({p.draw}), {len(finished)} already in {output}; {len(todo)} to run "
+                 f"on {where}" if finished else f"{p.name}: {len(p.table)} runs ({p.draw}) on {where}")
+
+
+def _open_outputs(p, finished, output, stream):
+    """The table's file (appended to when resuming) and the stream: csv writers, headers written."""
+    f = open(output, "a" if finished else "w", newline="") if output else None
+    sinks = []
+    if f:
+        if not finished:
+            csv.writer(f, lineterminator="\n").writerow(p.header)
+            f.flush()
+        sinks.append((csv.writer(f, lineterminator="\n"), f))
+    if stream is not None:
+        w = csv.writer(stream, lineterminator="\n")
+        w.writerow(p.header)
+        for run in sorted(finished):
+            w.writerow([finished[run][k] for k in p.header])
+        stream.flush()
+        sinks.append((w, stream))
+    return f, sinks
+
+
+def _runner(p, todo, client, n_workers, evaluate, t_end):
+    values_of = p.table.to_numpy(dtype=float)
+    # a given parameter set without a value for a path (NaN) leaves that field at the rig's value
+    jobs = ((run, (p.data, {k: float(v) for k, v in zip(p.paths, values_of[run - 1]) if not math.isnan(v)},
+                   p.rig_path, evaluate, t_end)) for run in todo)
+    if client is not None:
+        return _dask(jobs, run_one, client)
+    if n_workers > 1:
+        return _local_pool(jobs, run_one, n_workers)
+    return _serial(jobs, run_one)
+
+
+def _execute(p, finished, client, workers, output, stream, evaluate, t_end, verbose, seed, sampling):
+    """Run what is not in the table yet, writing each row as it finishes; the table in run order."""
+    todo = [i for i in range(1, len(p.table) + 1) if i not in finished]
+    address = client.scheduler.address if client is not None else None
+    n_workers = 1 if not todo else min(int(workers or default_workers()), len(todo))
+    where = (f"Dask cluster {address}" if client is not None
+             else f"{n_workers} local process{'es' if n_workers > 1 else ''}")
+    _announce(p, finished, todo, where, output, verbose)
+    rows = {run: typed_row(r, p.paths, p.columns) for run, r in finished.items()}
+    f, sinks = _open_outputs(p, finished, output, stream)
+    runner = _runner(p, todo, client, n_workers, evaluate, t_end)
+    values_of = p.table.to_numpy(dtype=float)
+    bar = Progress(len(todo), p.name, verbose)
+    every = max(1, len(todo) // 100)
+    seconds, counts = [], {"failed": 0, "not_closed": 0}
+    t0 = time.perf_counter()
+    try:
+        for run, values, status, secs in runner:
+            line = [str(run), *(value_text(v) for v in values_of[run - 1]),
+                    *(cell_text(values.get(c)) for c in p.columns), status]
+            for w, s in sinks:
+                w.writerow(line)
+                s.flush()
+            rows[run] = typed_row(dict(zip(p.header, line)), p.paths, p.columns)
+            seconds.append(secs)
+            counts["failed"] += status.startswith("failed")
+            counts["not_closed"] += status == "not_closed"
+            # at most about 100 progress lines, and every run that is not ok
+            bar.verbose = verbose and (status != "ok" or (bar.done + 1) % every == 0 or bar.done + 1 == len(todo))
+            bar.step(f"run {run} {status}")
+    except KeyboardInterrupt:
+        if verbose:
+            progress(f"{p.name}: stopped after {bar.done} of {len(todo)} runs"
+                     + (f"; their rows are in {output}: the same command with --resume runs the rest" if output else ""))
+        raise
+    finally:
+        runner.close()
+        if f:
+            f.close()
+    wall = time.perf_counter() - t0
+    if output and os.path.isfile(output) and len(rows) == len(p.table) and todo:
+        rewrite_in_order(output)
+    df = pd.DataFrame([rows[r] for r in sorted(rows)], columns=p.header)
+    df.attrs.update({"experiment": p.experiment, "rig": p.rig_path, "design": p.kind,
+                     "sampling": SAMPLING[sampling] if p.kind == "random" else None,
+                     "seed": (DEFAULT_SEED if seed is None else seed) if p.kind == "random" else None,
+                     "workers": None if client is not None else n_workers, "scheduler": address,
+                     "runs_done": len(todo), "wall_s": wall, "run_s": seconds, "failed": counts["failed"],
+                     "not_closed": counts["not_closed"], "column_units": p.column_units})
+    if verbose:
+        ok = len(todo) - counts["failed"] - counts["not_closed"]
+        progress(f"{p.name}: {ok} ok, {counts['not_closed']} not closed, {counts['failed']} failed in {wall:.1f} s"
+                 + (f"; table in {output}" if output else ""))
+    return df

@@ -1,0 +1,93 @@
+"""One run of a sweep, in whichever process: the rig's JSON edited at the run's paths, loaded,
+simulated and evaluated; and the checks of the paths before any run."""
+from __future__ import annotations
+
+import threading
+import time
+
+from ...errors import InputError, SimulationError
+from ...experiments import experiment_of
+from ...experiments.loading import rig_from_data
+from ...experiments.simulation import simulate
+from ...model.effects import effect_reading
+from ...rig.paths import get_path, path_keys, with_overrides
+
+
+def check_paths(data, paths, rig_path, experiment):
+    """Refuse a path that is not a numeric field of this experiment's rigs (InputError naming
+    the rig file and the path). A field the rig does not give but the format knows is allowed:
+    the loader is the judge (it refuses unknown keys)."""
+    for path in paths:
+        try:
+            keys = path_keys(path)
+        except ValueError:
+            raise InputError(rig_path, path, "is not a dotted path (e.g. friction.mu_k)") from None
+        if any(isinstance(k, str) and k.startswith("_") for k in keys):
+            raise InputError(rig_path, path, "names a comment, not a rig field")
+        try:
+            value = get_path(data, path)
+        except KeyError:
+            try:
+                probe = with_overrides(data, {path: 1.0})
+            except KeyError:
+                raise InputError(rig_path, path, f"not a field of this {experiment} rig") from None
+            try:
+                rig_from_data(probe, rig_path)
+            except InputError as e:
+                if "unknown field" in str(e) and path.startswith(e.field):
+                    hint = str(e).split("unknown field", 1)[1].split(";")[0]
+                    at = f" (at {e.field})" if e.field != path else ""
+                    raise InputError(rig_path, path, f"unknown field of a {experiment} rig{hint}{at}") from None
+            continue
+        if isinstance(value, bool) or not isinstance(value, (int, float)):
+            raise InputError(rig_path, path, f"is not a number ({type(value).__name__}): only numeric fields can be varied")
+
+def check_used(paths, effects, rig_path, experiment):
+    """Refuse a path that the model does not read (a field of an effect the model leaves out:
+    ``friction.mu_s`` without ``stribeck``, ``closing_spring.mass`` on a massless spring): every
+    run would give the same row."""
+    for path in paths:
+        owner = effect_reading(path)
+        if owner is not None and owner not in effects:
+            raise InputError(rig_path, path, f"is not used by this rig's model (effect {owner!r} is off; the model "
+                             f"has {', '.join(effects) or 'no effects'}): every run would give the same row; "
+                             f"add {owner!r} to model.effects (or set the spring model) to sweep it")
+
+
+def figures_of_merit(rig, t_end=None):
+    """The default evaluation of a run: simulate the rig's model and return the experiment's
+    figures of merit (the record's ``figure_columns``)."""
+    record = experiment_of(rig.experiment)
+    result = simulate(rig, t_end=t_end)
+    fom = record.figures_of_merit(result, rig)
+    return {k: fom.get(k) for k in record.figure_columns}
+
+
+#: One solve at a time per process, even on a multi-threaded Dask worker (Exudyn systems are
+#: independent, but the Python user functions share the interpreter).
+_SOLVE_LOCK = threading.Lock()
+
+
+def one_line(text, limit=300):
+    text = " ".join(str(text).split())
+    return text if len(text) <= limit else text[:limit - 3] + "..."
+
+
+def run_one(data, overrides, rig_path, evaluate=None, t_end=None):
+    """One run, in whichever process: edit the JSON, load the rig, simulate, evaluate.
+
+    Never raises for a bad run: returns ``(values, status, seconds)`` with status ``ok`` or
+    ``failed: reason`` (a value that makes the rig invalid, a failed solve, ...)."""
+    t0 = time.perf_counter()
+    with _SOLVE_LOCK:
+        try:
+            rig = rig_from_data(with_overrides(data, overrides), rig_path)
+            values = (evaluate or figures_of_merit)(rig, t_end)
+            status = experiment_of(rig.experiment).run_status(values) if evaluate is None else "ok"
+        except InputError as e:
+            values, status = {}, f"failed: {e.field}: {one_line(str(e).split(': ', 2)[-1])}"
+        except SimulationError as e:
+            values, status = {}, f"failed: {one_line(e)}"
+        except Exception as e:  # noqa: BLE001 -- any other fault is that run's, the sweep goes on
+            values, status = {}, f"failed: {type(e).__name__}: {one_line(e)}"
+    return values, status, time.perf_counter() - t0

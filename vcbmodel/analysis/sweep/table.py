@@ -1,0 +1,127 @@
+"""A sweep's table on disk: one CSV row per run, written and flushed as runs finish, a lock while a sweep writes it, rows of an interrupted sweep read
+back for ``resume``, and the complete table rewritten in run order."""
+from __future__ import annotations
+
+import csv
+import fcntl
+import io
+import math
+import os
+from contextlib import contextmanager
+from pathlib import Path
+
+import numpy as np
+
+from ...errors import InputError
+
+
+@contextmanager
+def table_lock(output):
+    """Hold an exclusive lock on ``output`` while a sweep writes it: a second sweep of the same file
+    (or a ``--resume`` of it) is refused at once. The lock is the OS's (``flock`` on a hidden file
+    beside the table), so a killed sweep never leaves a stale one."""
+    if not output:
+        yield
+        return
+    lock_path = Path(output).with_name(f".{Path(output).name}.lock")
+    fd = os.open(lock_path, os.O_CREAT | os.O_RDWR, 0o644)
+    try:
+        try:
+            fcntl.flock(fd, fcntl.LOCK_EX | fcntl.LOCK_NB)
+        except BlockingIOError:
+            raise InputError(output, "output", "another vcbmodel sweep is writing this table now: wait for it, "
+                             "or give another -o") from None
+        try:
+            yield
+        finally:
+            try:
+                os.unlink(lock_path)
+            except OSError:
+                pass
+    finally:
+        os.close(fd)
+
+
+def cell_text(v):
+    if v is None:
+        return ""
+    if isinstance(v, (bool, np.bool_)):
+        return str(int(v))
+    if isinstance(v, (int, np.integer)):
+        return str(int(v))
+    v = float(v)
+    return "" if not math.isfinite(v) else f"{v:.9g}"
+
+
+def value_text(v):
+    return repr(float(v))
+
+
+def read_finished(output, header, table):
+    """Rows already in ``output`` (a resumed sweep): {run: row dict}. A last line cut short by
+    an interrupt is dropped (the file is truncated to its last complete row); rows must match
+    this sweep's header and design."""
+    raw = Path(output).read_bytes()
+    if not raw.strip():
+        Path(output).write_bytes(b"")
+        return {}
+    if not raw.endswith(b"\n"):  # the interrupted last row
+        raw = raw[:raw.rfind(b"\n") + 1]
+        Path(output).write_bytes(raw)
+    text = raw.decode("utf-8", errors="replace")
+    reader = csv.reader(line for line in io.StringIO(text) if not line.startswith("#"))
+    got = next(reader, None)
+    if got is None:
+        return {}
+    if got != header:
+        raise InputError(output, "header", f"has the columns of another sweep ({','.join(got)[:120]}); this sweep "
+                         f"writes {','.join(header)[:120]}: give another -o or leave out --resume")
+    paths = list(table.columns)
+    finished = {}
+    for lineno, row in enumerate(reader, start=2):
+        if not row:
+            continue
+        if len(row) != len(header):
+            raise InputError(output, f"line {lineno}", f"has {len(row)} fields, the header {len(header)}")
+        try:
+            run = int(row[0])
+        except ValueError:
+            raise InputError(output, f"line {lineno}", f"run {row[0]!r} is not a run number") from None
+        if not 1 <= run <= len(table):
+            raise InputError(output, f"line {lineno}", f"run {run} is not in this sweep (1 to {len(table)})")
+        for j, path in enumerate(paths, start=1):
+            want = float(table.iloc[run - 1][path])
+            try:
+                have = float(row[j])
+            except ValueError:
+                have = float("nan")
+            if not math.isclose(have, want, rel_tol=1e-9, abs_tol=1e-300):
+                raise InputError(output, f"line {lineno}", f"run {run} has {path} = {row[j]}, this sweep {want!r}: "
+                                 "it was written by another sweep (same --vary, --samples and --seed to resume)")
+        finished.setdefault(run, dict(zip(header, row)))
+    return finished
+
+
+def typed_row(row, paths, columns):
+    out = {"run": int(row["run"])}
+    for k in paths + list(columns):
+        v = row.get(k, "")
+        out[k] = float(v) if v not in ("", None) else float("nan")
+    out["status"] = row["status"]
+    return out
+
+
+def rewrite_in_order(output):
+    """Rewrite a complete sweep's file in run order (atomically: a temporary file, then rename)."""
+    text = Path(output).read_text()
+    comments = [line for line in text.splitlines(keepends=True) if line.startswith("#")]
+    reader = csv.reader(line for line in io.StringIO(text) if not line.startswith("#"))
+    head = next(reader)
+    rows = sorted((r for r in reader if r), key=lambda r: int(r[0]))
+    tmp = Path(output).with_name(f".{Path(output).name}.{os.getpid()}.tmp")
+    with open(tmp, "w", newline="") as g:
+        g.writelines(comments)
+        w = csv.writer(g, lineterminator="\n")
+        w.writerow(head)
+        w.writerows(rows)
+    os.replace(tmp, output)

@@ -1,0 +1,97 @@
+"""The files a command writes (docs/cli.md, "Output files").
+
+Every rule here is checked before any work starts:
+
+- an output is never one of the command's inputs (``simulate x.rig.json -o x.rig.json``);
+- an existing regular file is replaced only with ``--force`` (a sweep may also ``--resume`` it);
+- the folder must exist and be writable, a plot's suffix must be a format matplotlib writes.
+
+Writing goes through a temporary file in the same folder and a rename, so a failed write (a full
+disk) leaves the old file, or none, never half a file. Devices (``/dev/null``, ``/dev/stdout``) are
+written directly and need no ``--force``.
+"""
+from __future__ import annotations
+
+import os
+import stat
+import tempfile
+
+from ..errors import InputError
+
+
+def _same_file(a, b):
+    try:
+        return os.path.samefile(a, b)
+    except OSError:
+        return os.path.realpath(a) == os.path.realpath(b)
+
+
+def is_regular_or_absent(path):
+    """True for a regular file or a path that does not exist yet (what ``--force`` protects)."""
+    try:
+        return stat.S_ISREG(os.stat(path).st_mode)
+    except FileNotFoundError:
+        return True
+
+
+def check_output(path, argname, *, inputs=(), force=False, keep=False, resumable=False, formats=None):
+    """Refuse an output path before any work: nothing is written, nothing left behind.
+
+    Parameters
+    ----------
+    path : the output file (None: stdout, nothing to check).
+    argname : the option that gave it (``-o``, ``--plot``), named in the error.
+    inputs : the files the command reads; the output may be none of them.
+    force : an existing file may be replaced.
+    keep : an existing file will be continued, not replaced (``sweep --resume``).
+    resumable : the refusal mentions ``--resume`` (a sweep's table).
+    formats : allowed suffixes (image formats), or None.
+    """
+    if path is None:
+        return
+    for source in inputs:
+        if source is not None and os.path.exists(path) and _same_file(path, source):
+            raise InputError(path, argname, f"is an input of this command ({source}): give another output file")
+    if os.path.isdir(path):
+        raise InputError(path, argname, "is a folder: give a file name")
+    folder = os.path.dirname(os.path.abspath(path))
+    if not os.path.isdir(folder):
+        raise InputError(path, argname, "the folder does not exist")
+    if formats is not None:
+        suffix = os.path.splitext(path)[1].lstrip(".").lower()
+        if suffix not in formats:
+            raise InputError(path, argname, f"unknown image format {suffix or '(none)'!r} (known: {', '.join(formats)})")
+    if not is_regular_or_absent(path):
+        if not os.access(path, os.W_OK):
+            raise InputError(path, argname, "cannot be written (permission denied)")
+        return  # a device: written directly
+    if os.path.exists(path):
+        if not (force or keep):
+            raise InputError(path, argname, "exists already: give --force to replace it"
+                             + (" (or --resume to continue it)" if resumable else ""))
+        if not os.access(path, os.W_OK):
+            raise InputError(path, argname, "cannot be written (permission denied)")
+    try:
+        with tempfile.NamedTemporaryFile(dir=folder, prefix=".vcbmodel-check-"):
+            pass
+    except OSError as e:
+        raise InputError(path, argname, f"cannot be written here ({e.strerror or 'not writable'})") from None
+
+
+def write_file(path, data):
+    """Write ``data`` (str or bytes) to ``path``: a regular file atomically (temporary file, then rename), a device
+    directly. An OSError (a full disk) leaves no partial file and propagates."""
+    if not is_regular_or_absent(path):
+        with open(path, "wb" if isinstance(data, bytes) else "w") as f:
+            f.write(data)
+        return
+    folder = os.path.dirname(os.path.abspath(path))
+    fd, tmp = tempfile.mkstemp(dir=folder, prefix=f".{os.path.basename(path)}.", suffix=".tmp")
+    try:
+        with os.fdopen(fd, "wb" if isinstance(data, bytes) else "w") as f:
+            f.write(data)
+        os.replace(tmp, path)
+    except BaseException:
+        if os.path.exists(tmp):
+            os.unlink(tmp)
+        raise

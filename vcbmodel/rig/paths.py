@@ -1,0 +1,68 @@
+"""Dotted paths into a rig's JSON object (``friction.mu_k``, ``breaker.poles.gap_offsets.1``: list
+items by index). One implementation for every layer that names a rig field by its path: sweeps, the
+rig's ``uncertain`` section, nuisance estimates."""
+from __future__ import annotations
+
+import copy
+
+
+def path_keys(path):
+    """``a.b.2.c`` -> ["a", "b", 2, "c"] (digits index lists)."""
+    keys = path.split(".")
+    if any(k == "" for k in keys):
+        raise ValueError("empty component")
+    return [int(k) if k.isdigit() else k for k in keys]
+
+
+def get_path(data, path):
+    """The value at ``path``; KeyError if absent."""
+    obj = data
+    for k in path_keys(path):
+        if isinstance(k, int) and isinstance(obj, list) and k < len(obj):
+            obj = obj[k]
+        elif isinstance(k, str) and isinstance(obj, dict) and k in obj:
+            obj = obj[k]
+        else:
+            raise KeyError(path)
+    return obj
+
+
+def set_path(data, path, value):
+    """Set ``path`` in ``data`` (in place), creating missing objects on the way."""
+    keys = path_keys(path)
+    obj = data
+    for k, nxt in zip(keys[:-1], keys[1:]):
+        if isinstance(obj, list):
+            if not isinstance(k, int) or k >= len(obj):
+                raise KeyError(path)
+            obj = obj[k]
+            continue
+        if not isinstance(obj, dict) or isinstance(k, int):
+            raise KeyError(path)
+        if k not in obj:
+            obj[k] = {}
+        obj = obj[k]
+    last = keys[-1]
+    if isinstance(obj, list) and isinstance(last, int) and last < len(obj):
+        obj[last] = value
+    elif isinstance(obj, dict) and isinstance(last, str):
+        obj[last] = value
+    else:
+        raise KeyError(path)
+
+
+def with_overrides(data, overrides):
+    """A copy of the rig's JSON object with ``overrides`` ({path: value}) set."""
+    out = copy.deepcopy(data)
+    for path, value in overrides.items():
+        set_path(out, path, float(value))
+    return out
+
+
+def numeric_at(data, path):
+    """The number at ``path`` (not a bool), or None when absent or not a number."""
+    try:
+        value = get_path(data, path)
+    except (KeyError, ValueError):
+        return None
+    return value if isinstance(value, (int, float)) and not isinstance(value, bool) else None
