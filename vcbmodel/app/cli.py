@@ -13,6 +13,7 @@ import math
 import os
 import signal
 import sys
+from contextlib import contextmanager
 
 from .. import __version__
 from ..analysis.diagnose import diagnose
@@ -26,6 +27,24 @@ from ..model.choice import parse_effects_option
 from ..rig.spring_model import SpringModel
 from .outputs import check_output, write_file
 from .plots import plot_diagnosis, supported_image_formats
+
+
+@contextmanager
+def results_only_on_stdout():
+    """While a fit runs, send file descriptor 1 to stderr: a native library's messages (LAPACK's
+    "On entry to DLASCL ...") cannot then spoil the JSON or CSV a command prints afterwards."""
+    try:
+        sys.stdout.flush()
+        saved = os.dup(1)
+    except (OSError, ValueError):
+        yield
+        return
+    os.dup2(2, 1)
+    try:
+        yield
+    finally:
+        os.dup2(saved, 1)
+        os.close(saved)
 
 
 class _Parser(argparse.ArgumentParser):
@@ -130,7 +149,8 @@ def cmd_identify(args):
     pairs = [load_pair(m, args.rig) for m in args.measurements]
     for rig, _ in pairs:
         require_experiment(rig, "pendulum", "identify")
-    result = identify(pairs, law=args.law)
+    with results_only_on_stdout():
+        result = identify(pairs, law=args.law)
     if args.json:
         print(json.dumps({**envelope(pairs[0][0], {"angles": "rad", "velocities": "rad/s", "viscous": "N m s/rad",
                                                    "rms": "rad", "max_error_percent": "%"}), **result.to_json()}))
@@ -143,9 +163,10 @@ def cmd_diagnose(args):
     rig, meas = load_pair(args.measurement, args.rig)
     check_output(args.plot, "--plot", inputs=(args.measurement, rig.path), force=args.force,
                  formats=supported_image_formats())
-    d = diagnose(rig, meas, processes=max(1, args.processes))
-    if args.plot:
-        plot_diagnosis(d, args.plot)
+    with results_only_on_stdout():
+        d = diagnose(rig, meas, processes=max(1, args.processes))
+        if args.plot:
+            plot_diagnosis(d, args.plot)
     if args.json:
         print(json.dumps({**envelope(rig, {"rms": d.unit, "noise_estimate": d.unit, "window": "s",
                                            "release_time": "s", "initial_angle": "rad", "sensor_offset": d.unit,

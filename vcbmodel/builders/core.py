@@ -79,7 +79,9 @@ class ExudynModel:
         for name, s in self.sensors.items():
             data = np.array(mbs.GetSensorStoredData(s))
             if data.size == 0 or not np.all(np.isfinite(data)):
-                raise SimulationError(f"the solution diverged (non-finite {name}); reduce the step")
+                raise SimulationError(f"the solution diverged (non-finite {name}) at the experiment's fixed step: "
+                                      "a stiffness, mass or contact value far outside its documented range is the "
+                                      "usual cause (docs/rig-format.md)")
             out[name] = data
         self.SC.Reset()  # frees symbolic user functions (exudyn-notes: they leak otherwise)
         return out

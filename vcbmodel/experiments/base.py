@@ -1,10 +1,20 @@
 """The experiment record: everything the layers need to know about one kind of test."""
 from __future__ import annotations
 
+import math
 from dataclasses import dataclass
 from typing import Callable
 
+import numpy as np
+
 from ..errors import InputError
+
+#: Shortest sample interval of any record (s): 10 MHz is beyond any sensor of a mechanism test; a
+#: smaller spacing is a time column in the wrong unit, and would make the fits' step (which must
+#: divide the spacing) absurdly small.
+MIN_SAMPLE_INTERVAL = 1e-7
+#: Most samples in a record (two million: 100 s at 20 kHz); a denser record is decimated first.
+MAX_SAMPLES = 2_000_000
 
 
 def no_guesses(rig, measurement):
@@ -64,6 +74,9 @@ class Experiment:
     initial_angle_field: str | None = None
     period_fields: tuple = ()
     extra_channels: tuple = ()
+    min_duration: float = 0.0  # s: a shorter record cannot show the experiment's motion
+    max_magnitude: float = math.inf  # largest plausible |measured value| in ``unit``
+    unit_hint: str = ""  # what a value beyond max_magnitude suggests ("degrees?")
     figure_units: tuple = ()  # ((column, unit), ...): what a sweep tabulates
     missing_means: tuple = ()  # ((column, status), ...): see run_status
 
@@ -80,6 +93,30 @@ class Experiment:
             if v is None or (isinstance(v, float) and v != v):
                 return status
         return "ok"
+
+    def check_record(self, t, y, source):
+        """Refuse, before any work, a record this experiment cannot have produced: too short or too
+        long, sampled implausibly fast or densely, a measured channel beyond its plausible range
+        (a unit slip: degrees for rad, mm for m) or never changing (one line, InputError)."""
+        self.check_duration(float(t[-1] - t[0]), source, "column 't'")
+        spacing = float(np.min(np.diff(t)))
+        if spacing < MIN_SAMPLE_INTERVAL:
+            raise InputError(source, "column 't'", f"samples {spacing:.3g} s apart: no sensor of a {self.name} test samples "
+                             f"faster than {1 / MIN_SAMPLE_INTERVAL:.3g} Hz; is the time column in seconds?")
+        if t[-1] - t[0] < self.min_duration:
+            raise InputError(source, "column 't'", f"the record lasts {t[-1] - t[0]:.3g} s: a {self.name} test needs at "
+                             f"least {self.min_duration:g} s to show its motion")
+        if t.size > MAX_SAMPLES:
+            raise InputError(source, "data", f"{t.size} samples: more than {MAX_SAMPLES} (decimate the record to at most "
+                             f"a few times {self.sample_rate:g} samples/s)")
+        peak = float(np.max(np.abs(y)))
+        if peak > self.max_magnitude:
+            raise InputError(source, f"column {self.measured_channel!r}", f"reaches {peak:.4g}, implausible in "
+                             f"{self.unit} for a {self.name} test (at most {self.max_magnitude:g})"
+                             + (self.unit_hint if peak < 1000 * self.max_magnitude else ""))
+        if float(np.ptp(y)) == 0.0:
+            raise InputError(source, f"column {self.measured_channel!r}", "never changes: the record shows no motion to "
+                             "fit or compare (a disconnected sensor, or the wrong column?)")
 
     def check_duration(self, duration, source, field):
         """Refuse an implausibly long record or simulation (one line with a hint)."""

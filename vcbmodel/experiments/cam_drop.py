@@ -44,6 +44,8 @@ CAM_DROP = Experiment(
     measured_channel="cam_angle", unit="rad", sections=("cam", "closing_spring"), read_sections=read_cam_and_spring,
     # high-speed camera at 12000 frames/s, sigma 2 mrad (the example data's sensor)
     sample_rate=12000.0, noise_sigma=2e-3, default_duration=P.CAM_T_END, max_duration=1.0,
+    # a drop shorter than 2 ms barely moves the cam; cam angles beyond two turns are degrees
+    min_duration=2e-3, max_magnitude=4 * math.pi, unit_hint=": is it in degrees? cam_angle must be in rad",
     build=build, channels=channels, step=default_step, figures_of_merit=figures_of_merit,
     has_closing_spring=True, signature=spring_signature, initial_angle_field="cam.initial_angle",
     figure_units=(("cam_angle_end_rad", "rad"), ("peak_shaft_velocity_rad_s", "rad/s")))

@@ -10,6 +10,7 @@ from pathlib import Path
 
 from ..errors import InputError
 from ..model.choice import read_model
+from ..model.result import unit_of
 from ..model.values import rig_values
 from ..records.analyser import analyser_channels, check_contacts
 from ..records.measurement import load_measurement, sibling_rig_path
@@ -61,8 +62,9 @@ def load_record(measurement_path, rig):
     """A measurement file for ``rig``: it must carry the experiment's channel and a plausible
     time axis (seconds)."""
     record = EXPERIMENTS[rig.experiment]
-    meas = load_measurement(measurement_path, record.measured_channel, known_channels(rig))
-    record.check_duration(float(meas.t[-1] - meas.t[0]), meas.path, "column 't'")
+    known = known_channels(rig)
+    meas = load_measurement(measurement_path, record.measured_channel, known, {c: unit_of(c) for c in known})
+    record.check_record(meas.t, meas.channel(record.measured_channel), meas.path)
     check_contacts(meas)
     return meas
 
@@ -78,6 +80,9 @@ def known_channels(rig=None):
 
 def load_pair(measurement_path, rig_path=None):
     """(rig, measurement): the rig defaults to the measurement's sibling ``NAME.rig.json``."""
+    if str(measurement_path).endswith(".rig.json"):
+        raise InputError(measurement_path, "file", "is a rig file: give the measurement NAME.csv (its rig "
+                         "NAME.rig.json is found beside it, or give it with --rig)")
     rig = load_rig(rig_path or sibling_rig_path(measurement_path))
     return rig, load_record(measurement_path, rig)
 

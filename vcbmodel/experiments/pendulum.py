@@ -1,6 +1,8 @@
 """The pendulum test (paper section 2): a weight on a link swings on the cam shaft."""
 from __future__ import annotations
 
+import math
+
 import numpy as np
 
 from .. import parameters as P
@@ -81,6 +83,8 @@ PENDULUM = Experiment(
     measured_channel="pendulum_angle", unit="rad", sections=("pendulum",), read_sections=read_pendulum,
     # potentiometer at 1 kHz, sigma 0.5 mrad (the example data's sensor)
     sample_rate=1000.0, noise_sigma=0.5e-3, default_duration=P.PENDULUM_T_END, max_duration=600.0,
+    # a swing is at least a quarter period (about 0.25 s); a pendulum angle beyond half a turn is degrees
+    min_duration=0.2, max_magnitude=math.pi, unit_hint=": is it in degrees? pendulum_angle must be in rad",
     build=build, channels=channels, step=default_step, figures_of_merit=figures_of_merit,
     start_guesses=start_guesses, swinging_part=swinging_part, signature=signature,
     initial_angle_field="pendulum.initial_angle", period_fields=("pendulum.inertia", "pendulum.com_distance"),

@@ -5,6 +5,7 @@ The rig's ``cam``, ``closing_spring`` and ``breaker`` sections are read by
 """
 from __future__ import annotations
 
+
 from .. import parameters as P
 from ..builders.breaker import build_vcb_closing
 from ..rig.sections import read_closing
@@ -27,6 +28,8 @@ VCB_CLOSING = Experiment(
     read_sections=read_closing,
     # the cam drop's camera (12 kHz) filming the follower: about 0.1 mm resolved over a 100 mm field
     sample_rate=12000.0, noise_sigma=5e-5, default_duration=P.BREAKER_T_END, max_duration=1.0,
+    # the follower moves a few centimetres at most: a value above 0.5 is millimetres
+    min_duration=2e-3, max_magnitude=0.5, unit_hint=": is it in millimetres? follower_displacement must be in m",
     build=build, channels=closing_channels, step=default_step, figures_of_merit=figures_of_merit,
     has_closing_spring=True, signature=spring_signature,
     # a breaker analyser's timing and travel channels (vcbmodel.records.analyser), fitted when present

@@ -464,8 +464,10 @@ class BreakerLaws:
         span = 1e-3
         lo, hi = phi_rest - span, phi_rest + span
         if torque(lo) * torque(hi) > 0:
-            raise SimulationError("breaker: no static rest of the follower on the cam: the poles' bellows "
-                                  "and rod forces lift it against the opening spring")
+            raise SimulationError("breaker: no static rest of the follower on the cam at the initial angle (the "
+                                  "torques on it do not balance within 1 mrad of its geometric rest): check the "
+                                  "opening spring's preload against the poles' bellows and push-rod forces, and the "
+                                  "contact values (stiffness, exponent)")
         phi = brentq(torque, lo, hi, xtol=1e-15)
         z = [self.rest_pole_travel(phi)] * n
         _, (t_cam, _, _) = self.follower_torque(theta, 0.0, phi, 0.0, z, [0.0] * n)

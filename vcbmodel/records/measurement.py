@@ -1,9 +1,11 @@
 """Measurement files ``NAME.csv``: ``#`` comment lines (free text), a header starting with
-``t`` (s), channels in SI units (the experiment records say which channels exist). Reading refuses anything malformed with one line naming the
-file and the line or column; writing is the inverse."""
+``t`` (s), channels in SI units (the experiment records say which channels exist). Reading
+refuses anything malformed with one line naming the file and the line or column; writing is the
+inverse."""
 from __future__ import annotations
 
 import math
+import re
 from dataclasses import dataclass, replace
 from pathlib import Path
 
@@ -45,37 +47,83 @@ def _lines(path, raw):
             raise InputError(path, f"line {i}", "holds characters other than numbers and names") from None
 
 
-def load_measurement(path, channel=None, known=None) -> Measurement:
+#: A number as measurement files write it: digits with an optional point and exponent (no
+#: underscores, which Python would read as digit separators: 1_0.0 -> 10.0), or nan/inf (refused
+#: below with their own message).
+NUMBER = re.compile(r"[+-]?(\d+\.?\d*|\.\d+)([eE][+-]?\d+)?|[+-]?(nan|inf|infinity)", re.IGNORECASE)
+
+
+def _number(cell, path, line):
+    if not NUMBER.fullmatch(cell):
+        why = " (underscores are not allowed in numbers)" if "_" in cell else ""
+        raise InputError(path, f"line {line}", f"value {cell[:30]!r} is not a number{why}")
+    return float(cell)
+
+
+#: A header name with its unit: ``t [s]``, ``cam_angle (rad)``, ``cam_angle/rad``.
+HEADER_UNIT = re.compile(r"(?P<name>[A-Za-z_][A-Za-z0-9_]*)\s*(?:\[(?P<a>[^\]]*)\]|\((?P<b>[^)]*)\)|/\s*(?P<c>\S+))")
+
+
+def _dialect(header_text):
+    """(delimiter, decimal comma) from the header line: ``;`` (spreadsheets with a decimal comma),
+    a tab, or ``,``."""
+    if ";" in header_text:
+        return ";", True
+    if "\t" in header_text and "," not in header_text:
+        return "\t", False
+    return ",", False
+
+
+def _cells(text, delimiter, decimal_comma):
+    """A line's cells: split, stripped, symmetric double quotes removed, a trailing empty cell
+    (a trailing delimiter) dropped, decimal commas read as points."""
+    cells = [c.strip() for c in text.split(delimiter)]
+    if len(cells) > 1 and cells[-1] == "":
+        cells = cells[:-1]
+    cells = [c[1:-1].strip() if len(c) >= 2 and c[0] == c[-1] == '"' else c for c in cells]
+    return [c.replace(",", ".") for c in cells] if decimal_comma else cells
+
+
+def _header(cells, path, line, units):
+    """Channel names from header cells: lower-case, a stated unit checked against the channel's."""
+    names = []
+    for cell in cells:
+        m = HEADER_UNIT.fullmatch(cell)
+        name, unit = (m.group("name"), next(u for u in m.group("a", "b", "c") if u is not None).strip()) if m else (cell, None)
+        name = name.lower()
+        want = "s" if name == "t" else (units or {}).get(name)
+        if unit is not None and want not in (None, "?") and unit != want:
+            raise InputError(path, f"column {cell[:40]!r}", f"is in {unit!r}: this channel is read in {want!r} "
+                             "(convert the column, or leave the unit out of the header)")
+        names.append(name)
+    return names
+
+
+def load_measurement(path, channel=None, known=None, units=None) -> Measurement:
     """Read and check ``NAME.csv``; ``channel``: a column the file must have; ``known``: the
-    channel names a file may carry (default: any)."""
+    channel names a file may carry (default: any); ``units``: {channel: unit} to check units
+    stated in the header against. Accepted variants (docs/rig-format.md): ``;`` with decimal
+    commas, tabs, quoted values, a trailing delimiter, capitals and units in the header."""
     path = str(path)
     comments, rows, header, header_line = [], [], None, 0
+    dialect = (",", False)
     for i, s in _lines(path, read_bytes(path)):
         if not s:
             continue
         if s.startswith("#"):
             comments.append(s[1:].strip())
             continue
-        cells = [c.strip() for c in s.split(",")]
         if header is None:
-            header, header_line = cells, i
-            if header[0] != "t":
-                raise InputError(path, f"line {i}", f"the first column must be 't', got {header[0][:40]!r}")
-            for col in header[1:]:
-                if known is not None and col not in known:
-                    raise InputError(path, f"column {col[:40]!r}", f"unknown channel{did_you_mean(col, known)} "
-                                     f"(known: {', '.join(known)})")
-            if len(set(header)) != len(header):
-                raise InputError(path, f"line {i}", "a column is named twice")
-            if len(header) < 2:
-                raise InputError(path, f"line {i}", "no measured channel after 't'")
+            dialect = _dialect(s)
+            header, header_line = _header(_cells(s, *dialect), path, i, units), i
+            _check_header(header, path, i, known)
             continue
+        cells = _cells(s, *dialect)
         if len(cells) != len(header):
-            raise InputError(path, f"line {i}", f"has {len(cells)} values, the header has {len(header)}")
-        try:
-            values = [float(c) for c in cells]
-        except ValueError:
-            raise InputError(path, f"line {i}", "a value is not a number") from None
+            raise InputError(path, f"line {i}", f"has {len(cells)} values, the header has {len(header)}"
+                             + (" (a decimal comma in a comma-separated file? use ';' between values)"
+                                if dialect[0] == "," and len(cells) > len(header) else ""))
+        values = [_number(c, path, i) for c in cells]
         for col, v in zip(header, values):
             if not math.isfinite(v):
                 raise InputError(path, f"line {i}, column {col!r}", "value is not finite (NaN or inf)")
@@ -93,6 +141,19 @@ def load_measurement(path, channel=None, known=None) -> Measurement:
     if channel is not None and channel not in channels:
         raise InputError(path, f"line {header_line}", f"this record needs the column {channel!r}")
     return Measurement(path=path, t=t, channels=channels, comments=tuple(comments))
+
+
+def _check_header(header, path, line, known):
+    if header[0] != "t":
+        raise InputError(path, f"line {line}", f"the first column must be 't', got {header[0][:40]!r}")
+    for col in header[1:]:
+        if known is not None and col not in known:
+            raise InputError(path, f"column {col[:40]!r}", f"unknown channel{did_you_mean(col, known)} "
+                             f"(known: {', '.join(known)})")
+    if len(set(header)) != len(header):
+        raise InputError(path, f"line {line}", "a column is named twice")
+    if len(header) < 2:
+        raise InputError(path, f"line {line}", "no measured channel after 't'")
 
 
 def write_measurement(measurement, path):

@@ -13,6 +13,8 @@ from __future__ import annotations
 import difflib
 import json
 import math
+import os
+import stat
 from pathlib import Path
 
 from ..errors import InputError
@@ -48,8 +50,22 @@ def decode_text(path, raw):
         raise InputError(path, f"line {line}", "is not UTF-8 text") from None
 
 
+#: Largest file read (bytes): a record of two million rows is about 60 MB; a bigger file, or a
+#: device such as /dev/zero, would be read until memory runs out.
+MAX_FILE_BYTES = 200_000_000
+
+
 def read_bytes(path):
+    """A regular file's bytes, at most MAX_FILE_BYTES (InputError otherwise)."""
     try:
+        info = os.stat(path)
+        if stat.S_ISDIR(info.st_mode):
+            raise InputError(path, "file", "is a folder, not a file")
+        if not stat.S_ISREG(info.st_mode):
+            raise InputError(path, "file", "is not a regular file (a device, pipe or socket): give a file")
+        if info.st_size > MAX_FILE_BYTES:
+            raise InputError(path, "file", f"is {info.st_size / 1e6:.0f} MB, more than a record of two million "
+                             f"rows (at most {MAX_FILE_BYTES / 1e6:.0f} MB): decimate it")
         return Path(path).read_bytes()
     except IsADirectoryError:
         raise InputError(path, "file", "is a folder, not a file") from None
@@ -86,12 +102,27 @@ def read_json(path):
     def bad_constant(name):
         raise ValueError(f"{name} is not a valid JSON number")
 
+    def unique_keys(pairs):
+        seen = {}
+        for key, value in pairs:
+            if key in seen:
+                raise DuplicateKey(key)
+            seen[key] = value
+        return seen
+
     try:  # a number out of range (1e400) reads as inf: Reader.value refuses it, naming the field
-        return json.loads(text, parse_constant=bad_constant)
+        return json.loads(text, parse_constant=bad_constant, object_pairs_hook=unique_keys)
+    except DuplicateKey as e:
+        raise InputError(path, str(e), "is given twice in the same object: JSON readers keep only one of "
+                         "them, so say which value you mean") from None
     except json.JSONDecodeError as e:
         raise InputError(path, f"line {e.lineno}", f"malformed JSON: {e.msg}") from None
     except (ValueError, RecursionError) as e:
         raise InputError(path, "JSON", str(e) or "cannot be parsed") from None
+
+
+class DuplicateKey(ValueError):
+    """A JSON object names the same key twice."""
 
 
 def did_you_mean(name, known):

@@ -186,6 +186,9 @@ def read_breaker(rd, data, cam) -> Breaker:
                          exponent=rd.number(co, "exponent", p, positive=True, default=1.5),
                          restitution=rd.number(co, "restitution", p, positive=True) if "restitution" in co else None,
                          min_impact_speed=rd.number(co, "min_impact_speed", p, positive=True, default=0.05))
+    if not 1.0 <= contact.exponent <= 2.0:
+        rd.fail(p + "exponent", f"must be between 1 (line contact) and 2; Hertz's point contact is 1.5, got "
+                f"{contact.exponent:g}")
     if contact.restitution is not None and contact.restitution > 1.0:
         rd.fail(p + "restitution", f"must be in (0, 1], got {contact.restitution:g}")
     law = rd.choice(co, "cam_roller_law", p, CAM_ROLLER_LAWS, "hertz_point")

@@ -1,4 +1,5 @@
-"""A sweep's table on disk: one CSV row per run, written and flushed as runs finish, a lock while a sweep writes it, rows of an interrupted sweep read
+"""A sweep's table on disk: one CSV row per run, written and flushed as runs finish, a lock while
+a sweep writes it, rows of an interrupted sweep read
 back for ``resume``, and the complete table rewritten in run order."""
 from __future__ import annotations
 
