@@ -1,6 +1,7 @@
 """Shared helpers of the study scripts: output folder, JSON/Markdown tables, quick mode."""
 import argparse
 import json
+import logging
 import os
 import sys
 from pathlib import Path
@@ -15,6 +16,7 @@ def parse_args(description):
     p.add_argument("--quick", action="store_true", help="smaller, faster run (smoke tests)")
     a = p.parse_args()
     os.makedirs(a.out, exist_ok=True)
+    logging.basicConfig(level=logging.INFO, format="%(message)s")  # the library's progress lines on stderr
     return a
 
 

@@ -51,7 +51,9 @@ def test_quick_start_runs_as_written(tmp_path):
     assert out.parent == tmp_path
     diagnosis = json.loads((out / "diagnosis.json").read_text())
     assert diagnosis["missing_effects"] == ["viscous_friction"]  # what the README says it finds
-    assert diagnosis["explained"] is True
+    assert diagnosis["explained"] is True and diagnosis["ambiguous"] == []
+    fitted_units = {k.split(".", 1)[1]: u for k, u in diagnosis["units"].items() if k.startswith("fitted.")}
+    assert set(diagnosis["fitted"]) <= set(fitted_units) and fitted_units["viscous"] == "N m s/rad"
     friction = json.loads((out / "friction.json").read_text())
     assert "mu_k" in json.dumps(friction)
     sweep = pd.read_csv(out / "sweep.csv", comment="#")

@@ -132,6 +132,11 @@ class Diagnosis:
         return bool(self.verdict.get("explained"))
 
     @property
+    def ambiguous(self):
+        """[(kept effect, rival)] the evidence does not separate (BIC within the margin)."""
+        return [tuple(t["between"]) for t in self.verdict.get("ambiguous", ())]
+
+    @property
     def unit(self):
         return experiment_of(self.rig.experiment).unit
 
@@ -140,7 +145,7 @@ class Diagnosis:
         sigma = self.noise
         return {
             "missing_effect": self.missing_effect, "missing_effects": list(self.missing_effects),
-            "explained": self.explained,
+            "explained": self.explained, "ambiguous": [list(pair) for pair in self.ambiguous],
             "baseline_effects": list(b.effects), "final_effects": list(f.effects),
             "baseline_spring_model": b.spring_model_label, "final_spring_model": f.spring_model_label,
             "rms_before": b.rms, "rms_after": f.rms,
@@ -159,6 +164,8 @@ class Diagnosis:
                  "already explains the data within the noise"} for name in self.stopped or []],
             "fitted": _rounded(f.model_values), "fitted_before": _rounded(b.model_values),
             "stderr": {p.name: p.stderr for p in f.parameters.values() if p.vary and p.kind == "model"},
+            "fitted_units": {p.name: p.unit or "-" for fit in (b, f) for p in fit.parameters.values()
+                             if p.kind == "model"},
             "at_bound": [p.name for p in f.parameters.values() if p.at_bound()],
             "nuisance": self.nuisance, "verdict": self.verdict,
             "signature": self.signature, "evidence": self.evidence, "timing": self.timing,
@@ -181,6 +188,9 @@ class Diagnosis:
         for name in self.stopped or []:
             lines.append(f"    {name:18s} stopped: a simpler candidate explains the data within the noise")
         lines.append(f"  missing effects: {', '.join(self.missing_effects) or 'none'}")
+        for tie in self.verdict.get("ambiguous", ()):
+            lines.append(f"  AMBIGUOUS between {tie['between'][0]} and {tie['between'][1]} (BIC "
+                         f"{tie['delta_bic_between']:.1f} apart, margin {BIC_MARGIN:g})")
         lines.append(f"  rms {self.baseline.rms:.3g} -> {self.final.rms:.3g} {u}; explained: {self.explained}")
         lines.append("  " + self.evidence)
         lines.append(self.final.report())
@@ -803,6 +813,9 @@ def _diagnose(ctx, started):
     selection = [{k: v for k, v in step.items() if not k.startswith("_")} for step in path] + [
         {k: v for k, v in b.items() if not k.startswith("_")} for b in backward]
     verdict = _verdict(ctx, final)
+    ties = _ties(ctx, path, candidates)
+    if ties:
+        verdict["ambiguous"] = ties
     if period:
         verdict["period"] = period
     if coarse_spring is not None:
@@ -825,6 +838,32 @@ def _diagnose(ctx, started):
             f"{timing['simulations']} simulations")
     return Diagnosis(rig, ctx.measurement, ctx.noise, baseline, candidates, missing, final, window, signature,
                      evidence, stopped, verdict, nuisance, timing, selection, own_alignment)
+
+
+def _ties(ctx, path, candidates):
+    """Selections the evidence does not settle: a kept effect whose runner-up in the same round
+    also earned the margin over the model before and trails it by no more than the margin
+    (scored with the final noise model). For each: what would separate them, the part of the
+    record where the two fitted models differ most."""
+    ties = []
+    for step in path:
+        if step.get("with"):
+            continue
+        chosen = next((c for c in candidates if c.round == step["round"] and c.effect == step["effect"]), None)
+        if chosen is None:
+            continue
+        rivals = [c for c in candidates if c.round == chosen.round and c is not chosen and "+" not in c.effect
+                  and c.delta_bic > BIC_MARGIN and chosen.delta_bic - c.delta_bic <= BIC_MARGIN]
+        for rival in sorted(rivals, key=lambda c: -c.delta_bic):
+            t = chosen.fit.times[0] if chosen.fit.times else ctx.dataset.t
+            difference = np.asarray(chosen.fit.residuals[0]) - np.asarray(rival.fit.residuals[0])
+            t0, t1, _ = disagreement_window(t, difference, ctx.noise.marginal_sd)
+            ties.append({"between": [chosen.effect, rival.effect], "round": chosen.round,
+                         "delta_bic_between": float(chosen.delta_bic - rival.delta_bic),
+                         "separate_by": {"window": [float(t0), float(t1)],
+                                         "largest_model_difference": float(np.max(np.abs(difference))),
+                                         "channel": ctx.record.measured_channel}})
+    return ties
 
 
 def _on_final_alignment(ctx, baseline, final):
@@ -1172,6 +1211,14 @@ def _evidence(ctx, baseline, final, missing, window, signature, verdict, period,
         if b["dropped"]:
             text += (f" {b['effect']} was kept on the way but dropped at the end: with the others in, it earns only "
                      f"{b['delta_bic_without']:.1f} in BIC.")
+    for tie in verdict.get("ambiguous", ()):
+        a, b = tie["between"]
+        w = tie["separate_by"]["window"]
+        text += (f" AMBIGUOUS between {a} and {b}: {a} was kept, but {b} explains the record almost as well "
+                 f"(BIC {tie['delta_bic_between']:.1f} apart, under the margin {BIC_MARGIN:g}); the two models differ "
+                 f"most in t = [{w[0]:.4g}, {w[1]:.4g}] s (by {tie['separate_by']['largest_model_difference']:.3g} "
+                 f"{unit} in {tie['separate_by']['channel']}): a record of that part with less noise, or a second "
+                 "test, would separate them.")
     refined = verdict.get("spring_model_refined")
     if refined:
         text += (f" The spring model {refined['from']} was too coarse for this record: with {refined['to']} the "

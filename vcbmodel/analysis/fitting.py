@@ -25,6 +25,7 @@ the record's t = 0 with the rig's initial state, the sensor reads the model chan
 from __future__ import annotations
 
 import itertools
+import logging
 import math
 import multiprocessing
 import os
@@ -54,7 +55,7 @@ SIM_KINDS = ("model", "state", "rig")
 DIFF_STEP = 1e-3
 #: Scaled residual of a sample whose simulation failed (a diverged trial scores badly).
 FAILED = 100.0
-DEBUG = False
+log = logging.getLogger(__name__)
 #: Levenberg-Marquardt's first damping (relative to the diagonal of J^T J)
 INITIAL_DAMPING = 1e-3
 #: A fit has converged when the next step would lower chi^2 by less than this fraction of the
@@ -930,8 +931,8 @@ def levenberg_marquardt(obj, x0, lo, hi, max_iterations, chi2_tolerance=0.1, fin
                 return x, cost, J, True, f"converged (predicted chi2 change {predicted:.2g}) after {it} iterations"
             r_new = obj.residual(x_new)
             cost_new = float(np.dot(r_new, r_new))
-            if DEBUG:
-                print(f"    LM it {it} lam {lam:.2g} cost {cost:.6g} -> {cost_new:.6g} predicted {predicted:.3g} free {free.sum()}")
+            log.debug("LM it %d lam %.2g cost %.6g -> %.6g predicted %.3g free %d", it, lam, cost, cost_new,
+                      predicted, free.sum())
             if cost_new < cost:
                 gain = cost - cost_new
                 x, r, cost = x_new, r_new, cost_new

@@ -16,7 +16,8 @@ after release.
 """
 from __future__ import annotations
 
-from dataclasses import dataclass
+import logging
+from dataclasses import dataclass, replace
 
 import numpy as np
 
@@ -36,6 +37,7 @@ SIMPLEX_BUDGET = 40
 COARSE_STEP = 1e-3
 
 MASSLESS = SpringModel()
+log = logging.getLogger(__name__)
 
 LAWS = {
     # the stick band w0 is not fitted: with passive sticking it barely changes the swing (a
@@ -46,6 +48,32 @@ LAWS = {
     "stick-slip": {"effects": ("coulomb_friction", "stribeck"),
                    "vary": {"mu_k", "mu_s", "stick_velocity"}},
 }
+
+
+#: The residual may stand this far above the record's own noise before identify warns that the law
+#: does not describe the record (a white residual of n samples at the noise is within a few percent).
+WARN_RATIO = 1.5
+#: A record sampled more than this many times faster than its experiment's usual sensor is block-
+#: averaged down to about that rate before the fit (the swing's frequencies are far below either).
+DENSE_FACTOR = 2.0
+
+
+def usual_rate(pair):
+    """A (rig, measurement) pair thinned to about its experiment's usual sample rate when it is
+    much denser: every k-th sample is kept, times unchanged. A pendulum swings at about 1 Hz, so
+    the usual 1 kHz resolves it many times over; the fit of a full million-sample record (100 s at
+    10 kHz) ran into its step and budget limits and returned wrong values with no warning. Centred
+    means of k samples instead of single samples were tried and rejected: the lower noise (0.15 for
+    0.5 mrad) sent the staged fit to a wrong optimum (mu_k 0.137 for 0.12) on a 20 s, 10 kHz record."""
+    rig, meas = pair
+    usual = experiment_of(rig.experiment).sample_rate
+    rate = (meas.t.size - 1) / float(meas.t[-1] - meas.t[0])
+    k = int(rate // usual)
+    if rate <= DENSE_FACTOR * usual or k < 2:
+        return pair
+    log.info("identify: %s: %.0f samples/s; every %d-th sample is fitted (%.0f samples/s)", meas.path, rate, k, rate / k)
+    return rig, replace(meas, t=meas.t[::k], channels={name: v[::k] for name, v in meas.channels.items()},
+                        comments=meas.comments + (f"vcbmodel: every {k}-th sample fitted",))
 
 
 @dataclass
@@ -66,6 +94,21 @@ class IdentifyResult:
         """max |error| / first peak amplitude after release, in %, worst dataset."""
         return float(max(100 * np.max(np.abs(r)) / a for r, a in zip(self.fit.residuals, self.first_peaks)))
 
+    @property
+    def residual_to_noise(self):
+        """rms residual over the records' own high-frequency noise (not shaped by the fit)."""
+        return float(self.fit.rms / self.fit.sigma) if self.fit.sigma > 0 else float("inf")
+
+    @property
+    def warning(self):
+        """Why the fitted values should not be trusted as they stand, or None."""
+        r = self.residual_to_noise
+        if r <= WARN_RATIO:
+            return None
+        return (f"the residual is {r:.1f} times the records' own noise: the {self.law} law does not describe these "
+                "records fully (another friction behaviour, a rig value off, or a sensor artefact); the values and "
+                "their standard errors are those of the best fit of a wrong model. Try vcbmodel diagnose")
+
     def zeta(self):
         p, rig = self.datasets[0].rig.pendulum, self.datasets[0].rig
         return zeta_from_viscous(self.values["viscous"], p.inertia, p.mass, rig.gravity, p.com_distance)
@@ -76,13 +119,18 @@ class IdentifyResult:
                 "stribeck_velocity": v["stribeck_velocity"], "viscous": v["viscous"], "zeta": self.zeta(),
                 "rms": self.fit.rms, "max_error_percent": self.max_error_percent(),
                 "stderr": {p.name: p.stderr for p in self.fit.parameters.values() if p.vary},
+                "units": {"mu_s": "-", "mu_k": "-", "stick_velocity": "rad/s", "stribeck_velocity": "rad/s",
+                          "viscous": "N m s/rad", "zeta": "-", "rms": "rad", "noise_estimate": "rad",
+                          "max_error_percent": "%", "residual_to_noise": "-"},
                 "at_bound": [p.name for p in self.fit.parameters.values() if p.at_bound()],
                 "aic": self.fit.aic, "bic": self.fit.bic, "noise_estimate": self.fit.sigma,
+                "residual_to_noise": self.residual_to_noise, "warning": self.warning,
                 "measurements": [d.measurement.path for d in self.datasets]}
 
     def report(self):
         return (f"Friction identification, {self.law} law, {len(self.datasets)} measurement(s)\n"
-                f"  max |error| {self.max_error_percent():.2f} % of the first peak amplitude; zeta {self.zeta():.4g}\n"
+                + (f"  WARNING: {self.warning}\n" if self.warning else "")
+                + f"  max |error| {self.max_error_percent():.2f} % of the first peak amplitude; zeta {self.zeta():.4g}\n"
                 + self.fit.report())
 
 
@@ -94,6 +142,7 @@ def identify(pairs, law="hybrid", verbose=True, polish=False, processes=2) -> Id
     in parallel on ``processes`` processes. ``polish``: a short simplex run afterwards, as in
     the paper (it rarely changes the least-squares optimum)."""
     spec = LAWS[law]
+    pairs = [usual_rate(pair) for pair in pairs]
     datasets = [Dataset(rig, meas) for rig, meas in pairs]
     rig0, meas0 = pairs[0]
     guesses = experiment_of(rig0.experiment).start_guesses(rig0, meas0)

@@ -1,12 +1,21 @@
-"""Progress lines on stderr (stdout carries only results: CSV or JSON)."""
+"""Progress lines, through :mod:`logging` (logger ``vcbmodel``, level INFO).
+
+The library only logs; whoever runs it decides where lines go: the command line installs a
+stderr handler (``--quiet`` raises its level to warnings), a script can call
+``logging.basicConfig(level=logging.INFO)`` or silence the ``vcbmodel`` logger. stdout carries
+only results (CSV or JSON).
+"""
 from __future__ import annotations
 
-import sys
+import logging
 import time
+
+log = logging.getLogger("vcbmodel")
 
 
 def progress(message):
-    print(message, file=sys.stderr, flush=True)
+    """One progress line (INFO on the ``vcbmodel`` logger)."""
+    log.info(message)
 
 
 class Progress:

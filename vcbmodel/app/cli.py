@@ -9,6 +9,7 @@ from __future__ import annotations
 import argparse
 import io
 import json
+import logging
 import math
 import os
 import signal
@@ -57,9 +58,11 @@ def build_parser():
     p = _Parser(prog="vcbmodel", description="Spring-driven cam dynamics of vacuum circuit breakers (Exudyn). "
                 "Docs: docs/cli.md and docs/rig-format.md in the repository.")
     p.add_argument("--version", action="version", version=f"vcbmodel {__version__}")
+    common = argparse.ArgumentParser(add_help=False)
+    common.add_argument("-q", "--quiet", action="store_true", help="no progress lines on stderr (warnings and errors only)")
     sub = p.add_subparsers(dest="command", parser_class=_Parser)
 
-    s = sub.add_parser("simulate", help="simulate a rig's experiment and write its measurement channels")
+    s = sub.add_parser("simulate", parents=[common], help="simulate a rig's experiment and write its measurement channels")
     s.add_argument("rig", help="rig file NAME.rig.json")
     s.add_argument("--spring-model", help="massless | lumped-N[:exact|paper|uniform] | ancf (overrides the rig's model)")
     s.add_argument("--effects", help="comma-separated effect names (overrides the rig's model)")
@@ -67,14 +70,14 @@ def build_parser():
     s.add_argument("-o", "--output", help="output CSV (default: stdout)")
     s.add_argument("--force", action="store_true", help="replace the output file if it exists")
 
-    i = sub.add_parser("identify", help="fit the shaft friction law to pendulum measurements (paper section 2.2)")
+    i = sub.add_parser("identify", parents=[common], help="fit the shaft friction law to pendulum measurements (paper section 2.2)")
     i.add_argument("measurements", nargs="+", help="pendulum measurement files NAME.csv")
     i.add_argument("--rig", help="rig file (default: each measurement's sibling NAME.rig.json)")
     i.add_argument("--law", choices=("hybrid", "stick-slip"), default="hybrid",
                    help="hybrid: Coulomb + Stribeck + viscous; stick-slip: Coulomb with stick band only")
     i.add_argument("--json", action="store_true", help="print one JSON object")
 
-    d = sub.add_parser("diagnose", help="find the effect the rig's model is missing")
+    d = sub.add_parser("diagnose", parents=[common], help="find the effect the rig's model is missing")
     d.add_argument("measurement", help="measurement file NAME.csv")
     d.add_argument("--rig", help="rig file (default: the sibling NAME.rig.json)")
     d.add_argument("--json", action="store_true", help="print one JSON object")
@@ -83,7 +86,7 @@ def build_parser():
     d.add_argument("--force", action="store_true", help="replace the --plot file if it exists")
     d.add_argument("--processes", type=int, default=2, help="parallel candidate fits (default 2)")
 
-    w = sub.add_parser("sweep", help="run the rig's experiment over a grid or random draws of rig fields: one row per run",
+    w = sub.add_parser("sweep", parents=[common], help="run the rig's experiment over a grid or random draws of rig fields: one row per run",
                        description="Runs the rig's experiment (its model) once per parameter set and writes one CSV row "
                        "per run: run, each varied PATH, the experiment's figures of merit, status. Grids LO:HI:N make the "
                        f"full product; distributions give --samples draws by {SAMPLING['lhs']}, seeded (default seed "
@@ -151,9 +154,11 @@ def cmd_identify(args):
         require_experiment(rig, "pendulum", "identify")
     with results_only_on_stdout():
         result = identify(pairs, law=args.law)
+    if result.warning:
+        print(f"vcbmodel: warning: {result.warning}", file=sys.stderr)
     if args.json:
-        print(json.dumps({**envelope(pairs[0][0], {"angles": "rad", "velocities": "rad/s", "viscous": "N m s/rad",
-                                                   "rms": "rad", "max_error_percent": "%"}), **result.to_json()}))
+        report = result.to_json()
+        print(json.dumps({**envelope(pairs[0][0], report.pop("units")), **report}))
     else:
         print(result.report())
     return 0
@@ -168,10 +173,11 @@ def cmd_diagnose(args):
         if args.plot:
             plot_diagnosis(d, args.plot)
     if args.json:
-        print(json.dumps({**envelope(rig, {"rms": d.unit, "noise_estimate": d.unit, "window": "s",
-                                           "release_time": "s", "initial_angle": "rad", "sensor_offset": d.unit,
-                                           "sensor_gain": "-", "noise_correlation": "-", "timing": "s"}),
-                          **d.to_json()}, default=float))
+        report = d.to_json()
+        units = {"rms": d.unit, "noise_estimate": d.unit, "window": "s", "release_time": "s", "initial_angle": "rad",
+                 "sensor_offset": d.unit, "sensor_gain": "-", "noise_correlation": "-", "timing": "s",
+                 **{f"fitted.{name}": unit for name, unit in report.pop("fitted_units").items()}}
+        print(json.dumps({**envelope(rig, units), **report}, default=float))
     else:
         print(d.report())
     return 0
@@ -205,6 +211,7 @@ def main(argv=None):
         parser.print_help()
         return 0
     previous = signal.signal(signal.SIGTERM, _on_sigterm)
+    handler = _log_to_stderr(getattr(args, "quiet", False))
     try:
         status = COMMANDS[args.command](args)
         sys.stdout.flush()
@@ -228,6 +235,18 @@ def main(argv=None):
         return 1
     finally:
         signal.signal(signal.SIGTERM, previous)
+        logging.getLogger("vcbmodel").removeHandler(handler)
+
+
+def _log_to_stderr(quiet):
+    """The library logs progress on the ``vcbmodel`` logger; the command line shows it on stderr."""
+    handler = logging.StreamHandler(sys.stderr)
+    handler.setFormatter(logging.Formatter("%(message)s"))
+    logger = logging.getLogger("vcbmodel")
+    logger.addHandler(handler)
+    logger.setLevel(logging.WARNING if quiet else logging.INFO)
+    logger.propagate = False
+    return handler
 
 
 def _quiet_stdout():
