@@ -22,12 +22,14 @@ from ..analysis.identify import identify
 from ..analysis.sweep import DEFAULT_SEED, SAMPLING, sweep
 from ..errors import InputError, SimulationError
 from ..experiments import experiment_of
+from ..experiments.base import format_summary
 from ..experiments.loading import load_pair, load_rig, require_experiment
 from ..experiments.simulation import output_times, simulate
 from ..model.choice import parse_effects_option
 from ..rig.spring_model import SpringModel
 from .outputs import check_output, write_file
-from .plots import plot_diagnosis, supported_image_formats
+from .templates import TEMPLATES, explain, template
+from .plots import plot_diagnosis, plot_simulation, supported_image_formats
 
 
 @contextmanager
@@ -46,6 +48,9 @@ def results_only_on_stdout():
     finally:
         os.dup2(saved, 1)
         os.close(saved)
+
+
+log = logging.getLogger("vcbmodel")
 
 
 class _Parser(argparse.ArgumentParser):
@@ -68,7 +73,16 @@ def build_parser():
     s.add_argument("--effects", help="comma-separated effect names (overrides the rig's model)")
     s.add_argument("--t-end", type=float, help="simulated duration in s (default: the experiment's usual duration)")
     s.add_argument("-o", "--output", help="output CSV (default: stdout)")
-    s.add_argument("--force", action="store_true", help="replace the output file if it exists")
+    s.add_argument("--plot", help="also draw the written channels; the format by the file's suffix")
+    s.add_argument("--force", action="store_true", help="replace the output (and plot) file if it exists")
+
+    c = sub.add_parser("check", parents=[common], help="validate a rig and say what simulate would run, without solving")
+    c.add_argument("rig", help="rig file NAME.rig.json")
+
+    n = sub.add_parser("init", parents=[common], help="write a commented rig file to start from (it simulates as written)")
+    n.add_argument("kind", choices=tuple(TEMPLATES), help="experiment kind")
+    n.add_argument("-o", "--output", help="rig file to write (default: stdout)")
+    n.add_argument("--force", action="store_true", help="replace the output file if it exists")
 
     i = sub.add_parser("identify", parents=[common], help="fit the shaft friction law to pendulum measurements (paper section 2.2)")
     i.add_argument("measurements", nargs="+", help="pendulum measurement files NAME.csv")
@@ -131,20 +145,46 @@ def cmd_simulate(args):
             raise InputError("--t-end", "t_end", "must be a positive number of seconds")
         record.check_duration(args.t_end, "--t-end", "t_end")
     check_output(args.output, "-o", inputs=(args.rig,), force=args.force)
+    check_output(args.plot, "--plot", inputs=(args.rig,), force=args.force, formats=supported_image_formats())
     t_end = args.t_end or record.default_duration
+    log.info("simulate %s: %s, %g s of %s", rig.name, spring_model.label, t_end, rig.experiment)
     result = simulate(rig, effects, spring_model=spring_model, sample_times=output_times(rig, t_end))
-    buf = io.StringIO()
+    channels = record.record_channels(result, rig)
     spec = result.spec
+    buf = io.StringIO()
     buf.write(f"# vcbmodel {__version__} simulate: {rig.name}; effects {','.join(spec.effects) or '(none)'}; "
               f"spring model {spec.spring_model.label}; SIMULATED, not measured\n")
-    buf.write(f"# {record.measured_channel} in {record.unit}, t in s, {record.sample_rate:g} samples/s\n")
-    buf.write(f"t,{record.measured_channel}\n")
-    for t, y in zip(result.t, result.measured):
-        buf.write(f"{t:.7f},{y:.9g}\n")
+    buf.write("# " + ", ".join(f"{name} in {unit}" for name, (_, unit) in channels.items())
+              + f", t in s, {record.sample_rate:g} samples/s\n")
+    buf.write("t," + ",".join(channels) + "\n")
+    columns = [values for values, _ in channels.values()]
+    for k, t in enumerate(result.t):
+        buf.write(f"{t:.7f}," + ",".join(f"{c[k]:.9g}" for c in columns) + "\n")
+    summary = f"{rig.name}: {rig.experiment}, {spec.spring_model.label}\n" + format_summary(record.summary(result, rig))
     if args.output:
         write_file(args.output, buf.getvalue())
+        print(summary)  # the file holds the data: the summary is the command's result on stdout
     else:
         sys.stdout.write(buf.getvalue())
+        print(summary, file=sys.stderr)
+    if args.plot:
+        plot_simulation(result, channels, args.plot, f"{rig.name}: {spec.spring_model.label}")
+    return 0
+
+
+def cmd_check(args):
+    print("\n".join(explain(load_rig(args.rig))))
+    return 0
+
+
+def cmd_init(args):
+    check_output(args.output, "-o", force=args.force)
+    text = template(args.kind)
+    if args.output:
+        write_file(args.output, text)
+        log.info("init: wrote %s (simulate it with: vcbmodel simulate %s)", args.output, args.output)
+    else:
+        sys.stdout.write(text)
     return 0
 
 
@@ -193,7 +233,7 @@ def cmd_sweep(args):
     return 0 if len(table) else 1
 
 
-COMMANDS = {"simulate": cmd_simulate, "identify": cmd_identify, "diagnose": cmd_diagnose, "sweep": cmd_sweep}
+COMMANDS = {"check": cmd_check, "init": cmd_init, "simulate": cmd_simulate, "identify": cmd_identify, "diagnose": cmd_diagnose, "sweep": cmd_sweep}
 
 
 class Terminated(KeyboardInterrupt):

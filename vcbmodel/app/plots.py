@@ -31,6 +31,23 @@ def save(fig, path):
     write_file(path, buf.getvalue())
 
 
+def plot_simulation(result, channels, path, title):
+    """The channels ``simulate`` writes ({name: (values, unit)}) against time, one axis per unit;
+    labelled SIMULATED."""
+    units = list(dict.fromkeys(unit for _, unit in channels.values()))
+    fig, axes = plt.subplots(len(units), 1, figsize=(8, 2.6 * len(units) + 0.6), sharex=True, squeeze=False)
+    for ax, unit in zip(axes[:, 0], units):
+        for name, (values, u) in channels.items():
+            if u == unit:
+                ax.plot(result.t, values, lw=1.2, label=name)
+        ax.set_ylabel(unit)
+        ax.legend(fontsize=8, loc="best")
+        ax.grid(alpha=0.3)
+    axes[-1, 0].set_xlabel("t (s)")
+    fig.suptitle(f"{title} (SIMULATED, not measured)", fontsize=10)
+    save(fig, path)
+
+
 def plot_diagnosis(diagnosis, path, measured_label="measurement"):
     """The record and the models before and after, aligned by the fitted nuisance (release time,
     offset, gain); the residuals over the fitted window with the noise band and the window of

@@ -29,6 +29,27 @@ def whole_record(t, y, sigma):
     return None
 
 
+def measured_only(result, rig):
+    """{channel: (values, unit)}: the experiment's measured channel (what ``simulate`` writes)."""
+    return {result.measured_channel: (result.measured, result.units[result.measured_channel])}
+
+
+def figures_summary(result, rig):
+    """[(what, value, unit)]: the experiment's figures of merit (``simulate``'s one-run summary)."""
+    fom = experiment_of(rig.experiment).figures_of_merit(result, rig)
+    return [(name, fom.get(name), unit) for name, unit in experiment_of(rig.experiment).figure_units]
+
+
+def format_summary(lines):
+    """One line per figure: what, value and unit (``never`` for something that did not happen)."""
+    width = max((len(what) for what, _, _ in lines), default=0)
+    out = []
+    for what, value, unit in lines:
+        text = "never" if value is None or (isinstance(value, float) and value != value) else f"{value:.6g} {unit}"
+        out.append(f"  {what:<{width}}  {text}")
+    return "\n".join(out)
+
+
 @dataclass(frozen=True)
 class Experiment:
     """One experiment kind. Callables receive the loaded :class:`vcbmodel.rig.data.Rig`.
@@ -49,6 +70,8 @@ class Experiment:
     - ``extra_channels``: further record channels the experiment accepts (regular expressions,
       e.g. a breaker analyser's ``pole_1_contact``), fitted when present;
     - ``figure_units``: the figures of merit a sweep tabulates, {column: unit}, in column order;
+    - ``summary(result, rig)``: ``simulate``'s one-run summary, [(what, value, unit)];
+    - ``record_channels(result, rig)``: the channels ``simulate`` writes, as a record file carries them;
     - ``run_status(values) -> str``: ``ok``, or why a run's figures of merit are not a result
       (a breaker that never closed: ``not_closed``), counted apart by sweeps and tolerance studies.
     """
@@ -79,6 +102,8 @@ class Experiment:
     unit_hint: str = ""  # what a value beyond max_magnitude suggests ("degrees?")
     figure_units: tuple = ()  # ((column, unit), ...): what a sweep tabulates
     missing_means: tuple = ()  # ((column, status), ...): see run_status
+    summary: Callable = figures_summary  # (result, rig) -> [(what, value, unit)]: simulate's summary
+    record_channels: Callable = measured_only  # (result, rig) -> {channel: (values, unit)}: simulate's CSV
 
     @property
     def figure_columns(self) -> tuple:

@@ -10,6 +10,7 @@ from ..builders.cam_drop import build_cam_drop
 from ..laws.springs import fundamental
 from ..rig.sections import read_cam_and_spring
 from .base import Experiment, shaft_channels
+from .summaries import cam_drop_summary
 
 
 def build(rig, spec, law, chain, user_function, ancf_elements):
@@ -48,4 +49,4 @@ CAM_DROP = Experiment(
     min_duration=2e-3, max_magnitude=4 * math.pi, unit_hint=": is it in degrees? cam_angle must be in rad",
     build=build, channels=channels, step=default_step, figures_of_merit=figures_of_merit,
     has_closing_spring=True, signature=spring_signature, initial_angle_field="cam.initial_angle",
-    figure_units=(("cam_angle_end_rad", "rad"), ("peak_shaft_velocity_rad_s", "rad/s")))
+    figure_units=(("cam_angle_end_rad", "rad"), ("peak_shaft_velocity_rad_s", "rad/s")), summary=cam_drop_summary)

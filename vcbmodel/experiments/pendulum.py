@@ -10,6 +10,7 @@ from ..builders.pendulum import build_pendulum
 from ..records.signals import decay_shape, first_peak_amplitude, motion_end_time, swing_peaks, swing_spans
 from ..rig.sections import read_pendulum
 from .base import Experiment, shaft_channels
+from .summaries import pendulum_summary
 
 
 def build(rig, spec, law, chain, user_function, ancf_elements):
@@ -88,4 +89,4 @@ PENDULUM = Experiment(
     build=build, channels=channels, step=default_step, figures_of_merit=figures_of_merit,
     start_guesses=start_guesses, swinging_part=swinging_part, signature=signature,
     initial_angle_field="pendulum.initial_angle", period_fields=("pendulum.inertia", "pendulum.com_distance"),
-    figure_units=(("first_peak_rad", "rad"), ("stop_time_s", "s")))
+    figure_units=(("first_peak_rad", "rad"), ("stop_time_s", "s")), summary=pendulum_summary)

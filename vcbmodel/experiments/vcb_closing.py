@@ -10,6 +10,7 @@ from .. import parameters as P
 from ..builders.breaker import build_vcb_closing
 from ..rig.sections import read_closing
 from .base import Experiment
+from .summaries import closing_record_channels, closing_summary
 from .cam_drop import spring_signature
 from .closing_evaluation import closing_channels, figures_of_merit
 
@@ -36,4 +37,5 @@ VCB_CLOSING = Experiment(
     extra_channels=(r"pole_\d+_contact", r"pole_\d+_travel"),
     figure_units=(("closing_time_s", "s"), ("touch_speed_m_s", "m/s"), ("pole_spread_s", "s"), ("bounce_count", "-"),
                   ("bounce_duration_s", "s"), ("overtravel_m", "m"), ("peak_cam_roller_force_N", "N")),
-    missing_means=(("closing_time_s", "not_closed"),))
+    missing_means=(("closing_time_s", "not_closed"),), summary=closing_summary,
+    record_channels=closing_record_channels)

@@ -1,0 +1,71 @@
+"""``vcbmodel init KIND``: a rig file to start from, commented, that simulates as written, and
+``vcbmodel check RIG``: what a rig would simulate, explained, without solving it.
+
+JSON has no comments; keys starting with ``_`` are free comments wherever they appear in a rig
+(docs/rig-format.md), so the templates carry their explanations as ``_about`` and ``_units`` keys.
+"""
+from __future__ import annotations
+
+import copy
+import json
+
+from .. import parameters as P
+from ..experiments import experiment_of
+from ..experiments.simulation import model_spec
+from ..model.effects import EFFECTS, parameter_specs
+from ..model.values import rig_values
+
+#: What each section's numbers mean (units), written into the templates as ``_units``.
+SECTION_UNITS = {
+    "shaft": "radius: m (journal radius of the cam shaft, where the friction acts)",
+    "pendulum": "mass: kg; inertia: kg m^2 about the shaft; com_distance: m; initial_angle: rad from hanging; "
+                "initial_velocity: rad/s",
+    "cam": "mass: kg; inertia_com: kg m^2 about its centre of mass; com_distance: m; com_angle: rad; pivot: [x, y] m "
+           "of the closing spring's lever pivot; arm_length: m; initial_angle: rad; initial_velocity: rad/s",
+    "closing_spring": "count: springs acting together; stiffness: N/m each; mass: kg each; free_length: m; "
+                      "anchor: [x, y] m",
+    "friction": "mu_k, mu_s: -; stick_velocity, stribeck_velocity: rad/s; viscous: N m s/rad",
+    "model": "effects: names (docs/rig-format.md section 4); spring_model: massless | lumped-N | ancf",
+    "breaker": "SI units throughout (m, kg, N, N/m, rad, s); every field in docs/rig-format.md section 3.8",
+}
+TEMPLATES = {
+    "pendulum": lambda: dict(copy.deepcopy(P.REFERENCE_PENDULUM), friction=dict(P.REFERENCE_PENDULUM_TRUTH),
+                             name="my pendulum test"),
+    "cam_drop": lambda: dict(copy.deepcopy(P.REFERENCE_CAM), name="my cam drop"),
+    "vcb_closing": lambda: dict(copy.deepcopy(P.REFERENCE_BREAKER), name="my breaker's closing"),
+}
+
+
+def template(kind):
+    """The commented template of an experiment kind, as JSON text."""
+    data = TEMPLATES[kind]()
+    record = experiment_of(kind)
+    out = {"_about": f"vcbmodel rig file: {record.description}. Every number is in SI units; keys starting with _ are "
+                     "comments. Edit the values for your machine; docs/rig-format.md describes every field. "
+                     "The values here are the documented reference ones (vcbmodel/parameters.py)."}
+    for key, value in data.items():
+        if isinstance(value, dict) and key in SECTION_UNITS:
+            value = {"_units": SECTION_UNITS[key], **value}
+        out[key] = value
+    return json.dumps(out, indent=2) + "\n"
+
+
+def explain(rig):
+    """Lines saying what ``simulate`` would run for ``rig``, where each value comes from, and what
+    it reports; a value the model needs but the rig lacks raises InputError, as simulate would."""
+    record = experiment_of(rig.experiment)
+    spec = model_spec(rig)
+    from_rig = rig_values(rig)
+    lines = [f"{rig.path}: a valid {rig.experiment} rig ({rig.name!r})", f"  {record.description}",
+             f"  model: {', '.join(spec.effects) or 'no effects'}; spring {spec.spring_model.label}"]
+    for p in parameter_specs(spec.effects):
+        source = "rig" if p.name in from_rig else "documented default"
+        lines.append(f"    {p.name} = {getattr(spec, p.name, from_rig.get(p.name, p.default))!s} {p.unit} "
+                     f"({source}; effect {next(e for e in EFFECTS if p in EFFECTS[e].parameters)})")
+    off = [name for name, e in EFFECTS.items() if rig.experiment in e.experiments and name not in spec.effects]
+    if off:
+        lines.append(f"  effects left out (candidates for vcbmodel diagnose): {', '.join(off)}")
+    lines.append(f"  simulate runs {record.default_duration:g} s at a fixed step of {record.step(rig):g} s and "
+                 f"writes {record.measured_channel} ({record.unit}) at {record.sample_rate:g} samples/s")
+    lines.append(f"  it reports: {', '.join(name for name, _ in record.figure_units)}")
+    return lines

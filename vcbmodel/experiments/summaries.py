@@ -1,0 +1,63 @@
+"""What ``vcbmodel simulate`` says about one run, and which channels it writes, per experiment.
+
+Each function takes a :class:`~vcbmodel.model.result.SimulationResult` and the loaded rig; the
+experiment records (``summary``, ``record_channels``) point at them, so the command line asks the
+record and compares no experiment names.
+"""
+from __future__ import annotations
+
+import numpy as np
+
+from ..laws.breaker import pole_gaps
+from ..records.signals import decay_shape, swing_peaks
+from .base import experiment_of, measured_only
+
+
+def closing_record_channels(result, rig):
+    """The follower's travel and, as a breaker analyser records them, each pole's travel (m) and
+    contact (0 open, 1 closed: travel beyond the pole's gap); a file ``vcbmodel diagnose`` reads."""
+    out = measured_only(result, rig)
+    for i, gap in enumerate(pole_gaps(rig.breaker.poles), start=1):
+        travel = result.channels[f"pole_{i}_travel"]
+        out[f"pole_{i}_travel"] = (travel, "m")
+        out[f"pole_{i}_contact"] = ((travel > gap).astype(float), "-")
+    return out
+
+
+def pendulum_summary(result, rig):
+    """[(what, value, unit)]: swing period, first peak, how the amplitude decays, when it stops."""
+    t, y = result.t, result.measured
+    times, amps = swing_peaks(t, y)
+    period = 2 * float(np.mean(np.diff(times))) if times.size >= 2 else float("nan")
+    decay = decay_shape(times, amps)
+    fom = result_figures(result, rig)
+    lines = [("swing period", period, "s"), ("first peak", fom["first_peak_rad"], "rad"),
+             ("stops at", fom["stop_time_s"], "s"), ("peaks", float(times.size), "-")]
+    if decay["shape"] != "unknown":
+        lines.append((f"amplitude decay ({decay['shape']})",
+                      decay["linear_slope"] if decay["shape"] == "linear" else decay["exponential_rate"],
+                      "rad/s" if decay["shape"] == "linear" else "1/s"))
+    return lines
+
+
+def cam_drop_summary(result, rig):
+    fom = result_figures(result, rig)
+    return [("end time", float(result.t[-1]), "s"), ("cam angle at the end", fom["cam_angle_end_rad"], "rad"),
+            ("peak shaft speed", fom["peak_shaft_velocity_rad_s"], "rad/s")]
+
+
+def closing_summary(result, rig):
+    fom = result_figures(result, rig)
+    per_pole = fom["per_pole"]
+    lines = [(f"pole {i} closes at", v, "s") for i, v in enumerate(per_pole["touch_s"], start=1)]
+    lines += [("closing time (last pole)", fom["closing_time_s"], "s"),
+              ("touch speed (mean of poles)", fom["touch_speed_m_s"], "m/s"),
+              ("pole spread", fom["pole_spread_s"], "s"), ("bounces (worst pole)", float(fom["bounce_count"]), "-"),
+              ("bounce duration (worst pole)", fom["bounce_duration_s"], "s"),
+              ("overtravel (follower, after first touch)", fom["overtravel_m"], "m"),
+              ("peak cam-roller force", fom["peak_cam_roller_force_N"], "N")]
+    return lines
+
+
+def result_figures(result, rig):
+    return experiment_of(rig.experiment).figures_of_merit(result, rig)
