@@ -7,7 +7,8 @@ from vcbmodel import parameters as P
 from vcbmodel.experiments.loading import load_rig
 
 ROOT = Path(__file__).resolve().parents[1]
-EXAMPLES = ROOT.parent / "shared" / "data" / "examples"
+#: The seven example records with their answers (a copy of the shared examples, so a clone tests them)
+EXAMPLES = ROOT / "tests" / "data" / "examples"
 
 
 def write_rig(tmp_path, rig_dict, name="rig"):

@@ -4,7 +4,6 @@ Every expected value below is computed here from the equations (elliptic integra
 balances, quadratures, hand-written Newton equations), never from vcbmodel code. The last test
 is a clearly marked cross-check against the Exudyn model through its public API.
 """
-import json
 import math
 import time
 

@@ -1,12 +1,9 @@
 """The model layer: one spring-model value, the one rule for model values, the result type."""
-import json
 
 import numpy as np
 import pytest
 
-from vcbmodel import parameters as P
 from vcbmodel.errors import InputError
-from vcbmodel.experiments.loading import load_rig
 from vcbmodel.experiments.simulation import model_spec, simulate
 from vcbmodel.model.effects import consistent_effects
 from vcbmodel.model.values import model_values

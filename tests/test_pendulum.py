@@ -140,7 +140,7 @@ def test_friction_never_does_positive_work(pendulum_rig):
 
 def test_break_away_when_the_torque_exceeds_static_friction(pendulum_rig):
     """Held at rest while |T_c| <= mu_s r F_n, moving as soon as it exceeds it."""
-    p, g = pendulum_rig.pendulum, pendulum_rig.gravity
+    p = pendulum_rig.pendulum
     limit = math.sin(p.initial_angle) * p.com_distance / pendulum_rig.shaft_radius  # mu_s that just holds
     values = dict(FRICTION, mu_k=0.5 * limit)
     held = simulate(pendulum_rig, ("coulomb_friction", "stribeck"), dict(values, mu_s=1.02 * limit), t_end=1.0)
