@@ -41,9 +41,9 @@ def test_simulate_to_stdout_with_overrides(capsys):
 
 def test_solver_failure_exits_1_with_one_line(monkeypatch, capsys, tmp_path):
     def boom(*a, **k):
-        raise SimulationError("the solution diverged (non-finite angle); reduce the step")
+        raise SimulationError("the solution diverged (non-finite angle) at the experiment's fixed step")
     monkeypatch.setattr("vcbmodel.app.cli.simulate", boom)
-    assert main(["simulate", str(GOOD_CAM), "-o", str(tmp_path / "x.csv")]) == 1
+    assert main(["simulate", str(GOOD_CAM), "-o", str(tmp_path / "x.csv"), "--quiet"]) == 1
     err = capsys.readouterr().err.strip().splitlines()
     assert len(err) == 1 and "diverged" in err[0]
     assert not (tmp_path / "x.csv").exists()

@@ -97,13 +97,13 @@ def test_a_second_writer_of_a_sweep_table_is_refused_at_once(pendulum_rig, tmp_p
 @pytest.mark.skipif(not os.path.exists("/dev/full"), reason="needs /dev/full")
 @pytest.mark.parametrize("redirect", [False, True])
 def test_a_full_disk_gives_one_line_and_no_traceback(redirect):
-    cmd = [sys.executable, "-m", "vcbmodel", "simulate", str(GOOD_CAM), "--t-end", "0.002"]
+    cmd = [sys.executable, "-m", "vcbmodel", "simulate", str(GOOD_CAM), "--t-end", "0.002", "--quiet"]
     with open("/dev/full", "w") as full:
         p = subprocess.run(cmd if redirect else cmd + ["-o", "/dev/full"], stdout=full if redirect else None,
                            stderr=subprocess.PIPE, text=True, timeout=120)
     lines = p.stderr.strip().splitlines()
     assert p.returncode == 1 and len(lines) == 1 and "Traceback" not in p.stderr
-    assert "No space left on device" in lines[0]
+    assert "No space left on device" in lines[0] and ("stdout" if redirect else "/dev/full") in lines[0]
 
 
 # --- SIGTERM -------------------------------------------------------------------------------------------

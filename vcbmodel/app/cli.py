@@ -24,7 +24,7 @@ from ..errors import InputError, SimulationError
 from ..experiments import experiment_of
 from ..experiments.base import format_summary
 from ..experiments.loading import load_pair, load_rig, require_experiment
-from ..experiments.simulation import output_times, simulate
+from ..experiments.simulation import model_spec, output_times, simulate
 from ..model.choice import parse_effects_option
 from ..rig.spring_model import SpringModel
 from .outputs import check_output, write_file
@@ -147,6 +147,7 @@ def cmd_simulate(args):
     check_output(args.output, "-o", inputs=(args.rig,), force=args.force)
     check_output(args.plot, "--plot", inputs=(args.rig,), force=args.force, formats=supported_image_formats())
     t_end = args.t_end or record.default_duration
+    model_spec(rig, effects, spring_model=spring_model)  # a value the model needs but the rig lacks: bad input, first
     log.info("simulate %s: %s, %g s of %s", rig.name, spring_model.label, t_end, rig.experiment)
     result = simulate(rig, effects, spring_model=spring_model, sample_times=output_times(rig, t_end))
     channels = record.record_channels(result, rig)
@@ -270,7 +271,7 @@ def main(argv=None):
         return 1
     except OSError as e:  # writing an output failed (a full disk, a closed pipe): nothing half-written is kept
         _quiet_stdout()
-        where = e.filename or "output"
+        where = e.filename or "stdout"
         print(f"vcbmodel: cannot write {where}: {e.strerror or e}", file=sys.stderr)
         return 1
     finally:

@@ -81,6 +81,13 @@ def check_output(path, argname, *, inputs=(), force=False, keep=False, resumable
 def write_file(path, data):
     """Write ``data`` (str or bytes) to ``path``: a regular file atomically (temporary file, then rename), a device
     directly. An OSError (a full disk) leaves no partial file and propagates."""
+    try:
+        _write(path, data)
+    except OSError as e:
+        raise OSError(e.errno, e.strerror, str(path)) from None
+
+
+def _write(path, data):
     if not is_regular_or_absent(path):
         with open(path, "wb" if isinstance(data, bytes) else "w") as f:
             f.write(data)

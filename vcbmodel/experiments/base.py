@@ -119,10 +119,11 @@ class Experiment:
                 return status
         return "ok"
 
-    def check_record(self, t, y, source):
+    def check_record(self, t, y, source, others=()):
         """Refuse, before any work, a record this experiment cannot have produced: too short or too
         long, sampled implausibly fast or densely, a measured channel beyond its plausible range
-        (a unit slip: degrees for rad, mm for m) or never changing (one line, InputError)."""
+        (a unit slip: degrees for rad, mm for m), or with no channel (``y`` and ``others``) that ever
+        changes (one line, InputError)."""
         self.check_duration(float(t[-1] - t[0]), source, "column 't'")
         spacing = float(np.min(np.diff(t)))
         if spacing < MIN_SAMPLE_INTERVAL:
@@ -139,7 +140,7 @@ class Experiment:
             raise InputError(source, f"column {self.measured_channel!r}", f"reaches {peak:.4g}, implausible in "
                              f"{self.unit} for a {self.name} test (at most {self.max_magnitude:g})"
                              + (self.unit_hint if peak < 1000 * self.max_magnitude else ""))
-        if float(np.ptp(y)) == 0.0:
+        if float(np.ptp(y)) == 0.0 and all(float(np.ptp(v)) == 0.0 for v in others):
             raise InputError(source, f"column {self.measured_channel!r}", "never changes: the record shows no motion to "
                              "fit or compare (a disconnected sensor, or the wrong column?)")
 

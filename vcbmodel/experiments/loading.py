@@ -64,7 +64,8 @@ def load_record(measurement_path, rig):
     record = EXPERIMENTS[rig.experiment]
     known = known_channels(rig)
     meas = load_measurement(measurement_path, record.measured_channel, known, {c: unit_of(c) for c in known})
-    record.check_record(meas.t, meas.channel(record.measured_channel), meas.path)
+    record.check_record(meas.t, meas.channel(record.measured_channel), meas.path,
+                        [v for name, v in meas.channels.items() if name != record.measured_channel])
     check_contacts(meas)
     return meas
 
