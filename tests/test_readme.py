@@ -58,4 +58,6 @@ def test_quick_start_runs_as_written(tmp_path):
     assert "mu_k" in json.dumps(friction)
     sweep = pd.read_csv(out / "sweep.csv", comment="#")
     assert len(sweep) == 3 and set(sweep["status"]) == {"ok"}
+    assert json.loads((out / "my.rig.json").read_text())["experiment"] == "cam_drop"
+    assert "a valid cam_drop rig" in run.stdout and "cam angle at the end" in run.stdout
     assert (out / "drop.csv").stat().st_size > 1000 and (out / "diagnosis.png").stat().st_size > 1000
