@@ -38,6 +38,46 @@ def median_time(fn, repeat):
     return statistics.median(times)
 
 
+def interleaved(variants, repeats):
+    """{name: median seconds}: every variant once per round, the order rotated each round, so slow
+    phases of a shared machine hit all variants alike; ratios are taken within one run."""
+    names = list(variants)
+    times = {n: [] for n in names}
+    for r in range(repeats):
+        for n in names[r % len(names):] + names[:r % len(names)]:
+            t0 = time.perf_counter()
+            variants[n]()
+            times[n].append(time.perf_counter() - t0)
+    return {n: statistics.median(v) for n, v in times.items()}
+
+
+def speed_targets(prig, crig, brig, law, h, repeats):
+    """The speed issue's table (issue 18): each workload against its target, measured interleaved."""
+    rows = {}
+    pend = interleaved({"floor": lambda: build_pendulum(prig, law, "none").solve(6.0, h, 1e-3),
+                        "symbolic": lambda: build_pendulum(prig, law, "symbolic").solve(6.0, h, 1e-3),
+                        "python": lambda: build_pendulum(prig, law, "python").solve(6.0, h, 1e-3)}, repeats)
+    rows["pendulum_6s_compiled_friction_over_no_friction"] = {
+        "seconds": pend, "now": pend["symbolic"] / pend["floor"], "target": 2.5, "unit": "ratio"}
+    fric = ("coulomb_friction", "stribeck", "spring_mass")
+    cam = interleaved({"with_friction": lambda: simulate(crig, fric, spring_model="lumped-2", t_end=0.035),
+                       "without_friction": lambda: simulate(crig, ("spring_mass",), spring_model="lumped-2",
+                                                            t_end=0.035)}, repeats)
+    rows["cam_drop_35ms_lumped2_with_friction"] = {"seconds": cam, "now": cam["with_friction"], "target": 0.040,
+                                                   "unit": "s"}
+    massless = ("coulomb_friction", "stribeck")
+    m = interleaved({uf: (lambda uf=uf: simulate(crig, massless, spring_model="massless", t_end=0.035, user_function=uf))
+                     for uf in ("auto", "python", "symbolic")}, repeats)
+    rows["cam_drop_35ms_massless_simulate_auto_over_python_uf"] = {"seconds": m, "now": m["auto"] / m["python"],
+                                                                  "target": 1.0, "unit": "ratio"}
+    eff = tuple(e for e in brig.model.effects if e != "spring_mass") + ("spring_mass",)
+    closing = interleaved({"lumped2": lambda: simulate(brig, eff, spring_model="lumped-2")}, max(3, repeats // 2))
+    rows["vcb_closing_45ms_lumped2"] = {"seconds": closing, "now": closing["lumped2"], "target": 0.15, "unit": "s"}
+    for row in rows.values():
+        row["met"] = bool(row["now"] <= row["target"])
+    return rows
+
+
 def rss_mb():
     return resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1024.0
 
@@ -94,6 +134,8 @@ def main():
     closing["lumped2_target_met"] = closing["lumped2_s"] <= 10.0
     print(closing, flush=True)
 
+    res["issue18_targets"] = speed_targets(prig, crig, brig, law, h, 3 if args.quick else 7)
+    print(res["issue18_targets"], flush=True)
     res["identification"] = identification_cost(tmp, truth, args.quick)
     print(res["identification"], flush=True)
     if not args.quick:
