@@ -231,14 +231,14 @@ class Context:
         self.channel_sigma[self.record.measured_channel] = self.sigma_hf
         if len(chans) > 1:
             channel_setup(rig, self.setup, chans, self.channel_sigma)
-        if rig.experiment == "vcb_closing" and "release_time" not in self.setup.pinned:
+        if self.record.release_from_model and "release_time" not in self.setup.pinned:
             self._release_from_model(measurement, y)
         self.dataset = Dataset(rig, measurement, self.setup, chans)
         windowed = measurement.window(self.setup.window[0], self.setup.window[1])
         self.guesses = self.record.start_guesses(rig, windowed)
         self.uncertain = dict(getattr(rig, "uncertain", None) or {})
         self.implied = {}  # uncertain values the diagnosis added itself (a period mismatch)
-        self.coarse_step = 2 * self.record.step(rig) if rig.experiment == "pendulum" else None
+        self.coarse_step = 2 * self.record.step(rig) if self.record.staged_fit else None
         self.stop = threading.Event()
         self.spring_final = None  # the spring model the final model is refined with (ANCF)
         self.budget = math.inf
@@ -355,7 +355,7 @@ class Context:
                      if spec.name in params and params[spec.name].vary}
             fresh.update({k: v for k, v in self.guesses[0].items() if k in params and params[k].vary})
             bases = [{}, fresh] if fresh else None
-        if self.rig.experiment == "pendulum":
+        if self.record.staged_fit:
             r = fitting.staged_fit(ds, effects, spring_model, params, starts=starts, scan=scan,
                                    coarse_step=self.coarse_step, bases=bases, **kw)
         else:
@@ -612,7 +612,7 @@ def period_mismatch(ctx, fit):
     """Compare the extremes of the record's swing with the model's: a steady drift of their
     times means the periods differ. Returns a dict (relative mismatch, its standard error, and
     whether it is significant), or None when the record does not swing."""
-    if ctx.rig.experiment != "pendulum":
+    if not ctx.record.period_fields:  # only a free swing has a period to check
         return None
     d = ctx.dataset
     m = d.mask()
@@ -695,7 +695,7 @@ def _diagnose(ctx, started):
     ctx.say(f"fitting the starting model ({', '.join(rig.model.effects) or 'no effects'}, "
             f"{rig.model.spring_model.label}) with the record's nuisance")
     period = None
-    if rig.experiment == "pendulum":  # model-free first: the swing's period against the rig's
+    if rec.period_fields:  # model-free first: the swing's period against the rig's
         period = swing_period_mismatch(rig, ctx.measurement.t, ctx.measurement.channel(rec.measured_channel),
                                        ctx.setup.window[0], ctx.sigma_hf)
         if period and period["significant"] and not _period_fields_fitted(ctx):
@@ -1159,9 +1159,8 @@ def describe_signature(ctx, baseline, final=None):
         sig["final"] = feats(final)
     if any(ch.endswith("_contact") for ch in ctx.dataset.fitted_channels):
         sig["figures_of_merit"] = closing_figures(ctx, final or baseline)
-    if ctx.rig.experiment == "pendulum":
-        p = rig_get(ctx.rig, "pendulum.inertia"), rig_get(ctx.rig, "pendulum.mass"), rig_get(ctx.rig, "pendulum.com_distance")
-        sig["swing_frequency_hz"] = math.sqrt(p[1] * ctx.rig.gravity * p[2] / p[0]) / (2 * math.pi)
+    if ctx.record.natural_frequency is not None:
+        sig["swing_frequency_hz"] = ctx.record.natural_frequency(ctx.rig)
     return sig
 
 

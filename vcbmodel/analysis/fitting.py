@@ -38,7 +38,6 @@ import numpy as np
 from scipy.interpolate import CubicSpline
 from scipy.optimize import minimize
 
-from ..builders.ancf import AncfOptions
 from ..errors import SimulationError
 from ..experiments import experiment_of
 from ..experiments.simulation import simulate
@@ -700,49 +699,20 @@ class _Objective:
         return J
 
 
-#: Integration steps of the cam drop's fits (s): the experiment's 1e-5 s is sized for the
-#: accuracy of studies; against a 2.5e-6 s solve a 35 ms drop is within 0.06 mrad at 2e-5 s
-#: (massless spring: the stick band at the release sets the error) and within 1e-10 rad at
-#: 4.2e-5 s (lumped chains), far below the camera's 2 mrad, at half and a quarter of the cost.
-CAM_FIT_STEP = {"massless": 2e-5, "lumped": 4.2e-5}
-#: Integration step of the grid scans that rank a closing fit's starting points (s). The breaker's
-#: 1e-5 s is sized for studies; at 4e-5 s (2.8e-5 s on the 12 kHz camera's grid) the follower stays
-#: within 12 um (max) of a 2.5e-6 s solve, a quarter of the camera's noise, at a third of the cost
-#: (reference breaker, measured). A scan only ranks starting points: the fit runs at the full step.
-CLOSING_SCAN_STEP = 4e-5
-
-
 def scan_step(rig):
-    """The integration step of a fit's start scan (None: the fit's own)."""
-    return CLOSING_SCAN_STEP if rig.experiment == "vcb_closing" else None
-
-
-#: Integration step of a closing's fits (s): at 2e-5 s (1.7e-5 s on the 12 kHz camera's grid) the
-#: follower stays within 6 um (max) of a 2.5e-6 s solve (the studies' 1e-5 s: 2.5 um), an eighth of
-#: the camera's noise, at 0.75 of the cost (reference breaker, measured).
-CLOSING_FIT_STEP = 2e-5
+    """The integration step of a fit's start scan (None: the fit's own): the experiment's."""
+    return experiment_of(rig.experiment).scan_step
 
 
 def fit_step(rig, spring_model):
-    """The integration step fits use (None: the experiment's default). The ANCF spring's is
-    its stability-bounded step (:meth:`AncfOptions.stable_step`: 4.3e-6 s for a 1 kg spring,
-    1.7x the studies' 2.5e-6 s, within 0.01 mrad of it)."""
-    kind = SpringModel.parse(spring_model).kind
-    if rig.experiment == "vcb_closing" and kind != "ancf":
-        return CLOSING_FIT_STEP
-    if rig.experiment != "cam_drop":
-        return None
-    if kind == "ancf":
-        return AncfOptions().stable_step(rig.closing_spring)
-    return CAM_FIT_STEP.get(kind)
+    """The integration step fits use (None: the experiment's default): the experiment's choice
+    for the spring model (``Experiment.fit_step``)."""
+    return experiment_of(rig.experiment).fit_step(rig, SpringModel.parse(spring_model).kind)
 
 
 def user_function_for(rig):
-    """The friction connector's implementation for fits: Exudyn's compiled (symbolic) function
-    for the pendulum (6x faster than Python there); the Python function for the cam drop and the
-    closing (measured: a 35 ms massless cam drop takes 0.15 s with it, 0.6-1.1 s compiled: the
-    symbolic expression of the massless spring's pull does not share subexpressions)."""
-    return "symbolic" if rig.experiment == "pendulum" else "python"
+    """The friction connector's implementation for fits: the experiment's (``Experiment.fit_user_function``)."""
+    return experiment_of(rig.experiment).fit_user_function
 
 
 def _model_channel(dataset, ch):

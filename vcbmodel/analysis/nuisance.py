@@ -31,8 +31,9 @@ from ..records.signals import motion_onset, swing_peaks
 #: Prior standard deviation of the initial angle around the rig's nominal value (rad) where the
 #: record cannot tell the angle from the sensor offset (cam drop): about a degree.
 INITIAL_ANGLE_SD = math.radians(1.0)
-#: Release-time search half-width: pendulum (s), camera records (s).
-RELEASE_SPAN = {"pendulum": 0.06, "default": 0.002}
+
+#: Release-time search half-width (s) of a camera record found from the model's start of motion.
+CAMERA_RELEASE_SPAN = 0.002
 
 RECORD_FIELDS = ("release_time", "initial_angle", "sensor_offset", "sensor_gain")
 
@@ -154,7 +155,7 @@ def record_setup(rig, measurement, sigma) -> RecordSetup:
     notes = []
     onset, level, still = motion_onset(t, y, sigma)
     hand = False
-    if rig.experiment == "pendulum":
+    if rec.free_swing:  # a swing may start by hand; its centre fixes the sensor offset
         p = rig.pendulum
         accel = p.mass * rig.gravity * p.com_distance * abs(math.sin(p.initial_angle)) / p.inertia
         window_start, release, level, hand = _pendulum_start(t, y, sigma, onset, level, still, notes, accel)
@@ -166,9 +167,9 @@ def record_setup(rig, measurement, sigma) -> RecordSetup:
         offset = None
     if "release_time" in pinned:
         release = float(pinned["release_time"])
-        if rig.experiment == "pendulum" and hand:
+        if rec.free_swing and hand:
             window_start = max(window_start, release)
-    span = RELEASE_SPAN.get(rig.experiment, RELEASE_SPAN["default"])
+    span = rec.release_span
     span = max(span, 5 * dt)
     bounds = (release - span, release + span)
     # the initial angle and the offset: the reading before release is offset + gain * angle
@@ -179,7 +180,7 @@ def record_setup(rig, measurement, sigma) -> RecordSetup:
         initial, prior = float(pinned["initial_angle"]), None
         if offset is None:
             offset = level - gain * initial
-    elif rig.experiment == "pendulum":
+    elif rec.free_swing:
         if "sensor_offset" in pinned:
             offset = float(pinned["sensor_offset"])
         initial = (level - offset) / gain
@@ -282,7 +283,7 @@ def release_from_model(setup, t, y, model_t, model_y, sigma, span=None):
     if not k_rec.size or not k_mod.size:
         return setup
     release = float(t[k_rec[0]] - model_t[k_mod[0]])
-    span = span or RELEASE_SPAN["default"]
+    span = span or CAMERA_RELEASE_SPAN
     setup.release = release
     setup.release_bounds = (release - span, release + span)
     setup.notes.append(f"the record leaves rest {model_t[k_mod[0]]:.4g} s after the model's release: released at about "

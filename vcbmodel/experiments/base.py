@@ -29,6 +29,11 @@ def whole_record(t, y, sigma):
     return None
 
 
+def default_fit_step(rig, spring_kind):
+    """The experiment's own step for fits too (None)."""
+    return None
+
+
 def measured_only(result, rig):
     """{channel: (values, unit)}: the experiment's measured channel (what ``simulate`` writes)."""
     return {result.measured_channel: (result.measured, result.units[result.measured_channel])}
@@ -70,6 +75,8 @@ class Experiment:
     - ``extra_channels``: further record channels the experiment accepts (regular expressions,
       e.g. a breaker analyser's ``pole_1_contact``), fitted when present;
     - ``figure_units``: the figures of merit a sweep tabulates, {column: unit}, in column order;
+    - ``fit_step(rig, spring_kind)``, ``scan_step``, ``fit_user_function``: how fits run this experiment
+      (each choice measured, with its reasoning at the record);
     - ``summary(result, rig)``: ``simulate``'s one-run summary, [(what, value, unit)];
     - ``record_channels(result, rig)``: the channels ``simulate`` writes, as a record file carries them;
     - ``run_status(values) -> str``: ``ok``, or why a run's figures of merit are not a result
@@ -102,6 +109,14 @@ class Experiment:
     unit_hint: str = ""  # what a value beyond max_magnitude suggests ("degrees?")
     figure_units: tuple = ()  # ((column, unit), ...): what a sweep tabulates
     missing_means: tuple = ()  # ((column, status), ...): see run_status
+    free_swing: bool = False  # a free swing: may start by hand, its centre gives the sensor offset, it has a period
+    release_span: float = 0.002  # s: half-width of the search for the release time in a record
+    staged_fit: bool = False  # fits fit the swinging part first, at twice the step, then the whole record
+    release_from_model: bool = False  # the record's release time is found from the model's start of motion
+    natural_frequency: Callable | None = None  # (rig) -> Hz of a free swing, diagnosis evidence
+    fit_step: Callable = default_fit_step  # (rig, spring kind) -> step (s) of fits, None: ``step(rig)``
+    scan_step: float | None = None  # step (s) of the grid scans ranking a fit's starts; None: the fit's
+    fit_user_function: str = "python"  # friction connector of fits: python | symbolic (measured per experiment)
     summary: Callable = figures_summary  # (result, rig) -> [(what, value, unit)]: simulate's summary
     record_channels: Callable = measured_only  # (result, rig) -> {channel: (values, unit)}: simulate's CSV
 
