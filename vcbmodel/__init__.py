@@ -5,7 +5,8 @@ Responses in a Spring-Driven Cam" (Trans. KSME A, 2003).
 
 Layers, each a folder that imports only from the ones listed before it:
 ``laws`` (pure physics) -> ``rig``, ``records`` (files and signals) -> ``model`` (effects,
-values, results) -> ``builders`` (Exudyn), ``reference`` (scipy) -> ``experiments`` (one
+values, results) -> ``builders`` (Exudyn), ``compiled`` (the laws traced to C), ``reference``
+(scipy) -> ``experiments`` (one
 record per experiment kind, the simulation chain) -> ``analysis`` (fits, diagnosis) -> ``app``
 (command line, figures). ``errors`` and ``parameters`` sit below them all.
 """

@@ -148,7 +148,7 @@ class Diagnosis:
             "explained": self.explained, "ambiguous": [list(pair) for pair in self.ambiguous],
             "baseline_effects": list(b.effects), "final_effects": list(f.effects),
             "baseline_spring_model": b.spring_model_label, "final_spring_model": f.spring_model_label,
-            "rms_before": b.rms, "rms_after": f.rms,
+            "simulated_with": f.backend, "rms_before": b.rms, "rms_after": f.rms,
             "rms_before_own_alignment": (self.baseline_own_alignment or b).rms,
             "max_error_before": b.max_error, "max_error_after": f.max_error,
             "gap_ratio": f.rms / b.rms if b.rms > 0 else None,

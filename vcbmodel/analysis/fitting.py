@@ -40,7 +40,7 @@ from scipy.optimize import minimize
 
 from ..errors import SimulationError
 from ..experiments import experiment_of
-from ..experiments.simulation import simulate
+from ..experiments.simulation import simulate, simulation_backend
 from ..model.effects import parameter_specs
 from ..model.values import model_values, rig_values
 from ..records.signals import noise_estimate
@@ -251,9 +251,17 @@ class FitResult:
     def bic_with(self, noise):
         return self.chi2_with(noise) + self.n_varied * math.log(max(2, self.n_data))
 
+    @property
+    def backend(self):
+        """What ran the fit's simulations (the compiled path or Exudyn)."""
+        if not self.simulations:
+            return ""
+        return simulation_backend(experiment_of(self.simulations[0].experiment), self.spring_model)
+
     def report(self):
         """A readable fit report; parameters stuck at a bound are flagged."""
         lines = [f"[[Fit]] effects: {', '.join(self.effects) or '(none)'}; spring model: {self.spring_model.label}",
+                 f"    simulated with: {self.backend}",
                  f"    method {self.method}, {self.nfev} simulations, {'converged' if self.success else 'stopped: ' + self.message}",
                  f"    data points {self.n_data}, varied {self.n_varied}, noise sigma {self.sigma:.3g} {self.unit}",
                  f"    rms {self.rms:.4g} {self.unit}, max |error| {self.max_error:.4g} {self.unit}, reduced chi2 {self.reduced_chi2:.3f}",
@@ -321,6 +329,7 @@ class SimJob:
     step: float | None = None
     sample_times: object = None  # explicit times (no nuisance)
     user_function: str = "auto"
+    backend: str = "fast"  # compiled where it covers the model (vcbmodel.compiled), else Exudyn
 
 
 def run_job(job):
@@ -332,7 +341,7 @@ def run_job(job):
         times = np.arange(n + 1) * dt
     try:
         r = simulate(job.rig, job.effects, dict(job.values), spring_model=job.spring_model, sample_times=times,
-                     step=job.step, user_function=job.user_function)
+                     step=job.step, user_function=job.user_function, backend=job.backend)
     except SimulationError as e:
         return e
     out = {"t": times}

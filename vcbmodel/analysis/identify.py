@@ -125,6 +125,7 @@ class IdentifyResult:
                 "at_bound": [p.name for p in self.fit.parameters.values() if p.at_bound()],
                 "aic": self.fit.aic, "bic": self.fit.bic, "noise_estimate": self.fit.sigma,
                 "residual_to_noise": self.residual_to_noise, "warning": self.warning,
+                "simulated_with": self.fit.backend,
                 "measurements": [d.measurement.path for d in self.datasets]}
 
     def report(self):

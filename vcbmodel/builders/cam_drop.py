@@ -8,9 +8,8 @@ masses and stiffnesses represents them.
 """
 from __future__ import annotations
 
-import math
 
-from ..laws.mechanics import cam_pin, massless_spring_force
+from ..laws.mechanics import cam_pin, link_pull, massless_spring_force
 from .ancf import build_cam_drop_ancf
 from .core import ExudynModel, add_cam_body, add_cam_friction, exudyn_modules
 
@@ -84,9 +83,6 @@ def _add_chain(model, rig, body, chain):
         # last segment's pull on B, from the last mass's position at this RK stage
         px, py = mbs.GetNodeOutput(nLast, position)[:2]
         bx, by = cam_pin(theta, cam, ops)
-        dx, dy = bx - px, by - py
-        length = math.sqrt(dx * dx + dy * dy)
-        tension = k_last * (length - l_last)
-        return -tension * dx / length, -tension * dy / length
+        return link_pull(px, py, bx, by, k_last, l_last, ops)
 
     return pin_force

@@ -7,6 +7,7 @@ from typing import Callable
 
 import numpy as np
 
+from ..compiled import OdeModel
 from ..errors import InputError
 
 #: Shortest sample interval of any record (s): 10 MHz is beyond any sensor of a mechanism test; a
@@ -79,6 +80,7 @@ class Experiment:
       (each choice measured, with its reasoning at the record);
     - ``summary(result, rig)``: ``simulate``'s one-run summary, [(what, value, unit)];
     - ``record_channels(result, rig)``: the channels ``simulate`` writes, as a record file carries them;
+    - ``ode_model``: the experiment's equations for the compiled backend (:class:`vcbmodel.compiled.OdeModel`);
     - ``run_status(values) -> str``: ``ok``, or why a run's figures of merit are not a result
       (a breaker that never closed: ``not_closed``), counted apart by sweeps and tolerance studies.
     """
@@ -119,6 +121,7 @@ class Experiment:
     fit_user_function: str = "python"  # friction connector of fits: python | symbolic (measured per experiment)
     summary: Callable = figures_summary  # (result, rig) -> [(what, value, unit)]: simulate's summary
     record_channels: Callable = measured_only  # (result, rig) -> {channel: (values, unit)}: simulate's CSV
+    ode_model: OdeModel | None = None  # its equations for the compiled backend (vcbmodel.compiled); None: Exudyn only
 
     @property
     def figure_columns(self) -> tuple:

@@ -7,6 +7,8 @@ import numpy as np
 
 from .. import parameters as P
 from ..builders.pendulum import build_pendulum
+from ..compiled import OdeModel
+from ..compiled.equations import pendulum_equations, pendulum_initial, pendulum_inputs
 from ..records.signals import decay_shape, first_peak_amplitude, motion_end_time, swing_peaks, swing_spans
 from ..rig.sections import read_pendulum
 from .base import Experiment, shaft_channels
@@ -99,4 +101,5 @@ PENDULUM = Experiment(
     # fits use Exudyn's compiled (symbolic) friction function: 6x faster than the Python one here
     fit_user_function="symbolic", staged_fit=True, natural_frequency=swing_frequency,
     # a swing starts within tens of ms of where it is first seen to move (a hand release is slower)
-    free_swing=True, release_span=0.06)
+    free_swing=True, release_span=0.06,
+    ode_model=OdeModel("pendulum", pendulum_inputs, pendulum_initial, pendulum_equations))

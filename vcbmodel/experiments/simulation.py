@@ -9,6 +9,7 @@ import numpy as np
 
 from .. import parameters as P
 from ..builders.ancf import AncfOptions
+from ..compiled import BACKEND_NAME, compiler_works, solve_ode_model
 from ..laws.springs import chain_for
 from ..model.effects import ModelSpec, assemble, consistent_effects
 from ..model.result import SimulationResult
@@ -51,7 +52,10 @@ def simulate(rig: Rig, effects=None, values=None, *, spring_model=None, t_end=No
     spring_model : override of the rig's spring model (text such as ``lumped-2:paper``).
     t_end : simulated duration (s); default the last sample time or the experiment's.
     sample_times : times (s) at which to return the channels (default: every step).
-    backend : ``exudyn`` (the model) or ``reference`` (the scipy solve).
+    backend : ``exudyn`` (the model), ``compiled`` (the same equations traced from the laws to C,
+        :mod:`vcbmodel.compiled`: pendulum and cam drop with massless or lumped springs), ``fast``
+        (compiled where it covers the model and a C compiler works, else exudyn) or ``reference``
+        (the scipy solve). The result's ``info["backend"]`` names the one that ran.
     user_function : ``auto``, ``symbolic``, ``python`` (friction connector implementation).
     step : integration step (s), default from the experiment's record.
     method : reference backend only: ``DOP853`` (adaptive; ``step`` caps it) or ``rk4``.
@@ -71,22 +75,17 @@ def simulate(rig: Rig, effects=None, values=None, *, spring_model=None, t_end=No
     if ancf is None:
         ancf = AncfOptions(elements=ancf_elements or P.ANCF_ELEMENTS,
                            penalty_stiffness=ancf_tie_stiffness or P.ANCF_PENALTY_STIFFNESS)
-    if backend == "exudyn":
-        if step is None:
-            step = ancf.step(rig.closing_spring) if spec.spring_model.kind == "ancf" else record.step(rig)
-        period = None
-        if sample_times is not None and len(sample_times) > 2:
-            # uniform samples from t = 0 (a sensor's rate): shrink the step to divide the sample
-            # spacing and store only the sampled steps (no interpolation, less memory)
-            spacing = (sample_times[-1] - sample_times[0]) / (len(sample_times) - 1)
-            uniform = np.max(np.abs(np.diff(sample_times) - spacing)) < 1e-9 * max(1.0, sample_times[-1])
-            if uniform and abs(sample_times[0] / spacing - round(sample_times[0] / spacing)) < 1e-6:
-                k = math.ceil(spacing / step - 1e-9)
-                step, period = spacing / k, spacing
+    if backend == "fast":
+        backend = "compiled" if compiled_covers(record, spec.spring_model) else "exudyn"
+    if backend in ("exudyn", "compiled"):
+        step, period = _step_and_period(rig, record, spec, ancf, step, sample_times)
         law = spec.friction_law(rig.shaft_radius, step)
-        model = record.build(rig, spec, law, chain, user_function, ancf)
-        data = model.solve(t_end, step, period)
-        info = {"backend": "exudyn", "step": step, "initial": getattr(model, "initial", None)}
+        if backend == "compiled":
+            data, info = _solve_compiled(rig, record, spec, law, chain, t_end, step, period)
+        else:
+            model = record.build(rig, spec, law, chain, user_function, ancf)
+            data = model.solve(t_end, step, period)
+            info = {"backend": "exudyn", "step": step, "initial": getattr(model, "initial", None)}
     elif backend == "reference":
         law = spec.friction_law(rig.shaft_radius, step if method == "rk4" else 0.0)
         data, info = simulate_reference(rig, spec, law, chain, t_end, method, step)
@@ -97,6 +96,46 @@ def simulate(rig: Rig, effects=None, values=None, *, spring_model=None, t_end=No
     if sample_times is not None:
         result = result.resample(sample_times)
     return result
+
+
+def compiled_covers(record, spring_model) -> bool:
+    """Whether the compiled path covers this model (the experiment states its equations; not
+    the ANCF spring) and runs here (a C compiler: checked once, by compiling)."""
+    if record.ode_model is None or spring_model.kind == "ancf":
+        return False
+    return compiler_works()
+
+
+def simulation_backend(record, spring_model, backend="fast") -> str:
+    """The name of what runs ``backend`` (``fast``: compiled where it covers the model) for this
+    experiment and spring model, as results report it."""
+    if backend == "fast":
+        backend = "compiled" if compiled_covers(record, spring_model) else "exudyn"
+    return BACKEND_NAME if backend == "compiled" else backend
+
+
+def _step_and_period(rig, record, spec, ancf, step, sample_times):
+    """The fixed RK4 step (s) and the sensor period (s, None: every step). For uniform samples
+    from t = 0 (a sensor's rate) the step shrinks to divide the sample spacing and only the
+    sampled steps are stored (no interpolation, less memory)."""
+    if step is None:
+        step = ancf.step(rig.closing_spring) if spec.spring_model.kind == "ancf" else record.step(rig)
+    period = None
+    if sample_times is not None and len(sample_times) > 2:
+        spacing = (sample_times[-1] - sample_times[0]) / (len(sample_times) - 1)
+        uniform = np.max(np.abs(np.diff(sample_times) - spacing)) < 1e-9 * max(1.0, sample_times[-1])
+        if uniform and abs(sample_times[0] / spacing - round(sample_times[0] / spacing)) < 1e-6:
+            k = math.ceil(spacing / step - 1e-9)
+            step, period = spacing / k, spacing
+    return step, period
+
+
+def _solve_compiled(rig, record, spec, law, chain, t_end, step, period):
+    if record.ode_model is None or spec.spring_model.kind == "ancf":
+        raise ValueError(f"the compiled backend covers the pendulum and the cam drop with a massless or lumped "
+                         f"spring, not {record.name} with a {spec.spring_model.kind} spring: use backend='exudyn'")
+    data = solve_ode_model(record.ode_model, rig, law, chain, t_end, step, period)
+    return data, {"backend": BACKEND_NAME, "step": step, "initial": None}
 
 
 def extrapolate_ties(value_1, value_2, k1, k2):

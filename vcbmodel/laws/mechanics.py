@@ -27,12 +27,21 @@ def cam_pin(theta, cam, ops=NumericOps):
             cam.pivot[1] + cam.arm_length * ops.sin(theta))
 
 
+def link_pull(x0, y0, x1, y1, stiffness, free_length, ops=NumericOps):
+    """Pull (N) of a straight linear spring from point 0 to point 1 (m) on point 1, towards
+    point 0: tension k (L - L0) along the link (an axial spring of stiffness ``stiffness`` in N/m
+    and free length ``free_length`` in m; what Exudyn's ``ObjectConnectorSpringDamper`` applies
+    without damping). Point 0 feels the opposite force."""
+    dx, dy = x1 - x0, y1 - y0
+    length = ops.sqrt(dx * dx + dy * dy)
+    tension = stiffness * (length - free_length)
+    return -tension * dx / length, -tension * dy / length
+
+
 def massless_spring_force(bx, by, spring, ops=NumericOps):
     """Pull (N) of ``spring.count`` massless tension springs on pin B, along B -> O."""
-    dx, dy = bx - spring.anchor[0], by - spring.anchor[1]
-    length = ops.sqrt(dx * dx + dy * dy)
-    tension = spring.count * spring.stiffness * (length - spring.free_length)
-    return -tension * dx / length, -tension * dy / length
+    return link_pull(spring.anchor[0], spring.anchor[1], bx, by, spring.count * spring.stiffness,
+                     spring.free_length, ops)
 
 
 def cam_weight_torque(theta, cam, gravity, ops=NumericOps):

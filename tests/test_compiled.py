@@ -1,0 +1,130 @@
+"""The compiled path (vcbmodel.compiled) against the Exudyn models it stands in for.
+
+The C is traced from the same law functions the Exudyn user functions call, so what the two
+share is the laws, the friction reading and the rig numbers; what they do not share is the
+assembly of the equations (Exudyn's bodies, markers, loads and spring connectors here, the
+equations module's hand assembly there) and the integration code. These tests check that
+assembly and the tracer (sharing, folding, guards) to 1e-9 rad over whole runs."""
+import math
+
+import numpy as np
+import pytest
+
+from vcbmodel import parameters as P
+from vcbmodel.compiled import BACKEND_NAME, compiler_works
+from vcbmodel.compiled.codegen import trace_system
+from vcbmodel.compiled.inputs import flatten
+from vcbmodel.compiled.solve import _VARIANTS
+from vcbmodel.compiled.trace import Graph, TraceOps
+from vcbmodel.experiments.loading import load_rig
+from vcbmodel.experiments.simulation import simulate
+from vcbmodel.laws.friction import FrictionLaw, NumericOps, shaft_friction
+
+from conftest import write_rig
+
+pytestmark = pytest.mark.skipif(not compiler_works(), reason="no working C compiler")
+
+VALUES = {"mu_k": 0.12, "mu_s": 0.18, "stribeck_velocity": 0.5, "viscous": 0.002, "stick_velocity": 1e-3}
+
+
+def _agree(rig, **options):
+    a = simulate(rig, backend="exudyn", values=VALUES, **options)
+    b = simulate(rig, backend="compiled", values=VALUES, **options)
+    assert b.info["backend"] == BACKEND_NAME and a.info["backend"] == "exudyn"
+    assert set(a.channels) == set(b.channels)
+    worst = {name: float(np.max(np.abs(a.channels[name] - b.channels[name]))) for name in a.channels}
+    return a, b, worst
+
+
+@pytest.mark.parametrize("sticking", ["passive", "literal"])
+def test_pendulum_agrees_with_exudyn(pendulum_rig, sticking):
+    a, b, worst = _agree(pendulum_rig, sticking=sticking, t_end=3.0)
+    assert worst["pendulum_angle"] < 1e-9
+    assert worst["friction_torque"] < 1e-9
+    # and the run is not trivial: it swings and friction stops it
+    assert np.ptp(a.measured) > 0.2  # released at 10 deg, it swings to the other side
+
+
+@pytest.mark.parametrize("spring_model", ["massless", "lumped-1", "lumped-2:paper", "lumped-3", "lumped-2:uniform"])
+def test_cam_drop_agrees_with_exudyn(cam_rig, spring_model):
+    a, b, worst = _agree(cam_rig, spring_model=spring_model)
+    assert worst["cam_angle"] < 1e-9, worst
+    for name, w in worst.items():
+        if name.startswith("spring_mass_"):
+            assert w < 1e-9, (name, w)
+    assert np.ptp(a.measured) > 1.0  # the cam turned
+
+
+def test_cam_drop_with_spring_weight_agrees(tmp_path):
+    rig_dict = dict(P.REFERENCE_CAM)
+    rig_dict["closing_spring"] = dict(rig_dict["closing_spring"], weight=True)
+    rig = load_rig(write_rig(tmp_path, rig_dict, "heavy"))
+    _, _, worst = _agree(rig, spring_model="lumped-2")
+    assert worst["cam_angle"] < 1e-9
+
+
+def test_sampled_output_matches_exudyn(cam_rig):
+    times = np.arange(0, 0.03, 1 / 12000.0)
+    a = simulate(cam_rig, values=VALUES, sample_times=times, backend="exudyn")
+    b = simulate(cam_rig, values=VALUES, sample_times=times, backend="compiled")
+    assert np.allclose(a.t, b.t) and np.max(np.abs(a.measured - b.measured)) < 1e-9
+
+
+def test_fast_backend_falls_back_for_ancf(cam_rig):
+    with pytest.raises(ValueError, match="compiled backend covers"):
+        simulate(cam_rig, values=VALUES, spring_model="ancf", backend="compiled", t_end=1e-3)
+    r = simulate(cam_rig, values=VALUES, spring_model="ancf", backend="fast", t_end=1e-3)
+    assert r.info["backend"] == "exudyn"
+
+
+def test_guards_pick_a_new_variant_when_a_branch_changes(pendulum_rig):
+    """A law leaves a branch out when its parameter is 0 (no Stribeck slope): the code compiled
+    for one must not run the other. Variants are keyed by their guards."""
+    with_stribeck = simulate(pendulum_rig, values=VALUES, backend="compiled", t_end=2.0)
+    no_stribeck = dict(VALUES, stribeck_velocity=0.0)
+    compiled = simulate(pendulum_rig, values=no_stribeck, backend="compiled", t_end=2.0)
+    exudyn = simulate(pendulum_rig, values=no_stribeck, backend="exudyn", t_end=2.0)
+    assert np.max(np.abs(compiled.measured - exudyn.measured)) < 1e-9
+    assert np.max(np.abs(compiled.measured - with_stribeck.measured)) > 1e-4
+    variants = [v for key, vs in _VARIANTS.items() if key[0] == "pendulum" for v in vs]
+    assert len({v.digest for v in variants}) >= 2
+
+
+def test_trace_shares_and_folds():
+    g = Graph()
+    ops = TraceOps(g)
+    x = g.state("x[0]", 0.3)
+    a = ops.sin(x) * ops.sin(x) + 0.0
+    assert ops.sin(x).index == ops.sin(x).index  # one node for sin(x)
+    assert (2.0 * 3.0 + x * 1.0).index != x.index and (x * 1.0).index == x.index
+    assert math.isclose(a.value, math.sin(0.3) ** 2)
+    c_lines = g.c_statements({"out[0]": a})
+    assert sum("sin(" in line for line in c_lines) == 1
+
+
+def test_trace_refuses_a_python_branch_on_the_state():
+    g = Graph()
+    x = g.state("x[0]", 0.3)
+    with pytest.raises(TypeError, match="ops.where"):
+        bool(x > 0.0)
+
+
+def test_traced_law_equals_the_float_law():
+    """The friction law traced at a point has the float law's value there (every branch)."""
+    law = FrictionLaw(mu_s=0.18, mu_k=0.12, stick_velocity=1e-3, stribeck_velocity=0.5, viscous=0.002,
+                      radius=0.02, step=1e-4)
+    for w, Tc in [(0.0, 0.1), (5e-4, -0.3), (0.2, 0.5), (3.0, -1.0), (-3.0, 40.0)]:
+        def eq(t, q, v, inputs, ops):
+            Tf = shaft_friction(v[0], Tc, 10.0, 3.0, 0.0, 0.7, 0.05, inputs["law"], ops)[0]
+            return [Tf], {}
+        graph, acc, _ = trace_system(eq, {"law": law}, [0.0], [w])
+        expected = shaft_friction(w, Tc, 10.0, 3.0, 0.0, 0.7, 0.05, law, NumericOps)[0]
+        assert acc[0].value == pytest.approx(expected, rel=1e-15, abs=1e-15)
+
+
+def test_flatten_orders_parameters_and_structure():
+    law = FrictionLaw(mu_s=0.2, mu_k=0.1)
+    p, structure = flatten({"law": law, "g": 9.81})
+    assert p[0] == 9.81 and 0.2 in p and 0.1 in p  # keys in sorted order: g, then law's fields
+    _, other = flatten({"law": FrictionLaw(mu_s=0.2, mu_k=0.1, sticking="literal"), "g": 9.81})
+    assert structure != other  # a string option is structure, not a parameter
