@@ -1,9 +1,10 @@
 """The compiled path (vcbmodel.compiled) against the Exudyn models it stands in for.
 
 The C is traced from the same law functions the Exudyn user functions call, so what the two
-share is the laws, the friction reading and the rig numbers; what they do not share is the
-assembly of the equations (Exudyn's bodies, markers, loads and spring connectors here, the
-equations module's hand assembly there) and the integration code. These tests check that
+share is the laws (friction reading, contact laws, cam profile, latch ramp) and the rig numbers;
+what they do not share is the assembly of the equations (Exudyn's bodies, markers, loads, spring
+connectors and its pre-step hook there, vcbmodel.compiled.equations here) and the integration
+code. These tests check that
 assembly and the tracer (sharing, folding, guards) to 1e-9 rad over whole runs."""
 import math
 
@@ -11,13 +12,16 @@ import numpy as np
 import pytest
 
 from vcbmodel import parameters as P
-from vcbmodel.compiled import BACKEND_NAME, compiler_works
+from vcbmodel.compiled import BACKEND_NAME, OdeSetup, compiler_works
 from vcbmodel.compiled.codegen import trace_system
 from vcbmodel.compiled.inputs import flatten
 from vcbmodel.compiled.solve import _VARIANTS
 from vcbmodel.compiled.trace import Graph, TraceOps
+from vcbmodel.experiments import experiment_of
+from vcbmodel.experiments.closing_evaluation import latched_impact_speeds
 from vcbmodel.experiments.loading import load_rig
 from vcbmodel.experiments.simulation import simulate
+from vcbmodel.laws.breaker import update_impact_speeds
 from vcbmodel.laws.friction import FrictionLaw, NumericOps, shaft_friction
 
 from conftest import write_rig
@@ -114,12 +118,12 @@ def test_traced_law_equals_the_float_law():
     law = FrictionLaw(mu_s=0.18, mu_k=0.12, stick_velocity=1e-3, stribeck_velocity=0.5, viscous=0.002,
                       radius=0.02, step=1e-4)
     for w, Tc in [(0.0, 0.1), (5e-4, -0.3), (0.2, 0.5), (3.0, -1.0), (-3.0, 40.0)]:
-        def eq(t, q, v, inputs, ops):
+        def eq(t, q, v, memory, inputs, ops):
             Tf = shaft_friction(v[0], Tc, 10.0, 3.0, 0.0, 0.7, 0.05, inputs["law"], ops)[0]
             return [Tf], {}
-        graph, acc, _ = trace_system(eq, {"law": law}, [0.0], [w])
+        traced = trace_system(eq, None, OdeSetup({"law": law}, [0.0], [w], [("x", "v", 1)]))
         expected = shaft_friction(w, Tc, 10.0, 3.0, 0.0, 0.7, 0.05, law, NumericOps)[0]
-        assert acc[0].value == pytest.approx(expected, rel=1e-15, abs=1e-15)
+        assert traced.accelerations[0].value == pytest.approx(expected, rel=1e-15, abs=1e-15)
 
 
 def test_flatten_orders_parameters_and_structure():
@@ -128,3 +132,39 @@ def test_flatten_orders_parameters_and_structure():
     assert p[0] == 9.81 and 0.2 in p and 0.1 in p  # keys in sorted order: g, then law's fields
     _, other = flatten({"law": FrictionLaw(mu_s=0.2, mu_k=0.1, sticking="literal"), "g": 9.81})
     assert structure != other  # a string option is structure, not a parameter
+
+
+@pytest.fixture
+def breaker_rig(tmp_path):
+    return load_rig(write_rig(tmp_path, P.REFERENCE_BREAKER, "breaker"))
+
+
+@pytest.mark.parametrize("spring_model", ["massless", "lumped-2:exact"])
+def test_closing_agrees_with_exudyn(breaker_rig, spring_model):
+    """The whole breaker: cam, chain, follower, three poles, contacts with latched impact speeds
+    (the pre-step memory), the latch; to 1e-9 rad and 1e-9 m over the closing."""
+    a = simulate(breaker_rig, spring_model=spring_model, backend="exudyn")
+    b = simulate(breaker_rig, spring_model=spring_model, backend="compiled")
+    assert b.info["backend"] == BACKEND_NAME
+    assert np.max(np.abs(a.channels["cam_angle"] - b.channels["cam_angle"])) < 1e-9
+    assert np.max(np.abs(a.measured - b.measured)) < 1e-9
+    for i in range(1, 4):
+        assert np.max(np.abs(a.channels[f"pole_{i}_travel"] - b.channels[f"pole_{i}_travel"])) < 1e-9
+    # the contacts closed and bounced in both (the comparison covers the impacts)
+    assert np.max(b.channels["pole_1_contact_force"]) > 1e3
+    fa = experiment_of("vcb_closing").figures_of_merit(a, breaker_rig)
+    fb = experiment_of("vcb_closing").figures_of_merit(b, breaker_rig)
+    assert fa["closing_time_s"] == pytest.approx(fb["closing_time_s"], abs=1e-9)
+    assert fa["bounce_count"] == fb["bounce_count"]
+
+
+def test_replayed_impact_speeds_match_the_stepwise_latch():
+    """The vectorised replay of the contacts' impact speeds equals the law's step-by-step latch."""
+    rng = np.random.default_rng(3)
+    pen = np.cumsum(rng.normal(0, 1, 400)) * 1e-6
+    rate = rng.normal(0, 1, 400)
+    latched = latched_impact_speeds(pen, rate)
+    impact = [0.0]
+    for j in range(400):
+        update_impact_speeds(impact, [(pen[j], rate[j])])
+        assert latched[j] == impact[0]

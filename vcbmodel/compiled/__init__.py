@@ -1,25 +1,74 @@
-"""A compiled path for fits and sweeps: the laws traced through ``ops`` into C (no second copy
-of an equation), compiled with cffi, integrated with the RK4 of the Exudyn models.
+"""A compiled path for fits, sweeps and design studies: the laws traced through ``ops`` into C
+(no second copy of an equation), compiled with cffi, integrated with the RK4 of the Exudyn
+models.
 
 Exudyn builds every model and stays the reference: the tests compare this path with the Exudyn
-models to 1e-9 rad; it covers the pendulum and the cam drop with a massless or lumped spring
-(the ANCF spring and the whole breaker stay on Exudyn). Results it produces say so
-(``info["backend"]``).
+models to 1e-9 rad (1e-9 m); it covers the pendulum, the cam drop and the whole breaker's
+closing with a massless or lumped spring (the ANCF spring stays on Exudyn). Results it produces
+say so (``info["backend"]``).
 """
 from __future__ import annotations
 
 import logging
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 from typing import Callable
 
 import numpy as np
 
 from .solve import BACKEND_NAME, CompilerUnavailable, compiled_system, integrate
 
-__all__ = ["BACKEND_NAME", "CompilerUnavailable", "OdeModel", "compiler_works", "solve_ode_model"]
+__all__ = ["BACKEND_NAME", "CompilerUnavailable", "OdeModel", "OdeSetup", "compiler_works", "solve_ode_model"]
 
 log = logging.getLogger("vcbmodel")
 _WORKS = []
+
+
+@dataclass
+class OdeSetup:
+    """One run's inputs: ``inputs`` (objects the equations read: their floats are the run-time
+    parameters), the initial coordinates ``q0`` and speeds ``v0``, ``layout`` [(position sensor,
+    velocity sensor, width)] naming the coordinates in order as the Exudyn model's sensors do,
+    the initial ``memory`` (values latched by the pre-step function) and ``info`` for the result."""
+
+    inputs: dict
+    q0: list
+    v0: list
+    layout: list
+    memory: list = field(default_factory=list)
+    info: dict = field(default_factory=dict)
+
+
+@dataclass(frozen=True)
+class OdeModel:
+    """An experiment's equations for the compiled path.
+
+    - ``prepare(rig, spec, law, chain) -> OdeSetup``;
+    - ``equations(t, q, v, memory, inputs, ops) -> (accelerations, {output: value})``;
+    - ``prestep(t, q, v, memory, inputs, ops) -> memory``: values latched at the start of each
+      step from the state there (Exudyn's pre-step function), or None.
+    """
+
+    kind: str
+    prepare: Callable
+    equations: Callable
+    prestep: Callable | None = None
+
+
+def solve_ode_model(model: OdeModel, rig, spec, law, chain, t_end, step, period=None):
+    """(sensor rows as the Exudyn models give them: {name: array (t, values...)}, info)."""
+    setup = model.prepare(rig, spec, law, chain)
+    system, p = compiled_system(model.kind, model.equations, model.prestep, setup)
+    rows = integrate(system, p, setup, t_end, step, period)
+    t, width = rows[:, :1], len(setup.q0)
+    data, k = {}, 0
+    for position, velocity, size in setup.layout:
+        pad = [np.zeros_like(t)] if size == 2 else []  # a 2-D point's Position has a z component
+        data[position] = np.hstack([t, rows[:, 1 + k:1 + k + size]] + pad)
+        data[velocity] = np.hstack([t, rows[:, 1 + width + k:1 + width + k + size]] + pad)
+        k += size
+    for j, name in enumerate(system.outputs):
+        data[name] = np.hstack([t, rows[:, 1 + 2 * width + j:2 + 2 * width + j]])
+    return data, setup.info
 
 
 def compiler_works() -> bool:
@@ -27,8 +76,9 @@ def compiler_works() -> bool:
     does not is logged once)."""
     if not _WORKS:
         try:
-            system, p = compiled_system("probe", _probe_equations, {"k": 1.0}, [1.0], [0.0])
-            rows = integrate(system, p, [1.0], [0.0], 0.1, 0.01)
+            setup = OdeSetup({"k": 1.0}, [1.0], [0.0], [("x", "v", 1)])
+            system, p = compiled_system("probe", _probe_equations, None, setup)
+            rows = integrate(system, p, setup, 0.1, 0.01)
             _WORKS.append(bool(abs(rows[-1, 1] - np.cos(0.1)) < 1e-8))
         except (CompilerUnavailable, OSError, ImportError) as e:
             log.warning("the compiled backend is unavailable here (%s): fits and sweeps run on Exudyn", e)
@@ -36,36 +86,5 @@ def compiler_works() -> bool:
     return _WORKS[0]
 
 
-def _probe_equations(t, q, v, inputs, ops):
+def _probe_equations(t, q, v, memory, inputs, ops):
     return [-inputs["k"] * q[0]], {}
-
-
-@dataclass(frozen=True)
-class OdeModel:
-    """An experiment's equations for the compiled path: ``inputs(rig, law, chain)`` -> objects
-    the equations read, ``initial(rig, chain)`` -> (q0, v0), ``equations(t, q, v, inputs, ops)``
-    -> (accelerations, {output: value}). Coordinates after the shaft angle are the lumped
-    chain's (x, y) pairs, recorded as ``spring_mass_<k>`` and ``spring_velocity_<k>``."""
-
-    kind: str
-    inputs: Callable
-    initial: Callable
-    equations: Callable
-
-
-def solve_ode_model(model: OdeModel, rig, law, chain, t_end, step, period=None):
-    """Sensor rows as the Exudyn models give them: {name: array (t, values...)}."""
-    inputs = model.inputs(rig, law, chain)
-    q0, v0 = model.initial(rig, chain)
-    system, p = compiled_system(model.kind, model.equations, inputs, q0, v0)
-    rows = integrate(system, p, q0, v0, t_end, step, period)
-    n, t = system.n, rows[:, :1]
-    data = {"angle": np.hstack([t, rows[:, 1:2]]), "velocity": np.hstack([t, rows[:, 1 + n:2 + n]])}
-    for j, name in enumerate(system.outputs):
-        data[name] = np.hstack([t, rows[:, 1 + 2 * n + j: 2 + 2 * n + j]])
-    zero = np.zeros_like(t)
-    for k in range((n - 1) // 2):
-        qx = 2 + 2 * k
-        data[f"spring_mass_{k + 1}"] = np.hstack([t, rows[:, qx:qx + 2], zero])
-        data[f"spring_velocity_{k + 1}"] = np.hstack([t, rows[:, n + qx:n + qx + 2], zero])
-    return data

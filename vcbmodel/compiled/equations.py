@@ -8,28 +8,32 @@ from a function of :mod:`vcbmodel.laws` called with ``ops``, so the compiled cod
 itself (the weight loads, the spring connectors, the rotating body's kinematics) is what these
 functions state, and the tests compare the two to 1e-9 rad.
 
-Each ``*_equations(t, q, v, inputs, ops)`` returns (accelerations, outputs): ``q``, ``v`` the
-coordinates and their speeds, ``inputs`` the objects of :func:`pendulum_inputs` /
-:func:`cam_drop_inputs`; outputs are {name: value} recorded beside the state (the friction
-torque T_f in N m, the value Exudyn's friction connector reports).
+Each ``*_equations(t, q, v, memory, inputs, ops)`` returns (accelerations, outputs): ``q``, ``v``
+the coordinates and their speeds, ``memory`` the values latched at the step's start (the
+breaker's impact speeds), ``inputs`` the objects its ``prepare_*`` function gathered; outputs are
+{name: value} recorded beside the state (the friction torque T_f in N m, the value Exudyn's
+friction connector reports).
 """
 from __future__ import annotations
 
+import math
+
+from ..laws.breaker import BreakerLaws, massless_pull
 from ..laws.friction import shaft_friction
 from ..laws.mechanics import cam_inertia, cam_loads, cam_pin, link_pull, massless_spring_force, pendulum_loads
+from . import OdeSetup
+
+SHAFT = [("angle", "velocity", 1)]
 
 
-def pendulum_inputs(rig, law, chain=None):
-    """What the pendulum's equations read."""
-    return {"pendulum": rig.pendulum, "gravity": rig.gravity, "law": law}
+def prepare_pendulum(rig, spec, law, chain=None) -> OdeSetup:
+    """The pendulum's inputs and its release angle (rad) and speed (rad/s)."""
+    p = rig.pendulum
+    return OdeSetup({"pendulum": p, "gravity": rig.gravity, "law": law}, [p.initial_angle], [p.initial_velocity],
+                    list(SHAFT))
 
 
-def pendulum_initial(rig, chain=None):
-    """(q0, v0): the release angle (rad) and speed (rad/s)."""
-    return [rig.pendulum.initial_angle], [rig.pendulum.initial_velocity]
-
-
-def pendulum_equations(t, q, v, inputs, ops):
+def pendulum_equations(t, q, v, memory, inputs, ops):
     """Paper eq. 1 with the shaft friction of eq. 2-6: I theta'' = -M g L sin(theta) - T_f."""
     p, law = inputs["pendulum"], inputs["law"]
     theta, omega = q[0], v[0]
@@ -38,32 +42,35 @@ def pendulum_equations(t, q, v, inputs, ops):
     return [(Tc - Tf) / p.inertia], {"friction_torque": Tf}
 
 
-def cam_drop_inputs(rig, law, chain=None):
-    """What the cam drop's equations read; ``chain``: the lumped chain (None: massless)."""
-    inputs = {"cam": rig.cam, "spring": rig.closing_spring, "gravity": rig.gravity, "law": law}
+def prepare_cam_drop(rig, spec, law, chain=None) -> OdeSetup:
+    """The cam drop's inputs; the cam's release angle and speed, and the chain's masses at rest
+    on the line O-B in static equilibrium (as the Exudyn builder places them)."""
+    cam, spring = rig.cam, rig.closing_spring
+    inputs = {"cam": cam, "spring": spring, "gravity": rig.gravity, "law": law}
+    q0, v0, layout = [cam.initial_angle], [cam.initial_velocity], list(SHAFT)
     if chain is not None:
         inputs["chain"] = {"masses": chain.masses, "stiffnesses": chain.stiffnesses,
                            "free_lengths": chain.free_lengths, "pin_mass": chain.pin_mass}
-    return inputs
-
-
-def cam_drop_initial(rig, chain=None):
-    """(q0, v0): the cam's release angle and speed, and the chain's masses at rest on the line
-    O-B in static equilibrium (as the Exudyn builder places them)."""
-    cam, spring = rig.cam, rig.closing_spring
-    q0, v0 = [cam.initial_angle], [cam.initial_velocity]
-    if chain is not None:
         bx, by = cam_pin(cam.initial_angle, cam)
         ox, oy = spring.anchor
-        for frac in chain.equilibrium_fractions():
+        for k, frac in enumerate(chain.equilibrium_fractions()):
             q0 += [ox + frac * (bx - ox), oy + frac * (by - oy)]
             v0 += [0.0, 0.0]
-    return q0, v0
+            layout.append((f"spring_mass_{k + 1}", f"spring_velocity_{k + 1}", 2))
+    return OdeSetup(inputs, q0, v0, layout)
 
 
-def cam_drop_equations(t, q, v, inputs, ops):
+def cam_drop_equations(t, q, v, memory, inputs, ops):
     """Paper eq. 9-13: the cam pulled at B by the closing springs (massless, eq. 9-10, or a
     lumped chain, eq. 7-8 generalised), with the shaft friction of eq. 2-6 and eq. 13."""
+    accelerations, Tf = _cam_and_chain(t, q, v, inputs, ops, (0.0, 0.0, 0.0))
+    return accelerations, {"friction_torque": Tf}
+
+
+def _cam_and_chain(t, q, v, inputs, ops, extra):
+    """Accelerations of the cam (rad/s^2) and the chain's masses (m/s^2) and the friction torque
+    (N m); ``extra`` = (torque about A in N m, Fx, Fy in N): other loads on the cam (the
+    breaker's roller and latch), which enter the applied torque and the shaft reaction."""
     cam, spring, g, law = inputs["cam"], inputs["spring"], inputs["gravity"], inputs["law"]
     theta, omega = q[0], v[0]
     bx, by = cam_pin(theta, cam, ops)
@@ -76,9 +83,10 @@ def cam_drop_equations(t, q, v, inputs, ops):
         fx, fy, accelerations = _chain_accelerations(q, bx, by, spring, chain, g, ops)
         pin_mass = spring.count * chain["pin_mass"]
     Tc, R0x, R0y, R1x, R1y = cam_loads(theta, omega, cam, fx, fy, g, ops, pin_mass, spring.weight)
+    Tc, R0x, R0y = Tc + extra[0], R0x - extra[1], R0y - extra[2]
     inertia = cam_inertia(cam, pin_mass)
     Tf = shaft_friction(omega, Tc, R0x, R0y, R1x, R1y, inertia, law, ops)[0]
-    return [(Tc - Tf) / inertia] + accelerations, {"friction_torque": Tf}
+    return [(Tc - Tf) / inertia] + accelerations, Tf
 
 
 def _chain_accelerations(q, bx, by, spring, chain, g, ops):
@@ -96,3 +104,62 @@ def _chain_accelerations(q, bx, by, spring, chain, g, ops):
             fy = fy - c * m * g
         accelerations += [fx / (c * m), fy / (c * m)]
     return pulls[-1][0], pulls[-1][1], accelerations
+
+def prepare_closing(rig, spec, law, chain=None) -> OdeSetup:
+    """The breaker's inputs (its laws, with the derived geometry, and the latch's holding
+    torque) and its static rest held by the latch (:meth:`BreakerLaws.initial_state`), as the
+    Exudyn builder computes them; memory: the contacts' impact speeds (m/s), from zero."""
+    laws = BreakerLaws.of_rig(rig, spec)
+    pin_weight = 0.0
+    if chain is not None and chain.pin_mass and rig.closing_spring.weight:
+        cam = rig.cam
+        pin_weight = -rig.closing_spring.count * chain.pin_mass * rig.gravity * cam.arm_length * math.cos(cam.initial_angle)
+    initial = laws.initial_state(massless_pull(rig.cam, rig.closing_spring), pin_weight)
+    setup = prepare_cam_drop(rig, spec, law, chain)
+    setup.inputs.update({"laws": vars(laws), "holding": initial.holding_torque})
+    n = rig.breaker.poles.count
+    setup.q0 += [initial.follower_angle] + list(initial.pole_travel)
+    setup.v0 += [0.0] * (1 + n)
+    setup.layout += [("follower_angle", "follower_velocity", 1)]
+    setup.layout += [(f"pole_{i + 1}_travel", f"pole_{i + 1}_travel_velocity", 1) for i in range(n)]
+    setup.memory = [0.0] * (n + 1)
+    setup.info = {"initial": initial}
+    return setup
+
+
+def _breaker_laws(inputs):
+    laws = BreakerLaws.__new__(BreakerLaws)  # the traced values, not a recomputed geometry
+    laws.__dict__.update(inputs["laws"])
+    return laws
+
+
+def closing_equations(t, q, v, memory, inputs, ops):
+    """The whole breaker (paper section 4): the cam and its springs as in the cam drop, loaded
+    by the roller and the latch; the follower (roller contact, opening spring, push rods); each
+    pole (push rod, fixed contact, bellows force minus weight)."""
+    laws = _breaker_laws(inputs)
+    n_poles = len(memory) - 1
+    phi_index = len(q) - 1 - n_poles
+    phi, phi_dot = q[phi_index], v[phi_index]
+    z, z_dot = q[phi_index + 1:], v[phi_index + 1:]
+    theta, omega = q[0], v[0]
+    t_fol, (t_cam, fx, fy) = laws.follower_torque(theta, omega, phi, phi_dot, z, z_dot, memory[0], ops)
+    t_latch, lx, ly = laws.latch_loads(t, theta, inputs["holding"], ops)
+    cam_chain, Tf = _cam_and_chain(t, q[:phi_index], v[:phi_index], inputs, ops, (t_cam + t_latch, fx + lx, fy + ly))
+    poles = []
+    for i in range(n_poles):
+        rod_force = laws.rod_loads(phi, phi_dot, z[i], z_dot[i], ops)[0]
+        contact = laws.pole_contact(i, z[i], z_dot[i], memory[i + 1], ops)
+        poles.append((rod_force - contact + laws.pole_load) / laws.b.poles.moving_mass)
+    return cam_chain + [t_fol / laws.b.follower.inertia] + poles, {"friction_torque": Tf}
+
+
+def closing_prestep(t, q, v, memory, inputs, ops):
+    """The contacts' impact speeds latched from the state at the step's start
+    (:meth:`BreakerLaws.latch_impact_speeds`)."""
+    laws = _breaker_laws(inputs)
+    n_poles = len(memory) - 1
+    phi_index = len(q) - 1 - n_poles
+    impact = list(memory)
+    laws.latch_impact_speeds(impact, q[0], v[0], q[phi_index], v[phi_index], q[phi_index + 1:], v[phi_index + 1:], ops)
+    return impact

@@ -88,26 +88,26 @@ def _compile(source, digest):
     return module.lib, module.ffi
 
 
-def compiled_system(kind, equations, inputs, q0, v0) -> tuple:
-    """(CompiledSystem, p) for ``inputs``: a cached variant whose guards hold, or a new one."""
-    p, structure = flatten(inputs)
-    key = (kind, len(q0), structure)
+def compiled_system(kind, equations, prestep, setup) -> tuple:
+    """(CompiledSystem, p) for ``setup``'s inputs: a cached variant whose guards hold, or a new one."""
+    p, structure = flatten(setup.inputs)
+    key = (kind, len(setup.q0), len(setup.memory), structure)
     for variant in _VARIANTS.get(key, []):
         if variant.lib.guards_ok(variant.ffi.from_buffer("double[]", p)):
             return variant, p
-    graph, accelerations, outputs = trace_system(equations, inputs, q0, v0)
-    source = c_source(graph, accelerations, outputs, len(q0))
+    traced = trace_system(equations, prestep, setup)
+    source = c_source(traced)
     digest = hashlib.sha256(source.encode()).hexdigest()
     lib, ffi = _compile(source, digest)
-    variant = CompiledSystem(lib, ffi, len(q0), tuple(outputs), digest)
+    variant = CompiledSystem(lib, ffi, len(setup.q0), tuple(traced.outputs), digest)
     if not lib.guards_ok(ffi.from_buffer("double[]", p)):
         raise RuntimeError("compiled guards reject the parameters they were traced with")
     _VARIANTS.setdefault(key, []).append(variant)
-    log.debug("compiled %s variant %s (%d guards)", kind, digest[:12], len(graph.guards))
+    log.debug("compiled %s variant %s (%d guards)", kind, digest[:12], len(traced.graph.guards))
     return variant, p
 
 
-def integrate(system: CompiledSystem, p, q0, v0, t_end, step, period=None):
+def integrate(system: CompiledSystem, p, setup, t_end, step, period=None):
     """Rows (t, q..., v..., outputs...) from t = 0 to t_end every ``period`` (default each
     step) with RK4 at ``step``; a non-finite state raises :class:`SimulationError`."""
     nsteps = max(1, int(round(t_end / step)))
@@ -115,10 +115,12 @@ def integrate(system: CompiledSystem, p, q0, v0, t_end, step, period=None):
     n_rows = nsteps // every + 1
     width = 1 + 2 * system.n + len(system.outputs)
     rec = np.zeros(n_rows * width)
-    x = np.asarray(list(q0) + list(v0), float)
+    x = np.asarray(list(setup.q0) + list(setup.v0), float)
+    memory = np.asarray(list(setup.memory) + [0.0], float)  # never empty (a C array)
     ffi = system.ffi
-    rows = system.lib.integrate(ffi.from_buffer("double[]", p), ffi.from_buffer("double[]", x), float(step),
-                                nsteps, every, ffi.from_buffer("double[]", rec))
+    rows = system.lib.integrate(ffi.from_buffer("double[]", p), ffi.from_buffer("double[]", x),
+                                ffi.from_buffer("double[]", memory), float(step), nsteps, every,
+                                ffi.from_buffer("double[]", rec))
     if rows < 0:
         raise SimulationError(f"the solution diverged (non-finite state) at t = {-rows * step:.6g} s at the "
                               "experiment's fixed step: a stiffness, mass or contact value far outside its "

@@ -40,10 +40,22 @@ def _sign(a):
     return 1.0 if a > 0 else (-1.0 if a < 0 else 0.0)
 
 
+def _acos(a):
+    return math.acos(a) if -1.0 <= a <= 1.0 else math.nan
+
+
+def _pow(a, b):
+    try:
+        return math.pow(a, b)
+    except (ValueError, OverflowError):
+        return math.nan
+
+
 _EVAL = {
     "add": lambda a, b: a + b, "sub": lambda a, b: a - b, "mul": lambda a, b: a * b, "div": _div,
     "neg": lambda a: -a, "abs": abs, "sqrt": _sqrt, "sign": _sign, "sin": math.sin, "cos": math.cos,
-    "min": lambda a, b: a if a < b else b,
+    "min": lambda a, b: a if a < b else b, "max": lambda a, b: a if a > b else b,
+    "atan2": math.atan2, "acos": _acos, "pow": _pow, "floor": lambda a: float(math.floor(a)),
     "lt": lambda a, b: float(a < b), "le": lambda a, b: float(a <= b), "gt": lambda a, b: float(a > b),
     "ge": lambda a, b: float(a >= b), "eq": lambda a, b: float(a == b), "ne": lambda a, b: float(a != b),
     "where": lambda c, a, b: a if c else b,
@@ -181,9 +193,13 @@ class Graph:
             return f"({a[0]} > 0.0) ? 1.0 : (({a[0]} < 0.0) ? -1.0 : 0.0)"
         if op == "min":
             return f"({a[0]} < {a[1]}) ? {a[0]} : {a[1]}"
+        if op == "max":
+            return f"({a[0]} > {a[1]}) ? {a[0]} : {a[1]}"
+        if op in ("atan2", "pow"):
+            return f"{op}({a[0]}, {a[1]})"
         if op == "where":
             return f"({a[0]} != 0.0) ? {a[1]} : {a[2]}"
-        return f"{op}({a[0]})"  # sqrt, sin, cos
+        return f"{op}({a[0]})"  # sqrt, sin, cos, acos, floor
 
     def c_guards(self, prefix="g"):
         """C lines setting ``ok`` to 0 when the parameters ``p`` take another branch than the trace."""
@@ -264,7 +280,7 @@ class Expr:
 
 
 class TraceOps:
-    """The ``ops`` namespace of a trace (same operations as ``laws.friction.NumericOps``)."""
+    """The ``ops`` namespace of a trace (the operations of ``laws.friction.NumericOps``)."""
 
     def __init__(self, graph: Graph):
         self.graph = graph
@@ -283,6 +299,21 @@ class TraceOps:
 
     def min(self, a, b):
         return self.graph.apply("min", a, b)
+
+    def max(self, a, b):
+        return self.graph.apply("max", a, b)
+
+    def atan2(self, y, x):
+        return self.graph.apply("atan2", y, x)
+
+    def acos(self, x):
+        return self.graph.apply("acos", x)
+
+    def pow(self, a, b):
+        return self.graph.apply("pow", a, b)
+
+    def floor(self, x):
+        return self.graph.apply("floor", x)
 
     def sin(self, x):
         return self.graph.apply("sin", x)

@@ -8,7 +8,7 @@ import numpy as np
 from .. import parameters as P
 from ..builders.cam_drop import build_cam_drop
 from ..compiled import OdeModel
-from ..compiled.equations import cam_drop_equations, cam_drop_initial, cam_drop_inputs
+from ..compiled.equations import cam_drop_equations, prepare_cam_drop
 from ..laws.springs import fundamental
 from ..rig.sections import read_cam_and_spring
 from ..builders.ancf import AncfOptions
@@ -72,4 +72,4 @@ CAM_DROP = Experiment(
     # Python friction function for fits: a 35 ms massless drop takes 0.15 s with it, 0.6-1.1 s compiled (the
     # symbolic expression of the spring's pull does not share subexpressions)
     fit_step=fit_step, fit_user_function="python",
-    ode_model=OdeModel("cam_drop", cam_drop_inputs, cam_drop_initial, cam_drop_equations))
+    ode_model=OdeModel("cam_drop", prepare_cam_drop, cam_drop_equations))

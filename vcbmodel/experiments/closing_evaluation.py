@@ -8,7 +8,8 @@ from __future__ import annotations
 import numpy as np
 from scipy.integrate import cumulative_trapezoid
 
-from ..laws.breaker import BreakerLaws, follower_displacement, pole_gaps, push_rod_energy
+from ..laws.breaker import BreakerLaws, cam_roller_contact, follower_displacement, pole_gaps, push_rod_energy
+from ..laws.friction import ArrayOps
 from ..laws.springs import chain_for
 
 
@@ -36,36 +37,40 @@ def closing_channels(data, rig, spec, info):
 
 def contact_channels(laws, ch, n):
     """Cam-roller force, pole contact forces and rod forces (N), penetrations (m), with the
-    impact speeds replayed over the samples (exact when sampled at every step)."""
-    m = len(ch["cam_angle"])
-    impact = np.zeros(n + 1)
-    out = {"cam_roller_force": np.zeros(m), "cam_roller_penetration": np.zeros(m),
-           "cam_roller_penetration_rate": np.zeros(m),
-           "cam_roller_damping_force": np.zeros(m), "pressure_angle": np.zeros(m)}
-    for i in range(n):
-        for key in ("contact_force", "contact_damping_force", "rod_force", "rod_compression", "rod_rate"):
-            out[f"pole_{i + 1}_{key}"] = np.zeros(m)
-    for j in range(m):
-        th, w, phi, phid = ch["cam_angle"][j], ch["shaft_velocity"][j], ch["follower_angle"][j], ch["follower_velocity"][j]
-        zs = [(ch[f"pole_{i + 1}_travel"][j], ch[f"pole_{i + 1}_velocity"][j]) for i in range(n)]
-        c = laws.latch_impact_speeds(impact, th, w, phi, phid, [z for z, _ in zs], [zd for _, zd in zs])
-        force = laws.roller(th, w, phi, phid, impact[0])[1]
-        out["cam_roller_force"][j] = force
-        out["cam_roller_penetration"][j] = c.penetration
-        out["cam_roller_penetration_rate"][j] = c.penetration_rate
-        out["pressure_angle"][j] = c.pressure_angle
-        # damping force = total - elastic (with the clip at zero: -elastic while the roller leaves)
-        out["cam_roller_damping_force"][j] = force - laws.roller_elastic(c.penetration) if c.penetration > 0 else 0.0
-        for i, (z, zd) in enumerate(zs):
-            f = laws.pole_contact(i, z, zd, impact[i + 1])
+    impact speeds replayed over the samples (exact when sampled at every step): the laws
+    evaluated on the whole record at once (``ArrayOps``)."""
+    ops = ArrayOps
+    th, w, phi, phid = ch["cam_angle"], ch["shaft_velocity"], ch["follower_angle"], ch["follower_velocity"]
+    with np.errstate(all="ignore"):
+        c = cam_roller_contact(th, w, phi, phid, laws.b, laws.geometry, ops)
+        impact = latched_impact_speeds(c.penetration, c.penetration_rate)
+        force = laws.roller_force(c.penetration, c.penetration_rate, impact, ops)
+        elastic = laws.roller_stiffness * np.power(np.maximum(c.penetration, 0.0), laws.roller_exponent)
+        out = {"cam_roller_force": force, "cam_roller_penetration": c.penetration,
+               "cam_roller_penetration_rate": c.penetration_rate, "pressure_angle": c.pressure_angle,
+               # damping force = total - elastic (with the clip at zero: -elastic while the roller leaves)
+               "cam_roller_damping_force": np.where(c.penetration > 0, force - elastic, 0.0)}
+        contact = laws.b.contact
+        for i in range(n):
+            z, zd = ch[f"pole_{i + 1}_travel"], ch[f"pole_{i + 1}_velocity"]
             pen = z - laws.gaps[i]
-            out[f"pole_{i + 1}_contact_force"][j] = f
-            out[f"pole_{i + 1}_contact_damping_force"][j] = f - laws.pole_elastic(pen) if pen > 0 else 0.0
-            s, rate, _, rod = laws.rod(phi, phid, z, zd)
-            out[f"pole_{i + 1}_rod_force"][j] = rod
-            out[f"pole_{i + 1}_rod_compression"][j] = s
-            out[f"pole_{i + 1}_rod_rate"][j] = rate
-    return out
+            f = laws.pole_contact(i, z, zd, latched_impact_speeds(pen, zd), ops)
+            pole_elastic = contact.pole_stiffness * np.power(np.maximum(pen, 0.0), contact.exponent)
+            s, rate, _, rod = laws.rod(phi, phid, z, zd, ops)
+            out.update({f"pole_{i + 1}_contact_force": f,
+                        f"pole_{i + 1}_contact_damping_force": np.where(pen > 0, f - pole_elastic, 0.0),
+                        f"pole_{i + 1}_rod_force": rod, f"pole_{i + 1}_rod_compression": s,
+                        f"pole_{i + 1}_rod_rate": rate})
+    return {name: np.asarray(v, float) * np.ones(len(th)) for name, v in out.items()}
+
+
+def latched_impact_speeds(penetration, rate):
+    """The impact speed (m/s) a contact's damping uses at each sample: the approach speed
+    max(rate, 0) at the last sample, up to this one, where the contact was open
+    (:func:`vcbmodel.laws.breaker.update_impact_speeds` replayed over a record); 0 before any."""
+    open_at = np.where(penetration <= 0.0, np.arange(len(penetration)), -1)
+    last_open = np.maximum.accumulate(open_at)
+    return np.where(last_open >= 0, np.maximum(rate[np.maximum(last_open, 0)], 0.0), 0.0)
 
 
 def energy_balance(result, rig):

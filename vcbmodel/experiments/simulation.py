@@ -53,7 +53,7 @@ def simulate(rig: Rig, effects=None, values=None, *, spring_model=None, t_end=No
     t_end : simulated duration (s); default the last sample time or the experiment's.
     sample_times : times (s) at which to return the channels (default: every step).
     backend : ``exudyn`` (the model), ``compiled`` (the same equations traced from the laws to C,
-        :mod:`vcbmodel.compiled`: pendulum and cam drop with massless or lumped springs), ``fast``
+        :mod:`vcbmodel.compiled`: massless or lumped springs), ``fast``
         (compiled where it covers the model and a C compiler works, else exudyn) or ``reference``
         (the scipy solve). The result's ``info["backend"]`` names the one that ran.
     user_function : ``auto``, ``symbolic``, ``python`` (friction connector implementation).
@@ -132,10 +132,10 @@ def _step_and_period(rig, record, spec, ancf, step, sample_times):
 
 def _solve_compiled(rig, record, spec, law, chain, t_end, step, period):
     if record.ode_model is None or spec.spring_model.kind == "ancf":
-        raise ValueError(f"the compiled backend covers the pendulum and the cam drop with a massless or lumped "
-                         f"spring, not {record.name} with a {spec.spring_model.kind} spring: use backend='exudyn'")
-    data = solve_ode_model(record.ode_model, rig, law, chain, t_end, step, period)
-    return data, {"backend": BACKEND_NAME, "step": step, "initial": None}
+        raise ValueError(f"the compiled backend covers the pendulum, the cam drop and the closing with a massless "
+                         f"or lumped spring, not {record.name} with a {spec.spring_model.kind} spring: use backend='exudyn'")
+    data, extra = solve_ode_model(record.ode_model, rig, spec, law, chain, t_end, step, period)
+    return data, {"backend": BACKEND_NAME, "step": step, "initial": extra.get("initial")}
 
 
 def extrapolate_ties(value_1, value_2, k1, k2):

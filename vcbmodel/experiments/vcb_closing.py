@@ -8,6 +8,8 @@ from __future__ import annotations
 
 from .. import parameters as P
 from ..builders.breaker import build_vcb_closing
+from ..compiled import OdeModel
+from ..compiled.equations import closing_equations, closing_prestep, prepare_closing
 from ..rig.sections import read_closing
 from .base import Experiment
 from .summaries import closing_record_channels, closing_summary
@@ -56,4 +58,5 @@ VCB_CLOSING = Experiment(
                   ("bounce_duration_s", "s"), ("overtravel_m", "m"), ("peak_cam_roller_force_N", "N")),
     missing_means=(("closing_time_s", "not_closed"),), summary=closing_summary,
     record_channels=closing_record_channels, fit_step=fit_step, scan_step=CLOSING_SCAN_STEP,
-    fit_user_function="python", release_from_model=True)
+    fit_user_function="python", release_from_model=True,
+    ode_model=OdeModel("vcb_closing", prepare_closing, closing_equations, closing_prestep))

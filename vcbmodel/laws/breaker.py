@@ -37,6 +37,7 @@ from scipy.optimize import brentq
 
 from ..errors import SimulationError
 from .contact import LINE_EXPONENT, hertz_contact_force, hunt_crossley_force, palmgren_line_stiffness
+from .friction import NumericOps
 from .mechanics import cam_pin, cam_weight_torque, massless_spring_force
 
 TWO_PI = 2.0 * math.pi
@@ -44,46 +45,46 @@ TWO_PI = 2.0 * math.pi
 
 # --- cam profile -------------------------------------------------------------------------------
 
-def polynomial_rise(x):
+def polynomial_rise(x, ops=NumericOps):
     """4-5-6-7 rise s(x) and ds/dx for x in [0, 1] (clipped outside); s(0)=0, s(1)=1."""
-    x = min(max(x, 0.0), 1.0)
+    x = ops.min(ops.max(x, 0.0), 1.0)
     x3 = x * x * x
     s = x3 * x * (35.0 + x * (-84.0 + x * (70.0 - 20.0 * x)))
     ds = x3 * (140.0 + x * (-420.0 + x * (420.0 - 140.0 * x)))
     return s, ds
 
 
-def pitch_radius(u, profile, roller_radius):
+def pitch_radius(u, profile, roller_radius, ops=NumericOps):
     """Distance rho (m) of the roller centre from the cam axis on the pitch curve, and
-    d rho / d u (m/rad), at cam rotation u (rad) relative to the roller."""
+    d rho / d u (m/rad), at cam rotation u (rad) relative to the roller: the rise, the dwell at
+    full lift, the return and the base circle (each piece evaluated, the one that applies chosen)."""
     p = profile
-    u = p.rise_start + (u - p.rise_start) % TWO_PI
+    turns = (u - p.rise_start) / TWO_PI
+    u = p.rise_start + (u - p.rise_start) - TWO_PI * ops.floor(turns)  # into [rise_start, rise_start + 2 pi)
     base = p.base_radius + roller_radius
-    if u <= p.rise_end:
-        w = p.rise_end - p.rise_start
-        s, ds = polynomial_rise((u - p.rise_start) / w)
-        return base + p.lift * s, p.lift * ds / w
-    if u < p.return_start:
-        return base + p.lift, 0.0
-    w = p.return_end - p.return_start
-    s, ds = polynomial_rise((u - p.return_start) / w)
-    return base + p.lift * (1.0 - s), -p.lift * ds / w
+    w_rise, w_return = p.rise_end - p.rise_start, p.return_end - p.return_start
+    s_rise, ds_rise = polynomial_rise((u - p.rise_start) / w_rise, ops)
+    s_return, ds_return = polynomial_rise((u - p.return_start) / w_return, ops)
+    rising, dwelling = u <= p.rise_end, u < p.return_start
+    rho = ops.where(rising, base + p.lift * s_rise, ops.where(dwelling, base + p.lift, base + p.lift * (1.0 - s_return)))
+    drho = ops.where(rising, p.lift * ds_rise / w_rise, ops.where(dwelling, 0.0, -p.lift * ds_return / w_return))
+    return rho, drho
 
 
 # --- follower kinematics -----------------------------------------------------------------------
 
-def follower_point(phi, follower, arm, angle=0.0):
+def follower_point(phi, follower, arm, angle=0.0, ops=NumericOps):
     """Point on the follower at ``arm`` (m) and ``angle`` (rad) from the roller direction."""
-    return (follower.pivot[0] + arm * math.cos(phi + angle), follower.pivot[1] + arm * math.sin(phi + angle))
+    return (follower.pivot[0] + arm * ops.cos(phi + angle), follower.pivot[1] + arm * ops.sin(phi + angle))
 
 
-def roller_centre(phi, follower):
-    return follower_point(phi, follower, follower.roller_arm)
+def roller_centre(phi, follower, ops=NumericOps):
+    return follower_point(phi, follower, follower.roller_arm, 0.0, ops)
 
 
-def output_point(phi, follower):
+def output_point(phi, follower, ops=NumericOps):
     """The follower's output point F (m) driving the push rods."""
-    return follower_point(phi, follower, follower.output_arm, follower.output_angle)
+    return follower_point(phi, follower, follower.output_arm, follower.output_angle, ops)
 
 
 def angle_on_circle(pivot, arm, centre, radius, near):
@@ -132,7 +133,7 @@ class CamRollerContact:
     pressure_angle: float  # rad, between the normal and the roller centre's path
 
 
-def cam_roller_contact(theta, omega, phi, phi_dot, breaker, geometry: Geometry) -> CamRollerContact:
+def cam_roller_contact(theta, omega, phi, phi_dot, breaker, geometry: Geometry, ops=NumericOps) -> CamRollerContact:
     """Normal penetration of the roller into the cam (cam angle theta, follower angle phi, rad).
 
     With rho_C = |C - A| and beta the direction of C from A, the roller sees the cam
@@ -144,23 +145,23 @@ def cam_roller_contact(theta, omega, phi, phi_dot, breaker, geometry: Geometry) 
     displacement over the reference closing.
     """
     f, A = breaker.follower, geometry.cam_axis
-    cx, cy = roller_centre(phi, f)
+    cx, cy = roller_centre(phi, f, ops)
     vx, vy = -phi_dot * (cy - f.pivot[1]), phi_dot * (cx - f.pivot[0])
     dx, dy = cx - A[0], cy - A[1]
-    rho_c = math.hypot(dx, dy)
+    rho_c = ops.sqrt(dx * dx + dy * dy)
     erx, ery = dx / rho_c, dy / rho_c
     ebx, eby = -ery, erx
-    beta = math.atan2(dy, dx)
+    beta = ops.atan2(dy, dx)
     u = theta - (beta - geometry.roller_direction)
-    rho, drho_du = pitch_radius(u, breaker.profile, breaker.roller_radius)
+    rho, drho_du = pitch_radius(u, breaker.profile, breaker.roller_radius, ops)
     q = -drho_du / rho
-    cos_g = 1.0 / math.sqrt(1.0 + q * q)
+    cos_g = 1.0 / ops.sqrt(1.0 + q * q)
     nx, ny = (erx - q * ebx) * cos_g, (ery - q * eby) * cos_g
     beta_dot = (ebx * vx + eby * vy) / rho_c
     rate = (drho_du * (omega - beta_dot) - (erx * vx + ery * vy)) * cos_g
     # pressure angle: normal vs the roller centre's direction of motion (perpendicular to the arm)
     tx, ty = -(cy - f.pivot[1]) / f.roller_arm, (cx - f.pivot[0]) / f.roller_arm
-    pressure = math.acos(min(1.0, abs(nx * tx + ny * ty)))
+    pressure = ops.acos(ops.min(1.0, ops.abs(nx * tx + ny * ty)))
     return CamRollerContact((rho - rho_c) * cos_g, rate, (nx, ny), (cx, cy), pressure)
 
 
@@ -175,11 +176,11 @@ def cam_roller_loads(contact: CamRollerContact, force, breaker, geometry: Geomet
     return t_cam, t_follower, -fx, -fy
 
 
-def contact_force(penetration, rate, stiffness, exponent, restitution, impact_speed, min_impact_speed):
+def contact_force(penetration, rate, stiffness, exponent, restitution, impact_speed, min_impact_speed, ops=NumericOps):
     """Hertz force with Lankarani-Nikravesh damping (N); the impact speed (m/s) is the approach
     speed at the start of the contact, floored at ``min_impact_speed`` for resting contacts."""
-    return hertz_contact_force(penetration, rate, stiffness, restitution, max(impact_speed, min_impact_speed),
-                               exponent)
+    return hertz_contact_force(penetration, rate, stiffness, restitution, ops.max(impact_speed, min_impact_speed),
+                               exponent, ops)
 
 
 def contact_energy(penetration, stiffness, exponent):
@@ -210,23 +211,21 @@ class LatchPoint:
     angle: float = 0.0
 
 
-def latch_force(torque, theta, arm, angle):
+def latch_force(torque, theta, arm, angle, ops=NumericOps):
     """Force (N, N) on the cam at the latch point that exerts ``torque`` (N m) about A:
     perpendicular to A->point, magnitude torque / arm."""
     a = theta + angle
     f = torque / arm
-    return -f * math.sin(a), f * math.cos(a)
+    return -f * ops.sin(a), f * ops.cos(a)
 
 
-def push_rod_force(compression, rate, poles):
+def push_rod_force(compression, rate, poles, ops=NumericOps):
     """Compressive force (N) of one push rod with its wipe spring: stiff (rod_stiffness) until
     the wipe spring's preload is reached, then the wipe spring's rate; structural damping.
     ``compression`` (m) is rod length at rest minus current length (negative: tension)."""
     s0 = poles.wipe_preload / poles.rod_stiffness
-    if compression <= s0:
-        elastic = poles.rod_stiffness * compression
-    else:
-        elastic = poles.wipe_preload + poles.wipe_rate * (compression - s0)
+    elastic = ops.where(compression <= s0, poles.rod_stiffness * compression,
+                        poles.wipe_preload + poles.wipe_rate * (compression - s0))
     return elastic + poles.rod_damping * rate
 
 
@@ -239,14 +238,11 @@ def push_rod_energy(compression, poles):
     return 0.5 * poles.wipe_preload * s0 + poles.wipe_preload * x + 0.5 * poles.wipe_rate * x * x
 
 
-def latch_torque(t, holding_torque, release_time):
+def latch_torque(t, holding_torque, release_time, ops=NumericOps):
     """Torque (N m) of the closing latch on the cam: the holding torque until t = 0, then
     falling linearly to zero over ``release_time`` (s)."""
-    if t <= 0.0:
-        return holding_torque
-    if t >= release_time:
-        return 0.0
-    return holding_torque * (1.0 - t / release_time)
+    return ops.where(t <= 0.0, holding_torque,
+                     ops.where(t >= release_time, 0.0, holding_torque * (1.0 - t / ops.max(release_time, 1e-300))))
 
 
 def pole_gaps(poles):
@@ -278,12 +274,11 @@ def pressure_angle_curve(breaker, geometry: Geometry, thetas):
     return np.array(out)
 
 
-def update_impact_speeds(impact, state):
+def update_impact_speeds(impact, state, ops=NumericOps):
     """While contact k is open (penetration <= 0) its impact speed follows the approach speed
     (m/s); once it penetrates, the last open value is kept: the speed at impact."""
     for k, (penetration, rate) in enumerate(state):
-        if penetration <= 0.0:
-            impact[k] = max(rate, 0.0)
+        impact[k] = ops.where(penetration <= 0.0, ops.max(rate, 0.0), impact[k])
 
 
 def follower_displacement(phi, follower, phi0):
@@ -349,13 +344,13 @@ class BreakerLaws:
                    damped="contact_damping" in spec.effects)
 
     # -- cam-roller contact
-    def roller_force(self, penetration, rate, impact_speed=0.0):
+    def roller_force(self, penetration, rate, impact_speed=0.0, ops=NumericOps):
         """Normal force (N) of the cam-roller contact at a penetration (m) and its rate (m/s)."""
         if self.roller_hunt_crossley:
             return hunt_crossley_force(penetration, rate, self.roller_stiffness, self.roller_exponent,
-                                       self.roller_alpha)
+                                       self.roller_alpha, ops)
         return contact_force(penetration, rate, self.roller_stiffness, self.roller_exponent, self.restitution,
-                             impact_speed, self.b.contact.min_impact_speed)
+                             impact_speed, self.b.contact.min_impact_speed, ops)
 
     def roller_elastic(self, penetration):
         """Elastic part (N) of the cam-roller force."""
@@ -365,48 +360,48 @@ class BreakerLaws:
         """Elastic energy (J) stored in the cam-roller contact."""
         return contact_energy(penetration, self.roller_stiffness, self.roller_exponent)
 
-    def roller(self, theta, omega, phi, phi_dot, impact_speed=0.0):
+    def roller(self, theta, omega, phi, phi_dot, impact_speed=0.0, ops=NumericOps):
         """(CamRollerContact, normal force in N)."""
-        c = cam_roller_contact(theta, omega, phi, phi_dot, self.b, self.geometry)
-        return c, self.roller_force(c.penetration, c.penetration_rate, impact_speed)
+        c = cam_roller_contact(theta, omega, phi, phi_dot, self.b, self.geometry, ops)
+        return c, self.roller_force(c.penetration, c.penetration_rate, impact_speed, ops)
 
-    def roller_loads(self, theta, omega, phi, phi_dot, impact_speed=0.0):
+    def roller_loads(self, theta, omega, phi, phi_dot, impact_speed=0.0, ops=NumericOps):
         """(torque on cam N m, torque on follower N m, force on cam Fx, Fy in N)."""
-        c, force = self.roller(theta, omega, phi, phi_dot, impact_speed)
+        c, force = self.roller(theta, omega, phi, phi_dot, impact_speed, ops)
         return cam_roller_loads(c, force, self.b, self.geometry)
 
     # -- push rods and poles
     def pin(self, z):
         return self.pin_rest[0], self.pin_rest[1] + z
 
-    def rod(self, phi, phi_dot, z, z_dot):
+    def rod(self, phi, phi_dot, z, z_dot, ops=NumericOps):
         """(compression m, its rate m/s, unit vector F -> pin, compressive force N)."""
         f = self.b.follower
-        fx, fy = output_point(phi, f)
+        fx, fy = output_point(phi, f, ops)
         vx = -phi_dot * (fy - f.pivot[1])
         vy = phi_dot * (fx - f.pivot[0])
         px, py = self.pin(z)
         dx, dy = px - fx, py - fy
-        length = math.hypot(dx, dy)
+        length = ops.sqrt(dx * dx + dy * dy)
         ex, ey = dx / length, dy / length
         rate = -(ex * (0.0 - vx) + ey * (z_dot - vy))
         compression = self.b.poles.push_rod_length - length
-        return compression, rate, (ex, ey), push_rod_force(compression, rate, self.b.poles)
+        return compression, rate, (ex, ey), push_rod_force(compression, rate, self.b.poles, ops)
 
-    def rod_loads(self, phi, phi_dot, z, z_dot):
+    def rod_loads(self, phi, phi_dot, z, z_dot, ops=NumericOps):
         """(force on the pole along closing N, torque on the follower N m)."""
-        _, _, (ex, ey), force = self.rod(phi, phi_dot, z, z_dot)
-        fx, fy = output_point(phi, self.b.follower)
+        _, _, (ex, ey), force = self.rod(phi, phi_dot, z, z_dot, ops)
+        fx, fy = output_point(phi, self.b.follower, ops)
         pv = self.b.follower.pivot
         # the rod pushes the pin along +e and F along -e
         return force * ey, (fx - pv[0]) * (-force * ey) - (fy - pv[1]) * (-force * ex)
 
-    def pole_contact(self, i, z, z_dot, impact_speed=0.0):
+    def pole_contact(self, i, z, z_dot, impact_speed=0.0, ops=NumericOps):
         """Force (N, opening direction) of pole i's fixed contact (Hertz point contact with
         Lankarani-Nikravesh damping: an impact contact)."""
         law = self.b.contact
         return contact_force(z - self.gaps[i], z_dot, law.pole_stiffness, law.exponent, self.restitution,
-                             impact_speed, law.min_impact_speed)
+                             impact_speed, law.min_impact_speed, ops)
 
     def pole_elastic(self, penetration):
         law = self.b.contact
@@ -417,12 +412,12 @@ class BreakerLaws:
         return contact_energy(penetration, law.pole_stiffness, law.exponent)
 
     # -- opening spring
-    def opening(self, phi):
+    def opening(self, phi, ops=NumericOps):
         """(tension N, torque on the follower N m)."""
         f = self.b.follower
-        fx, fy = output_point(phi, f)
+        fx, fy = output_point(phi, f, ops)
         ox, oy = self.opening_anchor
-        L = math.hypot(fx - ox, fy - oy)
+        L = ops.sqrt((fx - ox) * (fx - ox) + (fy - oy) * (fy - oy))
         tension = self.b.opening_spring.stiffness * (L - self.opening_free_length)
         gx, gy = -tension * (fx - ox) / L, -tension * (fy - oy) / L
         return tension, (fx - f.pivot[0]) * gy - (fy - f.pivot[1]) * gx
@@ -440,12 +435,12 @@ class BreakerLaws:
         length = self.b.poles.push_rod_length - self.rod_rest_compression()
         return fy + math.sqrt(length * length - (self.pin_rest[0] - fx) ** 2) - self.pin_rest[1]
 
-    def follower_torque(self, theta, omega, phi, phi_dot, z, z_dot, impact_speed=0.0):
+    def follower_torque(self, theta, omega, phi, phi_dot, z, z_dot, impact_speed=0.0, ops=NumericOps):
         """Total torque (N m) on the follower and the roller's loads on the cam."""
-        t_cam, t_fol, fx, fy = self.roller_loads(theta, omega, phi, phi_dot, impact_speed)
-        t_fol += self.opening(phi)[1]
+        t_cam, t_fol, fx, fy = self.roller_loads(theta, omega, phi, phi_dot, impact_speed, ops)
+        t_fol += self.opening(phi, ops)[1]
         for zi, zi_dot in zip(z, z_dot):
-            t_fol += self.rod_loads(phi, phi_dot, zi, zi_dot)[1]
+            t_fol += self.rod_loads(phi, phi_dot, zi, zi_dot, ops)[1]
         return t_fol, (t_cam, fx, fy)
 
     def initial_state(self, spring_pull, pin_weight_torque=0.0) -> InitialState:
@@ -477,32 +472,32 @@ class BreakerLaws:
                              + cam_weight_torque(theta, cam, self.gravity) + pin_weight_torque)
         return InitialState(phi, z, -(spring_and_weight + t_cam))
 
-    def latch_impact_speeds(self, impact, theta, omega, phi, phi_dot, z, z_dot):
+    def latch_impact_speeds(self, impact, theta, omega, phi, phi_dot, z, z_dot, ops=NumericOps):
         """Update ``impact`` ([cam-roller, pole 1..n], m/s) from a state by
         :func:`update_impact_speeds`; returns the cam-roller contact at that state."""
-        roller = cam_roller_contact(theta, omega, phi, phi_dot, self.b, self.geometry)
+        roller = cam_roller_contact(theta, omega, phi, phi_dot, self.b, self.geometry, ops)
         state = [(roller.penetration, roller.penetration_rate)]
         state += [(zi - gap, zi_dot) for zi, zi_dot, gap in zip(z, z_dot, self.gaps)]
-        update_impact_speeds(impact, state)
+        update_impact_speeds(impact, state, ops)
         return roller
 
     # -- the closing latch
-    def latch(self, t, holding):
+    def latch(self, t, holding, ops=NumericOps):
         """The latch's torque (N m) on the cam at time t (s)."""
-        return latch_torque(t, holding, self.b.latch_release_time)
+        return latch_torque(t, holding, self.b.latch_release_time, ops)
 
-    def latch_loads(self, t, theta, holding):
+    def latch_loads(self, t, theta, holding, ops=NumericOps):
         """(torque N m, Fx N, Fy N) of the latch on the cam: the force at the latch point that
         exerts :meth:`latch`'s torque, so that it also loads the shaft's journal."""
-        torque = self.latch(t, holding)
-        fx, fy = latch_force(torque, theta, self.latch_arm, self.latch_angle)
+        torque = self.latch(t, holding, ops)
+        fx, fy = latch_force(torque, theta, self.latch_arm, self.latch_angle, ops)
         return torque, fx, fy
 
-    def cam_loads(self, t, theta, omega, phi, phi_dot, holding, impact_speed=0.0):
+    def cam_loads(self, t, theta, omega, phi, phi_dot, holding, impact_speed=0.0, ops=NumericOps):
         """(torque about A N m, Fx N, Fy N): the roller's and the latch's loads on the cam, the
         breaker's share of the cam's applied torque and shaft reaction."""
-        t_cam, _, fx, fy = self.roller_loads(theta, omega, phi, phi_dot, impact_speed)
-        t_latch, lx, ly = self.latch_loads(t, theta, holding)
+        t_cam, _, fx, fy = self.roller_loads(theta, omega, phi, phi_dot, impact_speed, ops)
+        t_latch, lx, ly = self.latch_loads(t, theta, holding, ops)
         return t_cam + t_latch, fx + lx, fy + ly
 
 

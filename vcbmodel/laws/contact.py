@@ -35,6 +35,8 @@ from __future__ import annotations
 
 import math
 
+from .friction import NumericOps
+
 #: Exponent of the line-contact law (Palmgren): Q ~ delta^(10/9).
 LINE_EXPONENT = 10.0 / 9.0
 #: Palmgren's constant: delta (mm) = PALMGREN_COMPLIANCE * Q(N)^0.9 / l(mm)^0.8, steel on steel.
@@ -45,20 +47,19 @@ CAM_ROLLER_LAWS = ("hertz_point", "line")
 DAMPING_LAWS = ("lankarani_nikravesh", "hunt_crossley")
 
 
-def hertz_contact_force(penetration, penetration_rate, stiffness, restitution, impact_velocity, exponent=1.5):
+def hertz_contact_force(penetration, penetration_rate, stiffness, restitution, impact_velocity, exponent=1.5,
+                        ops=NumericOps):
     """Normal contact force (N, pushing the bodies apart) of the Lankarani-Nikravesh law."""
-    if penetration <= 0.0:
-        return 0.0
-    v0 = max(abs(impact_velocity), 1e-9)
-    damping = 3.0 * (1.0 - restitution**2) / 4.0 * penetration_rate / v0
-    return max(0.0, stiffness * penetration**exponent * (1.0 + damping))
+    v0 = ops.max(ops.abs(impact_velocity), 1e-9)
+    damping = 3.0 * (1.0 - restitution * restitution) / 4.0 * penetration_rate / v0
+    elastic = stiffness * ops.pow(ops.max(penetration, 0.0), exponent)
+    return ops.where(penetration <= 0.0, 0.0, ops.max(0.0, elastic * (1.0 + damping)))
 
 
-def hunt_crossley_force(penetration, penetration_rate, stiffness, exponent, damping_factor):
+def hunt_crossley_force(penetration, penetration_rate, stiffness, exponent, damping_factor, ops=NumericOps):
     """Normal contact force (N) of the Hunt-Crossley law with a fixed damping factor alpha (s/m)."""
-    if penetration <= 0.0:
-        return 0.0
-    return max(0.0, stiffness * penetration**exponent * (1.0 + damping_factor * penetration_rate))
+    elastic = stiffness * ops.pow(ops.max(penetration, 0.0), exponent)
+    return ops.where(penetration <= 0.0, 0.0, ops.max(0.0, elastic * (1.0 + damping_factor * penetration_rate)))
 
 
 def palmgren_line_stiffness(length):

@@ -44,11 +44,16 @@ from __future__ import annotations
 import math
 from dataclasses import dataclass
 
+import numpy as np
+
 from ..parameters import STICK_TIME
 
 
 class NumericOps:
-    """Scalar float operations (the pure-Python evaluation of the law)."""
+    """Scalar float operations (the pure-Python evaluation of the laws). Every ``ops`` namespace
+    offers these: ``where``, ``abs``, ``sqrt``, ``sign``, ``min``, ``max``, ``sin``, ``cos``,
+    ``atan2``, ``acos``, ``pow``, ``floor`` (Exudyn's symbolic one: the first eight, what the
+    friction law needs)."""
 
     @staticmethod
     def where(condition, if_true, if_false):
@@ -67,6 +72,40 @@ class NumericOps:
 
     sin = staticmethod(math.sin)
     cos = staticmethod(math.cos)
+
+    @staticmethod
+    def max(a, b):
+        return a if a > b else b
+
+    atan2 = staticmethod(math.atan2)
+    acos = staticmethod(math.acos)
+
+    @staticmethod
+    def pow(a, b):
+        return math.pow(a, b)
+
+    @staticmethod
+    def floor(a):
+        return float(math.floor(a))
+
+
+class ArrayOps:
+    """The same operations on numpy arrays, elementwise (a law evaluated over a whole record at
+    once; every branch is computed and the one that applies chosen, so call it inside
+    ``numpy.errstate(all="ignore")`` where an unchosen branch may divide by zero)."""
+
+    where = staticmethod(np.where)
+    abs = staticmethod(np.abs)
+    sqrt = staticmethod(np.sqrt)
+    sign = staticmethod(np.sign)
+    min = staticmethod(np.minimum)
+    max = staticmethod(np.maximum)
+    sin = staticmethod(np.sin)
+    cos = staticmethod(np.cos)
+    atan2 = staticmethod(np.arctan2)
+    acos = staticmethod(np.arccos)
+    pow = staticmethod(np.power)
+    floor = staticmethod(np.floor)
 
 
 def symbolic_ops():
@@ -87,6 +126,7 @@ def symbolic_ops():
         sqrt = staticmethod(es.sqrt)
         sign = staticmethod(es.sign)
         min = staticmethod(es.min)
+        max = staticmethod(es.max)
         sin = staticmethod(es.sin)
         cos = staticmethod(es.cos)
 
