@@ -69,7 +69,7 @@ def closing_design(rig, t_end=None):
     energy (J, all springs) and smallest static pull k0 (L(theta) - L_free) over the run (N; a
     tension spring must stay stretched: below zero it would push)."""
     record = experiment_of(rig.experiment)
-    result = simulate(rig, t_end=t_end)
+    result = simulate(rig, t_end=t_end, backend="fast")
     fom = record.figures_of_merit(result, rig)
     out = {k: fom.get(k) for k in experiment_of(rig.experiment).figure_columns}
     s = rig.closing_spring
@@ -96,9 +96,10 @@ def conclusion_effects(rig, t_end=None):
     Returns the rms change of the follower displacement (m, over the run) and the closing
     time's change (s) for each, and their ratios friction / spring motion (> 1: friction
     matters more). A closing time that is not reached is NaN."""
-    full = simulate(rig, t_end=t_end)
-    no_friction = simulate(rig, tuple(e for e in rig.model.effects if e not in FRICTION_EFFECTS), t_end=t_end)
-    massless = simulate(rig, spring_model="massless", t_end=t_end)
+    full = simulate(rig, t_end=t_end, backend="fast")
+    no_friction = simulate(rig, tuple(e for e in rig.model.effects if e not in FRICTION_EFFECTS), t_end=t_end,
+                           backend="fast")
+    massless = simulate(rig, spring_model="massless", t_end=t_end, backend="fast")
     y = full.channels["follower_displacement"]
 
     def rms(r):

@@ -75,6 +75,9 @@ def build_parser():
     s.add_argument("-o", "--output", help="output CSV (default: stdout)")
     s.add_argument("--plot", help="also draw the written channels; the format by the file's suffix")
     s.add_argument("--force", action="store_true", help="replace the output (and plot) file if it exists")
+    s.add_argument("--backend", choices=("exudyn", "compiled", "fast"), default="exudyn",
+                   help="exudyn (the model, default); compiled (the same laws traced to C: massless and lumped "
+                        "springs); fast (compiled where it covers the model, else exudyn)")
 
     c = sub.add_parser("check", parents=[common], help="validate a rig and say what simulate would run, without solving")
     c.add_argument("rig", help="rig file NAME.rig.json")
@@ -149,12 +152,16 @@ def cmd_simulate(args):
     t_end = args.t_end or record.default_duration
     model_spec(rig, effects, spring_model=spring_model)  # a value the model needs but the rig lacks: bad input, first
     log.info("simulate %s: %s, %g s of %s", rig.name, spring_model.label, t_end, rig.experiment)
-    result = simulate(rig, effects, spring_model=spring_model, sample_times=output_times(rig, t_end))
+    if args.backend == "compiled" and (record.ode_model is None or spring_model.kind == "ancf"):
+        raise InputError("--backend", "backend", f"the compiled path does not cover the {spring_model.label} spring "
+                         "(massless and lumped springs only): use --backend exudyn or fast")
+    result = simulate(rig, effects, spring_model=spring_model, sample_times=output_times(rig, t_end),
+                      backend=args.backend)
     channels = record.record_channels(result, rig)
     spec = result.spec
     buf = io.StringIO()
     buf.write(f"# vcbmodel {__version__} simulate: {rig.name}; effects {','.join(spec.effects) or '(none)'}; "
-              f"spring model {spec.spring_model.label}; SIMULATED, not measured\n")
+              f"spring model {spec.spring_model.label}; solved by {result.info['backend']}; SIMULATED, not measured\n")
     buf.write("# " + ", ".join(f"{name} in {unit}" for name, (_, unit) in channels.items())
               + f", t in s, {record.sample_rate:g} samples/s\n")
     buf.write("t," + ",".join(channels) + "\n")

@@ -41,6 +41,7 @@ import pandas as pd
 from ...errors import InputError
 from ...experiments import experiment_of
 from ...experiments.loading import rig_from_data
+from ...experiments.simulation import simulation_backend
 from ...experiments.simulation import model_spec
 from ...rig.data import Rig
 from ...rig.paths import get_path, with_overrides
@@ -69,6 +70,7 @@ class SweepPlan:
     columns: tuple  # result columns (figures of merit, SI units in their names)
     draw: str  # how the parameter sets were made, for the progress line
     column_units: dict = field(default_factory=dict)
+    backend: str = ""  # what runs the simulations (the compiled path where it covers the model, else Exudyn)
 
     @property
     def paths(self):
@@ -129,7 +131,8 @@ def plan(rig, vary=(), *, runs=None, samples=None, seed=None, sampling="lhs", ev
     draw = (f"{SAMPLING[sampling]}, seed {DEFAULT_SEED if seed is None else seed}" if kind == "random"
             else "grid" if kind == "grid" else "given parameter sets")
     return SweepPlan(data, rig_path, nominal.experiment, label or f"sweep {nominal.name}", table, kind,
-                     tuple(columns), draw, dict(record.figure_units) if evaluate is None else {})
+                     tuple(columns), draw, dict(record.figure_units) if evaluate is None else {},
+                     simulation_backend(record, spec.spring_model))
 
 
 def sweep(rig, vary=(), *, runs=None, samples=None, seed=None, sampling="lhs", workers=None, scheduler=None,
@@ -265,7 +268,7 @@ def _execute(p, finished, client, workers, output, stream, evaluate, t_end, verb
                      "seed": (DEFAULT_SEED if seed is None else seed) if p.kind == "random" else None,
                      "workers": None if client is not None else n_workers, "scheduler": address,
                      "runs_done": len(todo), "wall_s": wall, "run_s": seconds, "failed": counts["failed"],
-                     "not_closed": counts["not_closed"], "column_units": p.column_units})
+                     "not_closed": counts["not_closed"], "column_units": p.column_units, "simulated_with": p.backend})
     if verbose:
         ok = len(todo) - counts["failed"] - counts["not_closed"]
         progress(f"{p.name}: {ok} ok, {counts['not_closed']} not closed, {counts['failed']} failed in {wall:.1f} s"

@@ -55,10 +55,11 @@ def check_used(paths, effects, rig_path, experiment):
 
 
 def figures_of_merit(rig, t_end=None):
-    """The default evaluation of a run: simulate the rig's model and return the experiment's
-    figures of merit (the record's ``figure_columns``)."""
+    """The default evaluation of a run: simulate the rig's model (compiled where the compiled path
+    covers it, else Exudyn: ``backend="fast"``) and return the experiment's figures of merit (the
+    record's ``figure_columns``)."""
     record = experiment_of(rig.experiment)
-    result = simulate(rig, t_end=t_end)
+    result = simulate(rig, t_end=t_end, backend="fast")
     fom = record.figures_of_merit(result, rig)
     return {k: fom.get(k) for k in record.figure_columns}
 
