@@ -134,7 +134,7 @@ def test_stable_step_tracks_the_ties_fast_mode(heavy_cam, mass):
 def test_fit_step_of_the_continuum_is_accurate(heavy_cam):
     """Fits run the continuum at its stability-bounded step (1.7x the studies' for 1 kg): the
     cam angle stays within 0.01 mrad of the studies' step, far below any sensor's noise."""
-    from vcbmodel.analysis.fitting import fit_step
+    from vcbmodel.analysis.fit import fit_step
     h = fit_step(heavy_cam, "ancf")
     assert h > 1.5 * P.ANCF_STEP
     fine = simulate(heavy_cam, EFFECTS, spring_model="ancf", sample_times=T).measured

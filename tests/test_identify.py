@@ -5,7 +5,7 @@ import pytest
 
 from conftest import EXAMPLES, examples_available
 from vcbmodel import parameters as P
-from vcbmodel.analysis.fitting import Dataset, Parameter, fit, make_parameters
+from vcbmodel.analysis.fit import Dataset, Parameter, fit, make_parameters
 from vcbmodel.analysis.identify import LAWS, identify
 from vcbmodel.experiments.loading import load_rig
 from vcbmodel.experiments.loading import load_record

@@ -33,14 +33,15 @@ from dataclasses import dataclass, field, replace
 
 import numpy as np
 
+from ..errors import SimulationError
 from ..experiments import experiment_of
 from ..model.effects import EFFECTS, parameter_specs
 from ..model.values import rig_values
 from ..records.analyser import channel_setup, figures_of_merit
 from ..records.signals import (disagreement_window, dominant_frequency, lag1_autocorrelation, noise_estimate_floored,
                                quantisation_step, swing_peaks)
-from . import fitting
-from .fitting import Dataset, FitAborted, FitResult, Parameter, SimulationPool, make_parameters
+from . import fit as fitting
+from .fit import Dataset, FitAborted, FitResult, Parameter, SimulationPool, make_parameters
 from .noise import STRUCTURE_TOLERANCE, NoiseModel, consistency, fit_noise, rounding_dominates
 from .nuisance import record_setup, release_from_model, rig_get, swing_period_mismatch
 from .progress import progress
@@ -346,7 +347,7 @@ class Context:
         reach the noise."""
         ds = [self.dataset]
         kw = dict(sigma=self.sigma_hf, verbose=False, label=label, pool=self.pool, processes=1,
-                  scales=self.scales(), stop=self.stop, max_starts=MAX_STARTS)
+                  scales=self.scales(), should_stop=self.stop.is_set, max_starts=MAX_STARTS)
         bases = None
         if scan:
             # afresh: the record's own starting values, else the registry's (a model that lacked the
@@ -464,13 +465,13 @@ def _pair_jobs(rig, current, singles):
 def _screen_spring_models(ctx, effects, variants, params, values):
     """chi^2 of each spring model at ``values`` (one simulation each, all at once on the pool; the
     alignment refitted without simulating); inf where the simulation failed."""
-    objs = [fitting._Objective([ctx.dataset], effects, v, params, ctx.pool, ctx.scales()) for v in variants]
+    objs = [fitting.Objective([ctx.dataset], effects, v, params, ctx.pool, ctx.scales()) for v in variants]
     costs = []
-    for o, res in zip(objs, ctx.pool.run([o._job(values, 0) for o in objs])):
+    for o, res in zip(objs, ctx.pool.run([o.simulation_job(values, 0) for o in objs])):
         if isinstance(res, Exception):
             costs.append(math.inf)
             continue
-        cur = fitting._Curves(res)
+        cur = fitting.Curves(res)
         r = np.concatenate(o.residual_parts(o.align(values, [cur]), [cur]))
         costs.append(float(np.dot(r, r)))
     return costs
@@ -499,8 +500,8 @@ def _fit_spring_variants(ctx, current, effects, variants, previous, initial):
             p2 = {k: replace(p, stderr=None) for k, p in best.parameters.items()}
             try:
                 fits[v.label] = fitting.refine(ds, effects, v, p2, hint, pool=ctx.pool, scales=ctx.scales(),
-                                               sigma=ctx.sigma_hf, stop=ctx.stop, label=f"+spring_mass [{v.label}]")
-            except fitting.SimulationError:
+                                               sigma=ctx.sigma_hf, should_stop=ctx.stop.is_set, label=f"+spring_mass [{v.label}]")
+            except SimulationError:
                 continue
     chosen = min(fits.values(), key=lambda f: f.chi2)
     lumped = [f for f in fits.values() if f.spring_model.kind == "lumped"]
@@ -550,7 +551,7 @@ def _run_candidates(ctx, current, jobs, round_no):
                 i = running.pop(fut)
                 try:
                     res, var = fut.result()
-                except (FitAborted, fitting.SimulationError):
+                except (FitAborted, SimulationError):
                     res, var = None, None
                 results[i], variants[i] = res, var
                 done_count += 1
@@ -879,7 +880,7 @@ def _on_final_alignment(ctx, baseline, final):
             p.value, p.vary = final.parameters[name].value, False
     try:
         aligned = ctx.fit(baseline.effects, baseline.spring_model, params, "starting model (final alignment)")
-    except (FitAborted, fitting.SimulationError):
+    except (FitAborted, SimulationError):
         return baseline
     if aligned.rms <= baseline.rms:
         return baseline
@@ -895,9 +896,9 @@ def _final_spring(ctx, current, path, all_fits):
     p2 = {k: replace(p, stderr=None) for k, p in current.parameters.items()}
     try:
         fine = fitting.refine([ctx.dataset], current.effects, ctx.spring_final, p2, fitting.jacobian_of(current),
-                              pool=ctx.pool, scales=ctx.scales(), sigma=ctx.sigma_hf, stop=ctx.stop,
+                              pool=ctx.pool, scales=ctx.scales(), sigma=ctx.sigma_hf, should_stop=ctx.stop.is_set,
                               label=f"final [{ctx.spring_final.label}]")
-    except (FitAborted, fitting.SimulationError):
+    except (FitAborted, SimulationError):
         return current
     all_fits.append(fine)
     if fine.chi2 >= current.chi2:
@@ -936,9 +937,8 @@ def _finer_spring(ctx, current, path, all_fits):
     p2 = {k: replace(p, stderr=None) for k, p in current.parameters.items()}
     try:
         finer = fitting.refine(ds, current.effects, variants[best_i], p2, fitting.jacobian_of(current), pool=ctx.pool,
-                               scales=ctx.scales(), sigma=ctx.sigma_hf, stop=ctx.stop,
-                               label=f"final [{variants[best_i].label}]")
-    except (FitAborted, fitting.SimulationError):
+                               scales=ctx.scales(), sigma=ctx.sigma_hf, should_stop=ctx.stop.is_set, label=f"final [{variants[best_i].label}]")
+    except (FitAborted, SimulationError):
         return current, None
     ctx.fits += 1
     all_fits.append(finer)
@@ -984,8 +984,8 @@ def _search_harder(ctx, current, path, all_fits):
         starts = [{k: v for k, v in start.items() if k in scan} for start in starts]
         wider = fitting.fit([ctx.dataset], current.effects, current.spring_model, params, starts=starts,
                             sigma=ctx.sigma_hf, verbose=False, pool=ctx.pool, processes=1, scales=ctx.scales(),
-                            stop=ctx.stop, max_starts=WIDER_STARTS, enough=lambda f: _consistent(ctx, f))
-    except (FitAborted, fitting.SimulationError):
+                            should_stop=ctx.stop.is_set, max_starts=WIDER_STARTS, enough=lambda f: _consistent(ctx, f))
+    except (FitAborted, SimulationError):
         return current
     ctx.fits += 1
     wider.label = "final model (wider search)"
@@ -1021,7 +1021,7 @@ def _swap(ctx, current, path, all_fits, records):
             try:
                 f = _refit(ctx, effects, current.spring_model, {k: v for k, v in current.values.items()},
                            f"{old}->{new}")
-            except (FitAborted, fitting.SimulationError):
+            except (FitAborted, SimulationError):
                 continue
             all_fits.append(f)
             noise = _noise_of_best(ctx, all_fits)
@@ -1061,7 +1061,7 @@ def _backward(ctx, current, path, all_fits):
         ctx.say(f"backward: refitting without {effect}")
         try:
             reduced = _refit(ctx, effects, spring, dict(current.values), f"-{effect}")
-        except (FitAborted, fitting.SimulationError):
+        except (FitAborted, SimulationError):
             continue
         all_fits.append(reduced)
         noise = _noise_of_best(ctx, all_fits)

@@ -26,7 +26,7 @@ from ..experiments import experiment_of
 from ..laws.friction import effective_static, zeta_from_viscous
 from ..records.signals import first_peak_amplitude
 from ..rig.spring_model import SpringModel
-from .fitting import Dataset, FitResult, SimulationPool, fit, make_parameters, staged_fit
+from .fit import Dataset, FitResult, SimulationPool, fit, make_parameters, staged_fit
 
 #: Simulations allowed to the optional simplex polish after the least-squares stage (it
 #: refines the least-squares optimum the way the paper's simplex would).

@@ -1,0 +1,140 @@
+"""Simulations for fits: one :class:`SimJob` per simulation, run on a pool of forked worker
+processes (:class:`SimulationPool`, with processor time read from /proc), and the integration
+step and friction function the experiment chooses for fits."""
+from __future__ import annotations
+
+import multiprocessing
+import os
+import threading
+import time
+from concurrent.futures import ProcessPoolExecutor
+from dataclasses import dataclass
+
+import numpy as np
+
+from ...errors import SimulationError
+from ...experiments import experiment_of
+from ...experiments.simulation import simulate
+from ...rig.spring_model import SpringModel
+
+
+@dataclass(frozen=True)
+class SimJob:
+    """One simulation: the rig (with any overridden values), effects, effect values, spring
+    model, the output grid (uniform from 0, or the record's times) and the channels wanted."""
+
+    rig: object
+    effects: tuple
+    values: tuple  # sorted (name, value) pairs
+    spring_model: object
+    times: tuple  # (dt, n) for a uniform grid from 0 (s, samples), or None with ``sample_times``
+    channels: tuple
+    step: float | None = None  # integration step (s; None: the experiment's)
+    sample_times: object = None  # explicit times (s; no nuisance)
+    user_function: str = "auto"
+    backend: str = "fast"  # compiled where it covers the model (vcbmodel.compiled), else Exudyn
+
+
+def run_job(job: SimJob) -> dict | SimulationError:
+    """Simulate one job; returns {'t': times (s), channel: samples, ...} or the
+    :class:`~vcbmodel.errors.SimulationError` it raised."""
+    if job.sample_times is not None:
+        times = np.asarray(job.sample_times)
+    else:
+        dt, n = job.times
+        times = np.arange(n + 1) * dt
+    try:
+        r = simulate(job.rig, job.effects, dict(job.values), spring_model=job.spring_model, sample_times=times,
+                     step=job.step, user_function=job.user_function, backend=job.backend)
+    except SimulationError as e:
+        return e
+    out = {"t": times}
+    for ch in job.channels:
+        out[ch] = np.asarray(r.channels[ch])
+    return out
+
+
+class SimulationPool:
+    """Worker processes (fork) that run :class:`SimJob` s; ``processes <= 1``: in this process.
+
+    The workers are started at once, before any fitting thread exists (forking a process that
+    runs threads is unsafe)."""
+
+    def __init__(self, processes: int = 2, inline_single: bool = False):
+        self.processes = max(1, int(processes))
+        self.inline_single = inline_single  # one job at a time runs here (no other fit shares the pool)
+        self.pool = None
+        self.simulations = 0
+        self.lock = threading.Lock()
+        if self.processes > 1:
+            self.pool = ProcessPoolExecutor(max_workers=self.processes, mp_context=multiprocessing.get_context("fork"))
+            list(self.pool.map(_noop, range(self.processes)))
+
+    def run(self, jobs) -> list:
+        """Results of ``jobs`` (:func:`run_job`), in order."""
+        jobs = list(jobs)
+        with self.lock:
+            self.simulations += len(jobs)
+        if self.pool is None or len(jobs) == 0:
+            return [run_job(j) for j in jobs]
+        if len(jobs) == 1 and self.inline_single:
+            return [run_job(jobs[0])]
+        if len(jobs) == 1:
+            return [self.pool.submit(run_job, jobs[0]).result()]
+        return list(self.pool.map(run_job, jobs))
+
+    def cpu_seconds(self) -> float:
+        """Processor time (s) used so far by this process and the pool's workers (Linux /proc;
+        elsewhere this process only)."""
+        total = time.process_time()
+        if self.pool is None:
+            return total
+        tick = os.sysconf("SC_CLK_TCK") if hasattr(os, "sysconf") else 100
+        for pid in list(getattr(self.pool, "_processes", {}) or {}):
+            try:
+                with open(f"/proc/{pid}/stat") as f:
+                    fields = f.read().rsplit(")", 1)[1].split()
+                total += (int(fields[11]) + int(fields[12])) / tick
+            except (OSError, IndexError, ValueError):
+                continue
+        return total
+
+    def close(self) -> None:
+        if self.pool is not None:
+            self.pool.shutdown(cancel_futures=True)
+            self.pool = None
+
+    def __enter__(self):
+        return self
+
+    def __exit__(self, *exc):
+        self.close()
+
+
+def _noop(_):
+    return None
+
+
+def dataset_pool(datasets, processes: int = 2) -> SimulationPool | None:
+    """A simulation pool for a fit of several datasets (None for one dataset and one process)."""
+    if processes < 2:
+        return None
+    return SimulationPool(processes)
+
+
+# --- the experiment's choices for fits ------------------------------------------------------------
+
+def scan_step(rig) -> float | None:
+    """The integration step (s) of a fit's start scan (None: the fit's own): the experiment's."""
+    return experiment_of(rig.experiment).scan_step
+
+
+def fit_step(rig, spring_model) -> float | None:
+    """The integration step (s) fits use (None: the experiment's default): the experiment's
+    choice for the spring model (``Experiment.fit_step``)."""
+    return experiment_of(rig.experiment).fit_step(rig, SpringModel.parse(spring_model).kind)
+
+
+def user_function_for(rig) -> str:
+    """The friction connector's implementation for fits: the experiment's (``Experiment.fit_user_function``)."""
+    return experiment_of(rig.experiment).fit_user_function
