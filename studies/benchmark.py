@@ -12,7 +12,7 @@ import time
 from pathlib import Path
 
 import numpy as np
-from _common import parse_args, write_json
+from _common import markdown_table, parse_args, write_json
 
 from vcbmodel import parameters as P
 from vcbmodel.analysis.diagnose import diagnose
@@ -85,6 +85,45 @@ def speed_targets(prig, crig, brig, law, h, repeats):
     for row in rows.values():
         row["met"] = bool(row["now"] <= row["target"])
     return rows
+
+
+#: The rows of the speed table: (key in issue18_targets, workload, format of "now")
+TABLE_ROWS = (
+    ("pendulum_6s_compiled_friction_over_no_friction", "6 s pendulum: Exudyn symbolic friction / Exudyn without friction", "{:.1f}x"),
+    ("cam_drop_35ms_lumped2_with_friction", "35 ms cam drop, lumped-2, with friction", "{:.4f} s"),
+    ("cam_drop_35ms_massless_simulate_auto_over_python_uf", "35 ms massless cam drop, simulate() auto / Python UF", "{:.2f}x"),
+    ("vcb_closing_45ms_lumped2", "45 ms closing, lumped-2", "{:.4f} s"),
+    ("one_diagnosis_realism_median", "one diagnosis, realistic records: median", "{:.1f} s"),
+    ("one_diagnosis_realism_max", "one diagnosis, realistic records: max", "{:.1f} s"),
+    ("tolerance_study_10000_closings_2_cores", "10 000-closing tolerance study, 2 cores (estimate)", "{:.1f} min"),
+)
+
+
+def speed_table(targets):
+    """The speed issue's table as Markdown (README quotes it): each workload on Exudyn and on the
+    compiled path, against its target."""
+    rows = []
+    for key, what, fmt in TABLE_ROWS:
+        row = targets.get(key)
+        if row is None:
+            continue
+        seconds = row.get("seconds", {})
+        exudyn = row.get("exudyn_s")
+        extra = ""
+        if "compiled_over_exudyn_no_friction" in row:
+            extra = f"compiled path: {row['compiled_over_exudyn_no_friction']:.2f}x Exudyn without friction"
+        elif exudyn is not None:
+            extra = f"Exudyn {exudyn:.3f} s ({exudyn / row['now']:.0f}x slower)"
+        elif "how" in row:
+            extra = row["how"]
+        elif seconds:
+            extra = ", ".join(f"{k} {v:.4f} s" for k, v in seconds.items())
+        unit = {"ratio": "x", "s": " s", "min": " min"}[row["unit"]]
+        rows.append([what, fmt.format(row["now"]), f"{row['target']:g}{unit}", "met" if row["met"] else "missed", extra])
+    head = ("# Speed (studies/benchmark.py; medians of interleaved repeats, one run)\n\n"
+            "'now' is the compiled path where the row names no backend (what fits, sweeps and design studies "
+            "run); Exudyn remains the reference model.\n\n")
+    return head + markdown_table(["workload", "now", "target", "", "beside it"], rows) + "\n"
 
 
 def rss_mb():
@@ -177,6 +216,7 @@ def main():
         "now": minutes, "target": 30.0, "unit": "min", "met": minutes <= 30.0,
         "how": "estimated from this run's closings per core-second in a 2-worker sweep (sweep_scaling)"}
     write_json(out / "benchmark.json", res)
+    (out / "benchmark.md").write_text(speed_table(res["issue18_targets"]))
     print(res)
 
 

@@ -41,7 +41,6 @@ import math
 from pathlib import Path
 
 import numpy as np
-from scipy.integrate import solve_ivp
 
 from .. import parameters as P
 from ..experiments import experiment_of
@@ -50,6 +49,7 @@ from ..experiments.simulation import simulate
 from ..laws.breaker import pole_gaps
 from ..records.analyser import figures_of_merit as analyser_figures
 from ..records.measurement import Measurement, write_measurement
+from ..reference.truths import position_dependent_pendulum
 
 COMPLICATIONS = ("pre_trigger", "initial_angle", "offset", "gain", "correlated", "hand_start", "quantised",
                  "time_base", "period")
@@ -93,10 +93,10 @@ def hidden_answer(case):
     return sorted(e for e in truth if e not in start)
 
 
-def _draw_complications(experiment, rng, complications):
-    """Values of the chosen complications (dict name -> value)."""
+def _draw_complications(record, rng, complications):
+    """Values of the chosen complications (dict name -> value), by the experiment's usual sensor."""
     c = {}
-    camera = experiment != "pendulum"
+    camera = record.sensor == "camera"
     for name in complications:
         if name == "pre_trigger":
             c[name] = float(rng.uniform(0.0005, 0.003) if camera else rng.uniform(0.02, 0.2))
@@ -120,90 +120,6 @@ def _draw_complications(experiment, rng, complications):
         else:
             raise ValueError(f"unknown complication {name!r} (known: {', '.join(COMPLICATIONS)})")
     return c
-
-
-def _small_pendulum_rig(rng):
-    """A small laboratory pendulum: a 0.3-0.8 kg bob on a 0.1-0.2 m rod, a 4-8 mm shaft in
-    plain bearings, let go from 15-25 deg; it swings for tens of seconds."""
-    m, L = float(rng.uniform(0.3, 0.8)), float(rng.uniform(0.1, 0.2))
-    return {"format": "vcb-rig/1", "experiment": "pendulum", "gravity": 9.81,
-            "shaft": {"radius": float(rng.uniform(0.002, 0.004))},
-            "pendulum": {"mass": m, "inertia": m * L**2 * float(rng.uniform(1.05, 1.3)), "com_distance": L,
-                         "initial_angle": float(np.radians(rng.uniform(15.0, 25.0))), "initial_velocity": 0.0},
-            "friction": {}}
-
-
-def _pendulum_rig(rng):
-    rig = {"format": "vcb-rig/1", "experiment": "pendulum", "gravity": 9.81,
-           "shaft": {"radius": float(rng.uniform(0.015, 0.025))},
-           "pendulum": {"mass": float(rng.uniform(40, 60)), "inertia": float(rng.uniform(2.0, 3.0)),
-                        "com_distance": float(rng.uniform(0.19, 0.235)),
-                        "initial_angle": float(np.radians(rng.choice([10.0, 15.0]))), "initial_velocity": 0.0},
-           "friction": {}}
-    p = rig["pendulum"]
-    p["inertia"] = max(p["inertia"], 1.02 * p["mass"] * p["com_distance"] ** 2)
-    return rig
-
-
-def _cam_rig(rng, start):
-    return {"format": "vcb-rig/1", "experiment": "cam_drop", "gravity": 9.81,
-            "shaft": {"radius": float(rng.uniform(0.018, 0.025))},
-            "cam": {"mass": float(rng.uniform(4.0, 7.0)), "inertia_com": float(rng.uniform(0.045, 0.06)),
-                    "com_distance": float(rng.uniform(0.02, 0.03)), "com_angle": float(rng.uniform(0.1, 1.0)),
-                    "pivot": [0.4445, 0.0], "arm_length": float(rng.uniform(0.098, 0.106)),
-                    "initial_angle": float(rng.uniform(0.14, 0.23)), "initial_velocity": 0.0},
-            "closing_spring": {"count": 2, "stiffness": 24230.0, "mass": float(rng.uniform(0.9, 1.15)),
-                               "free_length": 0.3, "anchor": [0.0, 0.0]},
-            "friction": {}}
-
-
-def position_dependent_pendulum(p, gravity, radius, friction, amplitude, wavelength, phase, t_eval):
-    """A pendulum whose journal friction depends on the shaft angle (no registered effect):
-    T_f = mu_k (1 + a sin(2 pi theta / lambda + phase)) r F_n sign(w) + Cv w, static friction 1.5x
-    that; sticking by events (stuck for good once static friction holds the weight's torque).
-    The reaction uses eq. 5-6 with the frictionless acceleration (the coupling is second order)."""
-    M, I, L, g = p["mass"], p["inertia"], p["com_distance"], gravity
-    mu_k, cv = friction["mu_k"], friction.get("viscous", 0.0)
-
-    def mu(th):
-        return mu_k * (1 + amplitude * math.sin(2 * math.pi * th / wavelength + phase))
-
-    def reaction(th, w):
-        acc = -M * g * L * math.sin(th) / I
-        return M * math.hypot(g * math.cos(th) + L * w * w, g * math.sin(th) + L * acc)
-
-    def rhs(s):
-        def f(t, y):
-            th, w = y
-            tf = mu(th) * radius * reaction(th, w) * s + cv * w
-            return [w, (-M * g * L * math.sin(th) - tf) / I]
-        return f
-
-    def zero(t, y):
-        return y[1]
-    zero.terminal = True
-
-    t_eval = np.asarray(t_eval, float)
-    theta = np.full(t_eval.size, np.nan)
-    t0, y0 = 0.0, [p["initial_angle"], 0.0]
-    while True:
-        th = y0[0]
-        torque = -M * g * L * math.sin(th)
-        if abs(y0[1]) < 1e-12 and abs(torque) <= 1.5 * mu(th) * radius * reaction(th, 0.0):
-            theta[t_eval >= t0 - 1e-12] = np.where(np.isnan(theta[t_eval >= t0 - 1e-12]), th,
-                                                   theta[t_eval >= t0 - 1e-12])
-            break
-        s = math.copysign(1.0, y0[1]) if abs(y0[1]) > 1e-12 else math.copysign(1.0, torque)
-        zero.direction = -s
-        sol = solve_ivp(rhs(s), (t0, t_eval[-1] + 1e-9), y0, method="DOP853", rtol=1e-10, atol=1e-12,
-                        events=zero, dense_output=True)
-        t1 = sol.t[-1]
-        sel = (t_eval >= t0 - 1e-12) & (t_eval <= t1 + 1e-12)
-        theta[sel] = sol.sol(t_eval[sel])[0]
-        if t1 >= t_eval[-1] or not sol.t_events[0].size:
-            break
-        t0, y0 = t1, [float(sol.y[0, -1]), 0.0]
-    return theta
 
 
 def realistic_closing(case, seed, folder, complications=(), analyser=True, travels=False, values=None):
@@ -289,45 +205,29 @@ def _noise(rng, n, sigma, phi):
 def realistic_record(case, seed, folder, complications=(), t_end=None, values=None, small=False):
     """A rig file and a realistic record for hidden-effect ``case`` (:data:`HIDDEN`) with the
     listed ``complications`` (:data:`COMPLICATIONS`; random values from the seed, or ``values``
-    name -> value). ``small``: a small laboratory pendulum (:func:`_small_pendulum_rig`, 20 s).
+    name -> value). ``small``: a small laboratory pendulum (``Experiment.random_rig``, 20 s).
     Returns (rig path, record path, truth dict)."""
     experiment, start, truth_effects = HIDDEN[case]
-    if experiment == "vcb_closing":
+    rec = experiment_of(experiment)
+    if rec.random_rig is None:  # no rig to draw: the reference breaker, recorded by an analyser
         return realistic_closing(case, seed, folder, complications, values=values)
     rng = np.random.default_rng(seed)
-    rec = experiment_of(experiment)
     folder = Path(folder)
-    drawn = _draw_complications(experiment, rng, complications)
+    drawn = _draw_complications(rec, rng, complications)
     drawn.update(values or {})
     friction = {"mu_k": float(rng.uniform(0.09, 0.16)), "stick_velocity": 1e-3,
                 "stribeck_velocity": float(rng.uniform(0.09, 0.15))}
     friction["mu_s"] = friction["mu_k"] * float(rng.uniform(1.8, 2.0))
-    if experiment == "pendulum" and small:
-        rig = _small_pendulum_rig(rng)
-        p = rig["pendulum"]
-        # damping ratio 0.3-0.6 %: Cv = 2 zeta sqrt(I M g L)
-        friction["viscous"] = float(2 * rng.uniform(0.003, 0.006) * math.sqrt(p["inertia"] * p["mass"] * 9.81
-                                                                               * p["com_distance"]))
-        friction["mu_k"] *= 0.3  # plain bearing, light load
-        friction["mu_s"] *= 0.3
-        friction["stribeck_velocity"] *= 3
-        t_end = t_end or 20.0
-    elif experiment == "pendulum":
-        friction["viscous"] = float(rng.uniform(0.5, 0.75))
-        rig = _pendulum_rig(rng)
-        t_end = t_end or 6.0
-    else:
-        friction["viscous"] = float(rng.uniform(0.03, 0.08))
-        rig = _cam_rig(rng, start)
-        if "coulomb_friction" in start:
-            rig["friction"] = {"mu_k": friction["mu_k"], "stick_velocity": 1e-3}
-        t_end = t_end or 0.035
+    if small and not rec.free_swing:
+        raise ValueError(f"a small laboratory rig is a free swing, not a {experiment} test")
+    rig = rec.random_rig(rng, friction, start, "small" if small else "realistic")
+    t_end = t_end or (20.0 if small else rec.default_duration)
     rig["model"] = {"effects": list(start), "spring_model": "massless"}
     rig["name"] = f"{case}-{seed}" + ("+" + "+".join(complications) if complications else "")
     # the truth: the rig as it really is
     truth_rig = copy.deepcopy(rig)
-    section = "pendulum" if experiment == "pendulum" else "cam"
-    truth_rig[section]["initial_angle"] += drawn.get("initial_angle", 0.0)
+    section, field = rec.initial_angle_field.split(".")
+    truth_rig[section][field] += drawn.get("initial_angle", 0.0)
     if "period" in drawn:  # the rig file's inertia is nominal: the true period differs by the factor
         p = rig["pendulum"]
         floor = 1.0 * p["mass"] * p["com_distance"] ** 2

@@ -72,28 +72,10 @@ def random_case(case, seed, folder, t_end=None):
                 "stribeck_velocity": rng.uniform(0.09, 0.15)}
     friction["mu_s"] = friction["mu_k"] * rng.uniform(1.8, 2.0)
     spring_model = None
-    if experiment == "pendulum":
-        friction["viscous"] = rng.uniform(0.5, 0.75)
-        rig = {"format": "vcb-rig/1", "experiment": "pendulum", "gravity": 9.81,
-               "shaft": {"radius": rng.uniform(0.015, 0.025)},
-               "pendulum": {"mass": rng.uniform(40, 60), "inertia": rng.uniform(2.0, 3.0),
-                            "com_distance": rng.uniform(0.19, 0.235),
-                            "initial_angle": float(np.radians(rng.choice([10.0, 15.0]))), "initial_velocity": 0.0},
-               "friction": {}}
-        rig["pendulum"]["inertia"] = max(rig["pendulum"]["inertia"], rig["pendulum"]["mass"] * rig["pendulum"]["com_distance"] ** 2)
-    else:
-        friction["viscous"] = rng.uniform(0.03, 0.08)
-        rig = {"format": "vcb-rig/1", "experiment": "cam_drop", "gravity": 9.81,
-               "shaft": {"radius": rng.uniform(0.018, 0.025)},
-               "cam": {"mass": rng.uniform(4.0, 7.0), "inertia_com": rng.uniform(0.045, 0.06),
-                       "com_distance": rng.uniform(0.02, 0.03), "com_angle": rng.uniform(0.1, 1.0),
-                       "pivot": [0.4445, 0.0], "arm_length": rng.uniform(0.098, 0.106),
-                       "initial_angle": rng.uniform(0.14, 0.23), "initial_velocity": 0.0},
-               "closing_spring": {"count": 2, "stiffness": 24230.0, "mass": rng.uniform(0.9, 1.15),
-                                  "free_length": 0.3, "anchor": [0.0, 0.0]},
-               "friction": ({"mu_k": friction["mu_k"], "stick_velocity": 1e-3} if "coulomb_friction" in start else {})}
-        if "spring_mass" in truth_effects:
-            spring_model = f"lumped-{rng.integers(1, 4)}"
+    record = experiment_of(experiment)
+    rig = record.random_rig(rng, friction, start, "synthetic")
+    if "spring_mass" in truth_effects and record.has_closing_spring:
+        spring_model = f"lumped-{rng.integers(1, 4)}"
     rig["model"] = {"effects": list(start), "spring_model": "massless"}
     rig["name"] = f"{case}-{seed}"
     rig_path = folder / f"{case}-{seed}.rig.json"

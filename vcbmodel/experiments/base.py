@@ -64,7 +64,7 @@ class Experiment:
       (``sections`` lists their top-level keys);
     - ``build(rig, spec, law, chain, user_function, ancf_elements) -> ExudynModel``;
     - ``channels(data, rig, spec, info) -> {name: array}`` from the sensors' rows (t, values...)
-      of either backend (Exudyn or :func:`vcbmodel.reference.solve.simulate_reference`);
+      of any backend (Exudyn, compiled, or the record's ``reference`` solve);
     - ``step(rig)``: default fixed RK4 step (s);
     - ``figures_of_merit(result, rig) -> dict`` (SI units; names end in their unit);
     - ``start_guesses(rig, measurement)``: starting-value dicts for fits, from the data;
@@ -80,6 +80,10 @@ class Experiment:
       (each choice measured, with its reasoning at the record);
     - ``summary(result, rig)``: ``simulate``'s one-run summary, [(what, value, unit)];
     - ``record_channels(result, rig)``: the channels ``simulate`` writes, as a record file carries them;
+    - ``sensor``, ``random_rig``: the usual sensor's kind and randomised rigs of this kind, for
+      synthetic records with a known truth (:mod:`.random_rigs`; None: the studies use the
+      reference rig);
+    - ``reference``: its solve without Exudyn (:mod:`vcbmodel.reference`), the ``reference`` backend;
     - ``ode_model``: the experiment's equations for the compiled backend (:class:`vcbmodel.compiled.OdeModel`);
     - ``run_status(values) -> str``: ``ok``, or why a run's figures of merit are not a result
       (a breaker that never closed: ``not_closed``), counted apart by sweeps and tolerance studies.
@@ -122,6 +126,9 @@ class Experiment:
     summary: Callable = figures_summary  # (result, rig) -> [(what, value, unit)]: simulate's summary
     record_channels: Callable = measured_only  # (result, rig) -> {channel: (values, unit)}: simulate's CSV
     ode_model: OdeModel | None = None  # its equations for the compiled backend (vcbmodel.compiled); None: Exudyn only
+    reference: Callable | None = None  # (rig, spec, law, chain, t_end, method, step) -> (data, info): the solve without Exudyn
+    sensor: str = ""  # the usual sensor's kind: potentiometer | camera (synthetic records' complications follow it)
+    random_rig: Callable | None = None  # (rng, friction, start, variant) -> rig JSON: randomised rigs (random_rigs.py)
 
     @property
     def figure_columns(self) -> tuple:

@@ -8,10 +8,12 @@ import numpy as np
 from .. import parameters as P
 from ..builders.cam_drop import build_cam_drop
 from ..compiled import OdeModel
+from ..reference.solve import reference_cam_drop
 from ..compiled.equations import cam_drop_equations, prepare_cam_drop
 from ..laws.springs import fundamental
 from ..rig.sections import read_cam_and_spring
 from ..builders.ancf import AncfOptions
+from .random_rigs import cam_drop_random_rig
 from .base import Experiment, shaft_channels
 from .summaries import cam_drop_summary
 
@@ -72,4 +74,5 @@ CAM_DROP = Experiment(
     # Python friction function for fits: a 35 ms massless drop takes 0.15 s with it, 0.6-1.1 s compiled (the
     # symbolic expression of the spring's pull does not share subexpressions)
     fit_step=fit_step, fit_user_function="python",
-    ode_model=OdeModel("cam_drop", prepare_cam_drop, cam_drop_equations))
+    ode_model=OdeModel("cam_drop", prepare_cam_drop, cam_drop_equations), reference=reference_cam_drop,
+    sensor="camera", random_rig=cam_drop_random_rig)

@@ -8,9 +8,11 @@ import numpy as np
 from .. import parameters as P
 from ..builders.pendulum import build_pendulum
 from ..compiled import OdeModel
+from ..reference.solve import reference_pendulum
 from ..compiled.equations import pendulum_equations, prepare_pendulum
 from ..records.signals import decay_shape, first_peak_amplitude, motion_end_time, swing_peaks, swing_spans
 from ..rig.sections import read_pendulum
+from .random_rigs import pendulum_random_rig
 from .base import Experiment, shaft_channels
 from .summaries import pendulum_summary
 
@@ -102,4 +104,5 @@ PENDULUM = Experiment(
     fit_user_function="symbolic", staged_fit=True, natural_frequency=swing_frequency,
     # a swing starts within tens of ms of where it is first seen to move (a hand release is slower)
     free_swing=True, release_span=0.06,
-    ode_model=OdeModel("pendulum", prepare_pendulum, pendulum_equations))
+    ode_model=OdeModel("pendulum", prepare_pendulum, pendulum_equations), reference=reference_pendulum,
+    sensor="potentiometer", random_rig=pendulum_random_rig)

@@ -14,7 +14,6 @@ from ..laws.springs import chain_for
 from ..model.effects import ModelSpec, assemble, consistent_effects
 from ..model.result import SimulationResult
 from ..model.values import model_values
-from ..reference.solve import simulate_reference
 from ..rig.data import Rig
 from .base import experiment_of
 
@@ -88,7 +87,9 @@ def simulate(rig: Rig, effects=None, values=None, *, spring_model=None, t_end=No
             info = {"backend": "exudyn", "step": step, "initial": getattr(model, "initial", None)}
     elif backend == "reference":
         law = spec.friction_law(rig.shaft_radius, step if method == "rk4" else 0.0)
-        data, info = simulate_reference(rig, spec, law, chain, t_end, method, step)
+        if record.reference is None:
+            raise ValueError(f"no reference solve for a {record.name} experiment: use backend='exudyn'")
+        data, info = record.reference(rig, spec, law, chain, t_end, method, step)
     else:
         raise ValueError(f"unknown backend {backend!r}")
     result = SimulationResult(data["angle"][:, 0], record.channels(data, rig, spec, info), record.name,

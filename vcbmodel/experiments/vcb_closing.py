@@ -9,6 +9,7 @@ from __future__ import annotations
 from .. import parameters as P
 from ..builders.breaker import build_vcb_closing
 from ..compiled import OdeModel
+from ..reference.solve import reference_closing
 from ..compiled.equations import closing_equations, closing_prestep, prepare_closing
 from ..rig.sections import read_closing
 from .base import Experiment
@@ -59,4 +60,5 @@ VCB_CLOSING = Experiment(
     missing_means=(("closing_time_s", "not_closed"),), summary=closing_summary,
     record_channels=closing_record_channels, fit_step=fit_step, scan_step=CLOSING_SCAN_STEP,
     fit_user_function="python", release_from_model=True,
-    ode_model=OdeModel("vcb_closing", prepare_closing, closing_equations, closing_prestep))
+    ode_model=OdeModel("vcb_closing", prepare_closing, closing_equations, closing_prestep), reference=reference_closing,
+    sensor="camera")

@@ -115,7 +115,7 @@ class BreakerExtension:
         self.initial = self.laws.initial_state(massless_pull(rig.cam, rig.closing_spring))
         self.y0 = np.array([self.initial.follower_angle, *self.initial.pole_travel, 0.0, *([0.0] * self.n)])
         self.impact = np.zeros(self.n + 1)
-        self.offset = None  # index of the extension in the full state (set by simulate_reference)
+        self.offset = None  # index of the extension in the full state (set by reference_closing)
 
     def loads_and_rates(self, t, th, w, y):
         laws, n, b = self.laws, self.n, self.laws.b
@@ -158,31 +158,41 @@ def friction_values(law):
             "stribeck_velocity": law.stribeck_velocity, "viscous": law.viscous}
 
 
-def _independent(rig, law, chain, t_end, step):
-    """Pendulum and cam drop from :mod:`vcbmodel.reference.independent` (shares no law with the
-    model; event-driven sticking), as sensor rows sampled every ``step`` (default 1e-4 s)."""
-    t = np.linspace(0.0, t_end, int(round(t_end / (step or 1e-4))) + 1)
-    friction = friction_values(law)
-    if rig.experiment == "pendulum":
-        p = rig.pendulum
-        out = independent.pendulum(p.mass, p.inertia, p.com_distance, rig.gravity, rig.shaft_radius, friction,
-                                   p.initial_angle, p.initial_velocity, t)
-    else:
-        cam, spring = rig.cam, rig.closing_spring
-        chain_data = None
-        if chain is not None:
-            O, B = np.array(spring.anchor), np.array(cam_pin(cam.initial_angle, cam))
-            positions = O[None, :] + chain.equilibrium_fractions()[:, None] * (B - O)[None, :]
-            chain_data = {"masses": list(chain.masses), "stiffnesses": list(chain.stiffnesses),
-                          "free_lengths": list(chain.free_lengths), "positions": positions, "pin_mass": chain.pin_mass}
-        out = independent.cam_drop(
-            {"mass": cam.mass, "inertia_com": cam.inertia_com, "com_distance": cam.com_distance,
-             "com_angle": cam.com_angle, "pivot": tuple(cam.pivot), "arm_length": cam.arm_length,
-             "initial_angle": cam.initial_angle, "initial_velocity": cam.initial_velocity},
-            {"count": spring.count, "anchor": tuple(spring.anchor), "stiffness": spring.stiffness,
-             "free_length": spring.free_length, "chain": chain_data, "weight": spring.weight},
-            rig.gravity, rig.shaft_radius, friction, t)
+def reference_pendulum(rig, spec, law, chain, t_end, method="DOP853", step=None):
+    """The pendulum from :mod:`vcbmodel.reference.independent` (shares no law with the model;
+    event-driven sticking), as sensor rows sampled every ``step`` (default 1e-4 s)."""
+    t = _sample_times(t_end, step)
+    p = rig.pendulum
+    out = independent.pendulum(p.mass, p.inertia, p.com_distance, rig.gravity, rig.shaft_radius, friction_values(law),
+                               p.initial_angle, p.initial_velocity, t)
+    return _shaft_rows(t, out)
 
+
+def reference_cam_drop(rig, spec, law, chain, t_end, method="DOP853", step=None):
+    """The cam drop from :mod:`vcbmodel.reference.independent`, as :func:`reference_pendulum`."""
+    t = _sample_times(t_end, step)
+    cam, spring = rig.cam, rig.closing_spring
+    chain_data = None
+    if chain is not None:
+        O, B = np.array(spring.anchor), np.array(cam_pin(cam.initial_angle, cam))
+        positions = O[None, :] + chain.equilibrium_fractions()[:, None] * (B - O)[None, :]
+        chain_data = {"masses": list(chain.masses), "stiffnesses": list(chain.stiffnesses),
+                      "free_lengths": list(chain.free_lengths), "positions": positions, "pin_mass": chain.pin_mass}
+    out = independent.cam_drop(
+        {"mass": cam.mass, "inertia_com": cam.inertia_com, "com_distance": cam.com_distance,
+         "com_angle": cam.com_angle, "pivot": tuple(cam.pivot), "arm_length": cam.arm_length,
+         "initial_angle": cam.initial_angle, "initial_velocity": cam.initial_velocity},
+        {"count": spring.count, "anchor": tuple(spring.anchor), "stiffness": spring.stiffness,
+         "free_length": spring.free_length, "chain": chain_data, "weight": spring.weight},
+        rig.gravity, rig.shaft_radius, friction_values(law), t)
+    return _shaft_rows(t, out)
+
+
+def _sample_times(t_end, step):
+    return np.linspace(0.0, t_end, int(round(t_end / (step or 1e-4))) + 1)
+
+
+def _shaft_rows(t, out):
     def rows(*columns):
         return np.column_stack([t, *columns])
 
@@ -195,18 +205,17 @@ def _independent(rig, law, chain, t_end, step):
                   "stuck": out["stuck"]}
 
 
-def simulate_reference(rig, spec, law, chain, t_end, method="DOP853", step=None):
-    """Solve without Exudyn. Returns (data, info): ``data`` maps the Exudyn builders' sensor
+def reference_closing(rig, spec, law, chain, t_end, method="DOP853", step=None):
+    """The whole breaker without Exudyn: the hand-written equations above with the model's laws
+    (a wiring check), adaptive or fixed-step RK4.
+
+    Every ``reference_*`` solve returns (data, info): ``data`` maps the Exudyn builders' sensor
     names (``angle``, ``velocity``, ``spring_mass_k``, ``spring_velocity_k``, ``follower_angle``,
     ``pole_i_travel``, ...) to arrays of rows (t, values...), so the experiments assemble
-    channels from either backend the same way; ``info`` holds the breaker's initial state.
-
-    Pendulum and cam drop: the independent solve (:mod:`vcbmodel.reference.independent`);
-    ``method`` and ``step`` only set the output sampling. The whole breaker: the hand-written
-    equations below with the model's laws (a wiring check), adaptive or fixed-step RK4.
+    channels from either backend the same way; ``info`` holds the breaker's initial state. For the
+    pendulum and the cam drop ``method`` and ``step`` only set the output sampling. Each
+    experiment's record names its solve (``Experiment.reference``).
     """
-    if rig.experiment != "vcb_closing":
-        return _independent(rig, law, chain, t_end, step)
     extension = BreakerExtension(rig, spec)
     rhs, y0 = cam_rhs(rig, law, chain, extension)
     extension.offset = len(y0) - len(extension.y0)

@@ -1,0 +1,59 @@
+"""Truth models outside the model's families, for synthetic records whose cause no registered
+effect describes (the diagnosis' "not explained" checks): independent solves, like the others in
+this folder, sharing no law with the model.
+"""
+from __future__ import annotations
+
+import math
+
+import numpy as np
+from scipy.integrate import solve_ivp
+
+
+def position_dependent_pendulum(p, gravity, radius, friction, amplitude, wavelength, phase, t_eval):
+    """A pendulum whose journal friction depends on the shaft angle (no registered effect):
+    T_f = mu_k (1 + a sin(2 pi theta / lambda + phase)) r F_n sign(w) + Cv w, static friction 1.5x
+    that; sticking by events (stuck for good once static friction holds the weight's torque).
+    The reaction uses eq. 5-6 with the frictionless acceleration (the coupling is second order)."""
+    M, I, L, g = p["mass"], p["inertia"], p["com_distance"], gravity
+    mu_k, cv = friction["mu_k"], friction.get("viscous", 0.0)
+
+    def mu(th):
+        return mu_k * (1 + amplitude * math.sin(2 * math.pi * th / wavelength + phase))
+
+    def reaction(th, w):
+        acc = -M * g * L * math.sin(th) / I
+        return M * math.hypot(g * math.cos(th) + L * w * w, g * math.sin(th) + L * acc)
+
+    def rhs(s):
+        def f(t, y):
+            th, w = y
+            tf = mu(th) * radius * reaction(th, w) * s + cv * w
+            return [w, (-M * g * L * math.sin(th) - tf) / I]
+        return f
+
+    def zero(t, y):
+        return y[1]
+    zero.terminal = True
+
+    t_eval = np.asarray(t_eval, float)
+    theta = np.full(t_eval.size, np.nan)
+    t0, y0 = 0.0, [p["initial_angle"], 0.0]
+    while True:
+        th = y0[0]
+        torque = -M * g * L * math.sin(th)
+        if abs(y0[1]) < 1e-12 and abs(torque) <= 1.5 * mu(th) * radius * reaction(th, 0.0):
+            theta[t_eval >= t0 - 1e-12] = np.where(np.isnan(theta[t_eval >= t0 - 1e-12]), th,
+                                                   theta[t_eval >= t0 - 1e-12])
+            break
+        s = math.copysign(1.0, y0[1]) if abs(y0[1]) > 1e-12 else math.copysign(1.0, torque)
+        zero.direction = -s
+        sol = solve_ivp(rhs(s), (t0, t_eval[-1] + 1e-9), y0, method="DOP853", rtol=1e-10, atol=1e-12,
+                        events=zero, dense_output=True)
+        t1 = sol.t[-1]
+        sel = (t_eval >= t0 - 1e-12) & (t_eval <= t1 + 1e-12)
+        theta[sel] = sol.sol(t_eval[sel])[0]
+        if t1 >= t_eval[-1] or not sol.t_events[0].size:
+            break
+        t0, y0 = t1, [float(sol.y[0, -1]), 0.0]
+    return theta
