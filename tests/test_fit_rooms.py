@@ -9,7 +9,7 @@ import pytest
 
 import vcbmodel.analysis.fit as fitpkg
 from vcbmodel.analysis.fit import (Curves, Dataset, FitAborted, FitOptions, Objective, fit, levenberg_marquardt,
-                                   make_parameters, run_job)
+                                   make_parameters, refine, run_job, staged_fit)
 from vcbmodel.analysis.synthetic import synthetic_measurement
 
 MU_K = 0.11
@@ -82,6 +82,19 @@ def test_an_event_stops_a_fit_and_an_unset_one_does_not(short_swing, pendulum_ri
             verbose=False, should_stop=threading.Event().is_set)
     assert r.parameters["mu_k"].value == pytest.approx(MU_K, rel=0.02)
     assert pool.simulations > 2
+
+
+@pytest.mark.parametrize("entry", ["staged_fit", "refine"])
+def test_every_entry_point_passes_the_callback_down(entry, short_swing, pendulum_rig):
+    pool = CountingPool()
+    params = make_parameters(pendulum_rig, EFFECTS, initial={"mu_k": 0.05})
+    with pytest.raises(FitAborted):
+        if entry == "staged_fit":
+            staged_fit([short_swing], EFFECTS, None, params, pool=pool, verbose=False, should_stop=lambda: True)
+        else:
+            refine([short_swing], EFFECTS, pendulum_rig.model.spring_model, params, (None, None), pool=pool,
+                   should_stop=lambda: True)
+    assert pool.simulations == 0
 
 
 # --- the objective alone ---------------------------------------------------------------------------
