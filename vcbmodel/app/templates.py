@@ -8,12 +8,15 @@ from __future__ import annotations
 
 import copy
 import json
+import math
 
 from .. import parameters as P
 from ..experiments import experiment_of
 from ..experiments.simulation import model_spec
 from ..model.effects import EFFECTS, parameter_specs
 from ..model.values import rig_values
+from ..laws.coil import spring_check
+from ..laws.mechanics import cam_pin
 
 #: What each section's numbers mean (units), written into the templates as ``_units``.
 SECTION_UNITS = {
@@ -50,6 +53,29 @@ def template(kind):
     return json.dumps(out, indent=2) + "\n"
 
 
+def spring_lines(rig):
+    """The closing spring as a designer checks it: rate, mass and surge frequency (with their source),
+    the charged pull and the wire's stress against Shigley's allowable for an extension spring."""
+    s = rig.closing_spring
+    bx, by = cam_pin(rig.cam.initial_angle, rig.cam)
+    pull = s.stiffness * (math.hypot(bx - s.anchor[0], by - s.anchor[1]) - s.free_length)
+    c = spring_check(s, pull)
+
+    def source(key):
+        return "from the datasheet" if key in s.from_datasheet else "given"
+
+    coil = (f"wire {1e3 * c['wire_diameter_m']:.2f} mm on a {1e3 * c['coil_diameter_m']:.1f} mm mean diameter"
+            if c["coil_given"] else
+            f"no coil given: the lightest coil of this k0 and m0 at index {c['coil_diameter_m'] / c['wire_diameter_m']:g}, "
+            f"wire {1e3 * c['wire_diameter_m']:.2f} mm")
+    verdict = "within" if c["stress_ratio"] <= 1 else "ABOVE"
+    return [f"  closing spring ({s.count} alike): k0 {s.stiffness:.6g} N/m ({source('stiffness')}), active mass "
+            f"{s.mass:.4g} kg ({source('mass')}), surge frequency {c['surge_frequency_hz']:.1f} Hz",
+            f"    charged pull {pull:.0f} N each; {coil}: shear stress {c['shear_stress_Pa'] / 1e9:.2f} GPa, {verdict} "
+            f"0.45 S_ut = {c['allowable_Pa'] / 1e9:.2f} GPa of Cr-Si wire (Shigley Table 10-7, extension spring body; "
+            f"a compression spring with set removed: 0.65 S_ut = {c['allowable_compression_Pa'] / 1e9:.2f} GPa)"]
+
+
 def explain(rig):
     """Lines saying what ``simulate`` would run for ``rig``, where each value comes from, and what
     it reports; a value the model needs but the rig lacks raises InputError, as simulate would."""
@@ -65,6 +91,8 @@ def explain(rig):
     off = [name for name, e in EFFECTS.items() if rig.experiment in e.experiments and name not in spec.effects]
     if off:
         lines.append(f"  effects left out (candidates for vcbmodel diagnose): {', '.join(off)}")
+    if record.has_closing_spring:
+        lines += spring_lines(rig)
     lines.append(f"  simulate runs {record.default_duration:g} s at a fixed step of {record.step(rig):g} s and "
                  f"writes {record.measured_channel} ({record.unit}) at {record.sample_rate:g} samples/s")
     lines.append(f"  it reports: {', '.join(name for name, _ in record.figure_units)}")

@@ -21,160 +21,26 @@ throughout), as the rig's :class:`CamRollerLaw` says; the pole contacts are Hert
 with Lankarani-Nikravesh damping (impacts). The latch holds the cam with a force at a latch point
 (:class:`LatchPoint`), so it loads the shaft's journal like any other force on the cam.
 
-Cam profile: the roller centre runs on the pitch curve ``rho(u) = base_radius + roller_radius
-+ lift * s(u)`` about the cam axis A, where u is the cam's rotation measured so that the
-roller, on its rest line, sees ``u = theta`` (the cam angle of A->B). ``s`` is the 4-5-6-7
-polynomial rise ``35x^4 - 84x^5 + 70x^6 - 20x^7`` (zero speed, acceleration at both ends),
-a dwell at full lift and the mirrored return.
+The cam profile, the follower's kinematics and the cam-roller contact's geometry are in
+:mod:`.cam_follower` (re-exported here).
 """
 from __future__ import annotations
 
 import math
 from dataclasses import dataclass
 
-import numpy as np
 from scipy.optimize import brentq
 
 from ..errors import SimulationError
 from .contact import LINE_EXPONENT, hertz_contact_force, hunt_crossley_force, palmgren_line_stiffness
+from .cam_follower import (  # noqa: F401 -- re-exported: the breaker's laws are read from here too
+    TWO_PI, polynomial_rise, pitch_radius, follower_point, roller_centre, output_point, angle_on_circle, Geometry,
+    rest_geometry, CamRollerContact, cam_roller_contact, cam_roller_loads, kinematic_follower_angle, pressure_angle_curve, follower_displacement)
 from .friction import NumericOps
 from .mechanics import cam_pin, cam_weight_torque, massless_spring_force
 
-TWO_PI = 2.0 * math.pi
-
-
-# --- cam profile -------------------------------------------------------------------------------
-
-def polynomial_rise(x, ops=NumericOps):
-    """4-5-6-7 rise s(x) and ds/dx for x in [0, 1] (clipped outside); s(0)=0, s(1)=1."""
-    x = ops.min(ops.max(x, 0.0), 1.0)
-    x3 = x * x * x
-    s = x3 * x * (35.0 + x * (-84.0 + x * (70.0 - 20.0 * x)))
-    ds = x3 * (140.0 + x * (-420.0 + x * (420.0 - 140.0 * x)))
-    return s, ds
-
-
-def pitch_radius(u, profile, roller_radius, ops=NumericOps):
-    """Distance rho (m) of the roller centre from the cam axis on the pitch curve, and
-    d rho / d u (m/rad), at cam rotation u (rad) relative to the roller: the rise, the dwell at
-    full lift, the return and the base circle (each piece evaluated, the one that applies chosen)."""
-    p = profile
-    turns = (u - p.rise_start) / TWO_PI
-    u = p.rise_start + (u - p.rise_start) - TWO_PI * ops.floor(turns)  # into [rise_start, rise_start + 2 pi)
-    base = p.base_radius + roller_radius
-    w_rise, w_return = p.rise_end - p.rise_start, p.return_end - p.return_start
-    s_rise, ds_rise = polynomial_rise((u - p.rise_start) / w_rise, ops)
-    s_return, ds_return = polynomial_rise((u - p.return_start) / w_return, ops)
-    rising, dwelling = u <= p.rise_end, u < p.return_start
-    rho = ops.where(rising, base + p.lift * s_rise, ops.where(dwelling, base + p.lift, base + p.lift * (1.0 - s_return)))
-    drho = ops.where(rising, p.lift * ds_rise / w_rise, ops.where(dwelling, 0.0, -p.lift * ds_return / w_return))
-    return rho, drho
-
-
-# --- follower kinematics -----------------------------------------------------------------------
-
-def follower_point(phi, follower, arm, angle=0.0, ops=NumericOps):
-    """Point on the follower at ``arm`` (m) and ``angle`` (rad) from the roller direction."""
-    return (follower.pivot[0] + arm * ops.cos(phi + angle), follower.pivot[1] + arm * ops.sin(phi + angle))
-
-
-def roller_centre(phi, follower, ops=NumericOps):
-    return follower_point(phi, follower, follower.roller_arm, 0.0, ops)
-
-
-def output_point(phi, follower, ops=NumericOps):
-    """The follower's output point F (m) driving the push rods."""
-    return follower_point(phi, follower, follower.output_arm, follower.output_angle, ops)
-
-
-def angle_on_circle(pivot, arm, centre, radius, near):
-    """Angle phi (rad) with |pivot + arm (cos phi, sin phi) - centre| = radius, closest to
-    ``near`` (the intersection of two circles)."""
-    dx, dy = centre[0] - pivot[0], centre[1] - pivot[1]
-    d = math.hypot(dx, dy)
-    cos_a = (arm * arm + d * d - radius * radius) / (2.0 * arm * d)
-    if abs(cos_a) > 1.0:
-        raise ValueError("the roller cannot reach the cam's pitch curve: check follower pivot and arm")
-    base, a = math.atan2(dy, dx), math.acos(cos_a)
-    candidates = (base + a, base - a)
-    return min(candidates, key=lambda c: abs(math.remainder(c - near, TWO_PI)))
-
-
-@dataclass(frozen=True)
-class Geometry:
-    """Derived rest geometry: cam axis A (m), roller direction from A (rad), open follower
-    angle (rad), output point F0 (m)."""
-
-    cam_axis: tuple
-    roller_direction: float
-    follower_angle: float
-    output_point: tuple
-
-
-def rest_geometry(breaker, cam_axis) -> Geometry:
-    """The follower angle that puts the roller on the base circle (open position)."""
-    f = breaker.follower
-    rho0 = breaker.profile.base_radius + breaker.roller_radius
-    phi = angle_on_circle(f.pivot, f.roller_arm, cam_axis, rho0, f.rest_angle)
-    cx, cy = roller_centre(phi, f)
-    return Geometry(tuple(cam_axis), math.atan2(cy - cam_axis[1], cx - cam_axis[0]), phi, output_point(phi, f))
-
 
 # --- contact laws ---------------------------------------------------------------------------------
-
-@dataclass
-class CamRollerContact:
-    """State of the cam-roller contact. Lengths m, speeds m/s, force N, torques N m."""
-
-    penetration: float  # normal overlap of roller and cam surface (> 0: in contact)
-    penetration_rate: float
-    normal: tuple  # unit normal of the cam surface at the contact, pointing to the roller
-    centre: tuple  # roller centre C (the force acts along the normal through C)
-    pressure_angle: float  # rad, between the normal and the roller centre's path
-
-
-def cam_roller_contact(theta, omega, phi, phi_dot, breaker, geometry: Geometry, ops=NumericOps) -> CamRollerContact:
-    """Normal penetration of the roller into the cam (cam angle theta, follower angle phi, rad).
-
-    With rho_C = |C - A| and beta the direction of C from A, the roller sees the cam
-    rotation u = theta - (beta - beta_rest); the pitch curve's outward normal is
-    n = (e_r - q e_beta) / sqrt(1 + q^2) with q = (d rho / d beta) / rho = -(d rho/du) / rho,
-    and the penetration (rho(u) - rho_C) cos(gamma), cos(gamma) = 1 / sqrt(1 + q^2), exact to
-    first order in the penetration. Against the exact minimum distance to the pitch curve
-    (:mod:`vcbmodel.reference.breaker`) this costs 0.4 nm of penetration and 0.01 um of follower
-    displacement over the reference closing.
-    """
-    f, A = breaker.follower, geometry.cam_axis
-    cx, cy = roller_centre(phi, f, ops)
-    vx, vy = -phi_dot * (cy - f.pivot[1]), phi_dot * (cx - f.pivot[0])
-    dx, dy = cx - A[0], cy - A[1]
-    rho_c = ops.sqrt(dx * dx + dy * dy)
-    erx, ery = dx / rho_c, dy / rho_c
-    ebx, eby = -ery, erx
-    beta = ops.atan2(dy, dx)
-    u = theta - (beta - geometry.roller_direction)
-    rho, drho_du = pitch_radius(u, breaker.profile, breaker.roller_radius, ops)
-    q = -drho_du / rho
-    cos_g = 1.0 / ops.sqrt(1.0 + q * q)
-    nx, ny = (erx - q * ebx) * cos_g, (ery - q * eby) * cos_g
-    beta_dot = (ebx * vx + eby * vy) / rho_c
-    rate = (drho_du * (omega - beta_dot) - (erx * vx + ery * vy)) * cos_g
-    # pressure angle: normal vs the roller centre's direction of motion (perpendicular to the arm)
-    tx, ty = -(cy - f.pivot[1]) / f.roller_arm, (cx - f.pivot[0]) / f.roller_arm
-    pressure = ops.acos(ops.min(1.0, ops.abs(nx * tx + ny * ty)))
-    return CamRollerContact((rho - rho_c) * cos_g, rate, (nx, ny), (cx, cy), pressure)
-
-
-def cam_roller_loads(contact: CamRollerContact, force, breaker, geometry: Geometry):
-    """Torques (N m) of a normal contact force (N, pushing the roller out) on the cam about A
-    and on the follower about its pivot, and the force (N) on the cam: (T_cam, T_follower, Fx, Fy)."""
-    (cx, cy), (nx, ny) = contact.centre, contact.normal
-    A, Bf = geometry.cam_axis, breaker.follower.pivot
-    fx, fy = force * nx, force * ny
-    t_cam = -((cx - A[0]) * fy - (cy - A[1]) * fx)
-    t_follower = (cx - Bf[0]) * fy - (cy - Bf[1]) * fx
-    return t_cam, t_follower, -fx, -fy
-
 
 def contact_force(penetration, rate, stiffness, exponent, restitution, impact_speed, min_impact_speed, ops=NumericOps):
     """Hertz force with Lankarani-Nikravesh damping (N); the impact speed (m/s) is the approach
@@ -249,41 +115,11 @@ def pole_gaps(poles):
     return [poles.contact_gap + o for o in poles.gap_offsets]
 
 
-def kinematic_follower_angle(theta, breaker, geometry: Geometry, near=None):
-    """Follower angle (rad) that puts the roller centre exactly on the pitch curve at cam
-    angle theta (fixed-point iteration; the pitch radius depends weakly on phi)."""
-    f = breaker.follower
-    phi = geometry.follower_angle if near is None else near
-    for _ in range(100):
-        cx, cy = roller_centre(phi, f)
-        beta = math.atan2(cy - geometry.cam_axis[1], cx - geometry.cam_axis[0])
-        rho = pitch_radius(theta - (beta - geometry.roller_direction), breaker.profile, breaker.roller_radius)[0]
-        new = angle_on_circle(f.pivot, f.roller_arm, geometry.cam_axis, rho, phi)
-        if abs(new - phi) < 1e-14:
-            break
-        phi = new
-    return phi
-
-
-def pressure_angle_curve(breaker, geometry: Geometry, thetas):
-    """Pressure angle (rad) along the cam rotation with the roller on the pitch curve."""
-    out, phi = [], geometry.follower_angle
-    for th in thetas:
-        phi = kinematic_follower_angle(th, breaker, geometry, phi)
-        out.append(cam_roller_contact(th, 0.0, phi, 0.0, breaker, geometry).pressure_angle)
-    return np.array(out)
-
-
 def update_impact_speeds(impact, state, ops=NumericOps):
     """While contact k is open (penetration <= 0) its impact speed follows the approach speed
     (m/s); once it penetrates, the last open value is kept: the speed at impact."""
     for k, (penetration, rate) in enumerate(state):
         impact[k] = ops.where(penetration <= 0.0, ops.max(rate, 0.0), impact[k])
-
-
-def follower_displacement(phi, follower, phi0):
-    """Travel (m) of the output point F along the poles' closing direction (+y) from rest."""
-    return np.array([output_point(p, follower)[1] for p in np.atleast_1d(phi)]) - output_point(phi0, follower)[1]
 
 
 @dataclass

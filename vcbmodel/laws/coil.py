@@ -1,10 +1,19 @@
-"""Helical-spring formulas for the closing spring's continuum model (ANCF).
+"""Helical-spring formulas: the closing spring from its datasheet, its stress and strength, and
+its continuum model (ANCF).
 
 Geometry (Wahl, Mechanical Springs, 1963; Shigley, Mechanical Engineering Design, ch. 10): wire
 diameter d, mean coil diameter D, active coils n_a, spring index C = D/d;
 k0 = G d^4 / (8 D^3 n_a) and the active coils' mass m0 = rho (pi d^2 / 4) pi D n_a. Given k0, m0
 and C, d^4 = 32 C^2 k0 m0 / (rho pi^2 G). Shear stress under a force F with Wahl's correction:
 tau = K_W 8 F D / (pi d^3), K_W = (4C - 1)/(4C - 4) + 0.615/C.
+
+Datasheet (a spring maker's catalogue or drawing gives d, D, n_a, G and the free length): k0 and
+the active coils' mass follow from the formulas above, the surge (first fixed-fixed axial)
+frequency is f1 = (1/2) sqrt(k0 / m0) (Wahl ch. 25), and the wire's strength is Shigley's
+S_ut = A / d^m (Table 10-4; d in mm, S_ut in MPa): A = 2005, m = 0.108 for oil-tempered
+chromium-silicon wire (ASTM A401), A = 2211, m = 0.145 for music wire (A228). Shigley's allowable
+static torsional stress in an extension spring's body is 0.45 S_ut (Table 10-7; 0.65 S_ut for
+compression springs with set removed, Table 10-6).
 
 Equivalent beam of the coil (Timoshenko & Gere, Theory of Elastic Stability, sec. 2.20;
 Haringx, Philips Res. Rep. 3-4, 1948-49): bending stiffness EI_eq = 2 E I_w L / (pi n_a D (2 + nu))
@@ -44,6 +53,44 @@ class CoilGeometry:
         return P.STEEL_DENSITY * math.pi * self.wire_diameter**2 / 4 * math.pi * self.coil_diameter * self.active_coils
 
 
+#: Shigley's wire strength S_ut = A / d^m (Table 10-4): {wire: (A in MPa mm^m, m)}
+WIRE_STRENGTH = {"chromium_silicon": (2005.0, 0.108), "music_wire": (2211.0, 0.145)}
+#: Allowable static torsional stress of an extension spring's body, as a fraction of S_ut (Shigley Table 10-7)
+EXTENSION_BODY_FRACTION = 0.45
+#: The same for a compression spring with set removed (Shigley Table 10-6: hardened and tempered alloy steel)
+COMPRESSION_SET_REMOVED_FRACTION = 0.65
+
+
+def coil_stiffness(wire_diameter, coil_diameter, active_coils, shear_modulus):
+    """k0 (N/m) = G d^4 / (8 D^3 n_a) of a helical spring (d, D in m; G in Pa)."""
+    return shear_modulus * wire_diameter**4 / (8.0 * coil_diameter**3 * active_coils)
+
+
+def coil_mass(wire_diameter, coil_diameter, active_coils, density):
+    """Mass (kg) of the active coils: rho (pi d^2 / 4) pi D n_a (density in kg/m^3)."""
+    return density * math.pi * wire_diameter**2 / 4.0 * math.pi * coil_diameter * active_coils
+
+
+def surge_frequency(stiffness, mass):
+    """First axial natural frequency (Hz) of a spring fixed at both ends: (1/2) sqrt(k0/m0)."""
+    return 0.5 * math.sqrt(stiffness / mass)
+
+
+def wire_strength(wire_diameter, wire="chromium_silicon"):
+    """Ultimate tensile strength S_ut (Pa) of spring wire of diameter d (m): Shigley's A / d^m."""
+    a, m = WIRE_STRENGTH[wire]
+    return a / (1000.0 * wire_diameter) ** m * 1e6
+
+
+def shear_stress_at_index(force, stiffness, mass, index, shear_modulus=P.DEFAULT_SHEAR_MODULUS,
+                          density=P.STEEL_DENSITY):
+    """Wahl-corrected shear stress (Pa) of the lightest coil with stiffness k0 (N/m), active mass
+    m0 (kg) and spring index C that carries ``force`` (N): with d^4 = 32 C^2 k0 m0 / (rho pi^2 G),
+    tau = K_W 8 F C / (pi d^2), nearly independent of C (it scales with F / sqrt(k0 m0))."""
+    d = (32.0 * index**2 * stiffness * mass / (density * math.pi**2 * shear_modulus)) ** 0.25
+    return CoilGeometry(d, index * d, 1.0, shear_modulus).shear_stress(force)
+
+
 def coil_geometry(spring):
     """The coil of one spring (``stiffness`` k0 N/m, ``mass`` m0 kg): the rig's wire and coil
     diameters when given, else derived from k0 and m0 at SPRING_INDEX (module docstring);
@@ -74,3 +121,21 @@ def coil_shear_stiffness(spring, length):
     """Equivalent shear stiffness GA_eq (N) of one spring at ``length`` (m): (E/G) k0 L (Haringx)."""
     G = spring.shear_modulus or P.DEFAULT_SHEAR_MODULUS
     return P.DEFAULT_YOUNGS_MODULUS / G * spring.stiffness * length
+
+
+def spring_check(spring, charged_force, wire="chromium_silicon"):
+    """What a designer checks of one closing spring charged to ``charged_force`` (N): k0 (N/m), the
+    active mass m0 (kg), the surge frequency (Hz), the wire's shear stress (Pa) there (the coil of
+    the rig's datasheet, or of :func:`coil_geometry`'s default index), the wire's strength S_ut
+    and Shigley's allowable 0.45 S_ut for an extension spring's body (Pa), and their ratio; and
+    0.65 S_ut, a compression spring's with set removed (the same coil used in compression)."""
+    g = coil_geometry(spring)
+    tau = g.shear_stress(charged_force)
+    strength = wire_strength(g.wire_diameter, wire)
+    allowable = EXTENSION_BODY_FRACTION * strength
+    return {"stiffness_N_m": spring.stiffness, "mass_kg": spring.mass,
+            "surge_frequency_hz": surge_frequency(spring.stiffness, spring.mass),
+            "charged_force_N": charged_force, "wire_diameter_m": g.wire_diameter, "coil_diameter_m": g.coil_diameter,
+            "shear_stress_Pa": tau, "allowable_Pa": allowable, "stress_ratio": tau / allowable,
+            "allowable_compression_Pa": COMPRESSION_SET_REMOVED_FRACTION * strength,
+            "coil_given": spring.wire_diameter is not None and spring.coil_diameter is not None}

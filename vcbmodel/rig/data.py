@@ -57,6 +57,8 @@ class ClosingSpring:
     active_coils: float | None = None
     shear_modulus: float | None = None  # Pa
     weight: bool = False  # spring masses carry their weight (spec: no, unless said)
+    density: float | None = None  # kg/m^3 of the wire (a datasheet spring's mass; steel when not given)
+    from_datasheet: tuple = ()  # the fields derived from the datasheet (stiffness, mass), for reports
 
 
 # --- the whole breaker (experiment vcb_closing) -------------------------------------------------

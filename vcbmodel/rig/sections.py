@@ -8,8 +8,11 @@ from __future__ import annotations
 
 import math
 
+from .. import parameters as P
+
 from ..laws.breaker import TWO_PI, CamRollerLaw, LatchPoint, pitch_radius, rest_geometry
 from ..laws.contact import CAM_ROLLER_LAWS, DAMPING_LAWS
+from ..laws.coil import coil_mass, coil_stiffness
 from ..laws.mechanics import cam_pin
 from .paths import numeric_at
 from .data import (Breaker, Cam, CamProfile, ClosingSpring, ContactLaw, Follower, OpeningSpring, Pendulum,
@@ -21,7 +24,9 @@ PENDULUM_KEYS = ("mass", "inertia", "com_distance", "initial_angle", "initial_ve
 CAM_KEYS = ("mass", "inertia_com", "com_distance", "com_angle", "pivot", "arm_length", "initial_angle",
             "initial_velocity")
 SPRING_KEYS = ("count", "stiffness", "mass", "free_length", "anchor", "wire_diameter", "coil_diameter",
-               "active_coils", "shear_modulus", "weight")
+               "active_coils", "shear_modulus", "weight", "density")
+#: Relative difference allowed between a given k0 or m0 and the datasheet's (catalogue rounding)
+DATASHEET_TOLERANCE = 0.05
 
 
 def without_comments(obj):
@@ -106,15 +111,46 @@ def read_closing_spring(rd, data, cam):
     s = without_comments(rd.section(data, "closing_spring", known=SPRING_KEYS))
     pre = "closing_spring."
     optional = {k: rd.number(s, k, pre, positive=True)
-                for k in ("wire_diameter", "coil_diameter", "active_coils", "shear_modulus") if k in s}
+                for k in ("wire_diameter", "coil_diameter", "active_coils", "shear_modulus", "density") if k in s}
+    stiffness, mass, derived = spring_rate_and_mass(rd, s, optional)
     spring = ClosingSpring(
-        count=rd.count(s, "count", pre, default=2.0), stiffness=rd.number(s, "stiffness", pre, positive=True),
-        mass=rd.number(s, "mass", pre, positive=True), free_length=rd.number(s, "free_length", pre, positive=True),
-        anchor=rd.point(s, "anchor", pre), weight=rd.boolean(s, "weight", pre), **optional)
+        count=rd.count(s, "count", pre, default=2.0), stiffness=stiffness, mass=mass,
+        free_length=rd.number(s, "free_length", pre, positive=True), anchor=rd.point(s, "anchor", pre),
+        weight=rd.boolean(s, "weight", pre), from_datasheet=derived, **optional)
     bx, by = cam_pin(cam.initial_angle, cam)
     if math.hypot(bx - spring.anchor[0], by - spring.anchor[1]) <= spring.free_length:
         rd.fail("closing_spring.free_length", "the spring is not stretched at the start: a tension spring must be charged")
     return {"closing_spring": spring}
+
+
+def spring_rate_and_mass(rd, s, coil):
+    """k0 (N/m) and m0 (kg) of a closing spring: as given, or from its datasheet (wire and mean
+    coil diameter, active coils, shear modulus; the wire's density, steel's 7850 kg/m^3 unless
+    given: :mod:`vcbmodel.laws.coil`). Given and datasheet values must agree within
+    DATASHEET_TOLERANCE. Returns (k0, m0, the names derived from the datasheet)."""
+    pre = "closing_spring."
+    geometry = all(k in coil for k in ("wire_diameter", "coil_diameter", "active_coils"))
+    sheet = {}
+    if geometry and "shear_modulus" in coil:
+        sheet["stiffness"] = coil_stiffness(coil["wire_diameter"], coil["coil_diameter"], coil["active_coils"],
+                                            coil["shear_modulus"])
+    if geometry:
+        sheet["mass"] = coil_mass(coil["wire_diameter"], coil["coil_diameter"], coil["active_coils"],
+                                  coil.get("density", P.STEEL_DENSITY))
+    values, derived = {}, []
+    for key, unit, need in (("stiffness", "N/m", "wire_diameter, coil_diameter, active_coils and shear_modulus"),
+                            ("mass", "kg", "wire_diameter, coil_diameter and active_coils")):
+        if key in s:
+            values[key] = rd.number(s, key, pre, positive=True)
+            if key in sheet and abs(values[key] / sheet[key] - 1) > DATASHEET_TOLERANCE:
+                rd.fail(pre + key, f"{values[key]:.6g} {unit}, but the datasheet fields give {sheet[key]:.6g} {unit} "
+                        f"(more than {100 * DATASHEET_TOLERANCE:g} % apart): correct one, or leave {key} out")
+        elif key in sheet:
+            values[key] = sheet[key]
+            derived.append(key)
+        else:
+            rd.fail(pre + key, f"missing: give it, or the spring's datasheet ({need})")
+    return values["stiffness"], values["mass"], tuple(derived)
 
 
 def read_cam_and_spring(rd, data):
