@@ -111,8 +111,8 @@ def test_tie_error_falls_as_one_over_k_and_extrapolates(heavy_cam):
 
 
 def _with_spring_mass(rig, mass):
-    from vcbmodel.analysis.nuisance import rig_with
-    return rig_with(rig, {"closing_spring.mass": mass})
+    from vcbmodel.rig.paths import loaded_with
+    return loaded_with(rig, {"closing_spring.mass": mass})
 
 
 @pytest.mark.parametrize("mass", [0.1, 3.0])

@@ -43,7 +43,8 @@ from ..records.signals import (disagreement_window, dominant_frequency, lag1_aut
 from . import fit as fitting
 from .fit import Dataset, FitAborted, FitResult, Parameter, SimulationPool, make_parameters
 from .noise import STRUCTURE_TOLERANCE, NoiseModel, consistency, fit_noise, rounding_dominates
-from .nuisance import record_setup, release_from_model, rig_get, swing_period_mismatch
+from ..rig.paths import loaded_value
+from .nuisance import record_setup, release_from_model, swing_period_mismatch
 from .progress import progress
 
 #: BIC improvement (in units of chi^2 of the whitened residual) required to name an effect.
@@ -314,7 +315,7 @@ class Context:
         for path, rel in {**self.uncertain, **self.implied}.items():
             if path.startswith(("friction.", "record.")):
                 continue
-            nominal = float(rig_get(rig, path))
+            nominal = float(loaded_value(rig, path))
             sd = abs(rel * nominal)
             lo, hi = nominal - 4 * sd, nominal + 4 * sd
             if nominal > 0:

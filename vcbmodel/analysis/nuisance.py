@@ -19,13 +19,14 @@ from the free motion's first turning point, with the samples before it left out.
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass, field, replace
+from dataclasses import dataclass, field
 
 import numpy as np
 from scipy.optimize import nnls
 from scipy.special import ellipk
 
 from ..experiments import experiment_of
+from ..rig.paths import loaded_value
 from ..records.signals import motion_onset, swing_peaks
 
 #: Prior standard deviation of the initial angle around the rig's nominal value (rad) where the
@@ -65,50 +66,6 @@ class RecordSetup:
 
 def initial_angle_field(experiment):
     return experiment_of(experiment).initial_angle_field
-
-
-def rig_get(rig, path):
-    """A numeric rig value by its dotted path (``pendulum.inertia``, ``shaft.radius``, ``gravity``,
-    ``friction.mu_k``, ``breaker.poles.moving_mass``)."""
-    if path == "gravity":
-        return rig.gravity
-    if path == "shaft.radius":
-        return rig.shaft_radius
-    head, _, rest = path.partition(".")
-    if head == "friction":
-        return rig.friction.get(rest)
-    obj = rig.sections.get(head)
-    for key in rest.split("."):
-        obj = getattr(obj, key)
-    return obj
-
-
-def rig_with(rig, overrides):
-    """A copy of ``rig`` with numeric fields replaced (dotted paths, see :func:`rig_get`;
-    ``friction.*`` values are passed to the simulation as values instead)."""
-    if not overrides:
-        return rig
-    sections = dict(rig.sections)
-    top = {}
-    for path, value in overrides.items():
-        if path == "gravity":
-            top["gravity"] = float(value)
-            continue
-        if path == "shaft.radius":
-            top["shaft_radius"] = float(value)
-            continue
-        head, _, rest = path.partition(".")
-        if head == "friction":
-            continue
-        keys = rest.split(".")
-
-        def put(obj, keys):
-            if len(keys) == 1:
-                return replace(obj, **{keys[0]: float(value)})
-            return replace(obj, **{keys[0]: put(getattr(obj, keys[0]), keys[1:])})
-
-        sections[head] = put(sections[head], keys)
-    return replace(rig, sections=sections, **top)
 
 
 def _parabola_release(t, y, level, sigma, lo, hi):
@@ -151,7 +108,7 @@ def record_setup(rig, measurement, sigma) -> RecordSetup:
     dt = float(np.median(np.diff(t)))
     sigma = max(float(sigma), 1e-12)
     field_name = rec.initial_angle_field
-    nominal = rig_get(rig, field_name) if field_name else None
+    nominal = loaded_value(rig, field_name) if field_name else None
     notes = []
     onset, level, still = motion_onset(t, y, sigma)
     hand = False

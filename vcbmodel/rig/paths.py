@@ -1,9 +1,11 @@
 """Dotted paths into a rig's JSON object (``friction.mu_k``, ``breaker.poles.gap_offsets.1``: list
-items by index). One implementation for every layer that names a rig field by its path: sweeps, the
-rig's ``uncertain`` section, nuisance estimates."""
+items by index) and into a loaded rig (:func:`loaded_value`, :func:`loaded_with`). One
+implementation for every layer that names a rig field by its path: sweeps, the rig's
+``uncertain`` section, nuisance estimates and fits."""
 from __future__ import annotations
 
 import copy
+from dataclasses import replace
 
 
 def path_keys(path):
@@ -66,3 +68,47 @@ def numeric_at(data, path):
     except (KeyError, ValueError):
         return None
     return value if isinstance(value, (int, float)) and not isinstance(value, bool) else None
+
+
+def loaded_value(rig, path):
+    """A numeric rig value by its dotted path (``pendulum.inertia``, ``shaft.radius``, ``gravity``,
+    ``friction.mu_k``, ``breaker.poles.moving_mass``)."""
+    if path == "gravity":
+        return rig.gravity
+    if path == "shaft.radius":
+        return rig.shaft_radius
+    head, _, rest = path.partition(".")
+    if head == "friction":
+        return rig.friction.get(rest)
+    obj = rig.sections.get(head)
+    for key in path_keys(rest):
+        obj = obj[key] if isinstance(key, int) else getattr(obj, key)
+    return obj
+
+
+def loaded_with(rig, overrides):
+    """A copy of ``rig`` with numeric fields replaced (dotted paths, see :func:`loaded_value`;
+    ``friction.*`` values are passed to the simulation as values instead)."""
+    if not overrides:
+        return rig
+    sections = dict(rig.sections)
+    top = {}
+    for path, value in overrides.items():
+        if path == "gravity":
+            top["gravity"] = float(value)
+            continue
+        if path == "shaft.radius":
+            top["shaft_radius"] = float(value)
+            continue
+        head, _, rest = path.partition(".")
+        if head == "friction":
+            continue
+        keys = path_keys(rest)
+
+        def put(obj, keys):
+            if len(keys) == 1:
+                return replace(obj, **{keys[0]: float(value)})
+            return replace(obj, **{keys[0]: put(getattr(obj, keys[0]), keys[1:])})
+
+        sections[head] = put(sections[head], keys)
+    return replace(rig, sections=sections, **top)

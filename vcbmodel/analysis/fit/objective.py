@@ -9,7 +9,7 @@ from typing import Callable
 import numpy as np
 from scipy.interpolate import CubicSpline
 
-from ..nuisance import rig_with
+from ...rig.paths import loaded_with
 from .dataset import as_recorded, as_recorded_derivative, gain_name, has_gain, has_offset, model_channel, offset_name
 from .options import FitAborted
 from .parameters import DIFF_STEP, FAILED
@@ -120,7 +120,7 @@ class Objective:
         for path, v in list(overrides.items()):
             if path.startswith("friction."):
                 model[path.split(".", 1)[1]] = v
-        rig = rig_with(d.rig, overrides)
+        rig = loaded_with(d.rig, overrides)
         chans = tuple(dict.fromkeys(model_channel(d, ch) for ch in d.fitted_channels))
         uf = user_function_for(rig)
         step = self.step if self.step is not None else fit_step(rig, self.spring_model)
