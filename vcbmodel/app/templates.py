@@ -10,11 +10,14 @@ import copy
 import json
 import math
 
+import numpy as np
+
 from .. import parameters as P
 from ..experiments import experiment_of
 from ..experiments.simulation import model_spec
 from ..model.effects import EFFECTS, parameter_specs
 from ..model.values import rig_values
+from ..laws.cam_follower import pressure_angle_curve, rest_geometry
 from ..laws.coil import spring_check
 from ..laws.mechanics import cam_pin
 
@@ -51,6 +54,21 @@ def template(kind):
             value = {"_units": SECTION_UNITS[key], **value}
         out[key] = value
     return json.dumps(out, indent=2) + "\n"
+
+
+def cam_lines(rig):
+    """The cam as a designer checks it: where its profile comes from, the largest pressure angle over
+    the turn from the start (limit 30 deg usual, 45 deg refused) and the roller's clearance."""
+    b, cam = rig.breaker, rig.cam
+    thetas = cam.initial_angle + np.linspace(0.0, 2 * np.pi, 721)
+    pressure = pressure_angle_curve(b, rest_geometry(b, cam.pivot), thetas)
+    k = int(np.argmax(pressure))
+    source = (f"{len(b.profile.table) // 2}-sample table of a spline through the rig's points" if b.profile.table
+              else "4-5-6-7 polynomial rise, dwell and return")
+    return [f"  cam profile: {source}; lift {1e3 * b.profile.lift:.2f} mm, base circle {1e3 * b.profile.base_radius:.1f} mm, "
+            f"roller {1e3 * b.roller_radius:g} mm",
+            f"    largest pressure angle {np.degrees(pressure[k]):.1f} deg at cam angle {np.degrees(thetas[k]):.1f} deg "
+            f"(usual limit 30 deg; above 45 deg a profile is refused)"]
 
 
 def spring_lines(rig):
@@ -93,6 +111,8 @@ def explain(rig):
         lines.append(f"  effects left out (candidates for vcbmodel diagnose): {', '.join(off)}")
     if record.has_closing_spring:
         lines += spring_lines(rig)
+    if rig.breaker is not None:
+        lines += cam_lines(rig)
     lines.append(f"  simulate runs {record.default_duration:g} s at a fixed step of {record.step(rig):g} s and "
                  f"writes {record.measured_channel} ({record.unit}) at {record.sample_rate:g} samples/s")
     lines.append(f"  it reports: {', '.join(name for name, _ in record.figure_units)}")

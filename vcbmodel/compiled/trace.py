@@ -123,6 +123,16 @@ class Graph:
         kind = max(self.kinds[i] for i in idx)
         return self._add(op, idx, value, kind)
 
+    def take(self, table, index) -> Expr:
+        """``table[int(index) mod len]`` for a table of consecutive parameters (``p[base + k]``)."""
+        items = [self.lift(x) for x in table]
+        base = self.nodes[items[0].index][1][0] if self.nodes[items[0].index][0] == "param" else None
+        if base is None or any(self.nodes[x.index] != ("param", (base + k,)) for k, x in enumerate(items)):
+            raise TypeError("ops.take needs a table of run-time parameters (a tuple field of the inputs)")
+        i = self.lift(index)
+        value = self.values[items[int(self.values[i.index]) % len(items)].index]
+        return self._add(f"take:{base}:{len(items)}", (i.index,), value, max(STATE, self.kinds[i.index]))
+
     def _simplify(self, op, xs, vals):
         consts = [self.kinds[x.index] == CONST for x in xs]
         if op == "add":
@@ -173,12 +183,15 @@ class Graph:
 
     def _c_expr(self, i, prefix):
         op, args = self.nodes[i]
-        a = [f"{prefix}{j}" for j in args] if op not in ("const", "param", "state") else []
+        a = [f"{prefix}{j}" for j in args] if op not in ("const", "param", "state") and not op.startswith("take:") else []
         if op == "const":
             v = self.values[i]
             return repr(v) if math.isfinite(v) else ("NAN" if v != v else ("INFINITY" if v > 0 else "-INFINITY"))
         if op == "param":
             return f"p[{args[0]}]"
+        if op.startswith("take:"):
+            _, base, n = op.split(":")
+            return f"p[{base} + ((((long){prefix}{args[0]}) % {n}) + {n}) % {n}]"
         if op == "state":
             return args[0]
         if op in _C_BINARY:
@@ -314,6 +327,9 @@ class TraceOps:
 
     def floor(self, x):
         return self.graph.apply("floor", x)
+
+    def take(self, table, index):
+        return self.graph.take(table, index)
 
     def sin(self, x):
         return self.graph.apply("sin", x)

@@ -34,8 +34,11 @@ def polynomial_rise(x, ops=NumericOps):
 def pitch_radius(u, profile, roller_radius, ops=NumericOps):
     """Distance rho (m) of the roller centre from the cam axis on the pitch curve, and
     d rho / d u (m/rad), at cam rotation u (rad) relative to the roller: the rise, the dwell at
-    full lift, the return and the base circle (each piece evaluated, the one that applies chosen)."""
+    full lift, the return and the base circle (each piece evaluated, the one that applies chosen);
+    or, for a profile given by points, its table (:func:`table_radius`)."""
     p = profile
+    if p.table:
+        return table_radius(u, p.table, ops)
     turns = (u - p.rise_start) / TWO_PI
     u = p.rise_start + (u - p.rise_start) - TWO_PI * ops.floor(turns)  # into [rise_start, rise_start + 2 pi)
     base = p.base_radius + roller_radius
@@ -46,6 +49,73 @@ def pitch_radius(u, profile, roller_radius, ops=NumericOps):
     rho = ops.where(rising, base + p.lift * s_rise, ops.where(dwelling, base + p.lift, base + p.lift * (1.0 - s_return)))
     drho = ops.where(rising, p.lift * ds_rise / w_rise, ops.where(dwelling, 0.0, -p.lift * ds_return / w_return))
     return rho, drho
+
+
+# --- a cam given by points ---------------------------------------------------------------------
+
+#: Samples per turn of the table of a cam given by points (0.25 deg; cubic Hermite between them:
+#: within 1e-9 m of the spline for a profile whose lift changes over a few degrees or more)
+PROFILE_SAMPLES = 1440
+#: Largest pressure angle a roller follower is driven through (rad): above it the cam jams the
+#: roller rather than lifting it (the usual design limit is 30 deg)
+MAX_PRESSURE_ANGLE = math.radians(45.0)
+
+
+def profile_spline(angles, radii):
+    """The periodic cubic spline rho(u) (m) through points of the pitch curve: cam angles (rad,
+    increasing, within one turn) and the roller centre's distance from the cam axis (m)."""
+    from scipy.interpolate import CubicSpline
+
+    a = np.asarray(angles, float)
+    r = np.asarray(radii, float)
+    return CubicSpline(np.append(a, a[0] + TWO_PI), np.append(r, r[0]), bc_type="periodic")
+
+
+def profile_table(spline, samples=PROFILE_SAMPLES):
+    """(rho_0, drho_0, rho_1, drho_1, ...): the spline's value (m) and slope (m/rad) at ``samples``
+    angles k 2 pi / samples, the table :func:`table_radius` reads."""
+    start = spline.x[0]
+    u = start + (np.arange(samples) * TWO_PI / samples - start) % TWO_PI
+    return tuple(np.column_stack([spline(u), spline(u, 1)]).ravel().tolist())
+
+
+def table_radius(u, table, ops=NumericOps):
+    """Pitch radius (m) and its slope (m/rad) at cam rotation u (rad) from a profile table
+    (:func:`profile_table`): cubic Hermite between the samples."""
+    n = len(table) // 2
+    h = TWO_PI / n
+    x = u - TWO_PI * ops.floor(u / TWO_PI)
+    s = x / h
+    i = ops.floor(s)
+    t = s - i
+    y0, d0 = ops.take(table, 2.0 * i), ops.take(table, 2.0 * i + 1.0)
+    y1, d1 = ops.take(table, 2.0 * i + 2.0), ops.take(table, 2.0 * i + 3.0)
+    t2 = t * t
+    t3 = t2 * t
+    rho = (2 * t3 - 3 * t2 + 1) * y0 + (t3 - 2 * t2 + t) * h * d0 + (3 * t2 - 2 * t3) * y1 + (t3 - t2) * h * d1
+    slope = ((6 * t2 - 6 * t) * y0 + (3 * t2 - 4 * t + 1) * h * d0 + (6 * t - 6 * t2) * y1
+             + (3 * t2 - 2 * t) * h * d1) / h
+    return rho, slope
+
+
+def pitch_curvature_radius(spline, u):
+    """Signed radius of curvature (m) of the pitch curve rho(u) at u: positive where it is convex
+    (centre of curvature towards the cam axis): (rho^2 + rho'^2)^(3/2) / (rho^2 + 2 rho'^2 - rho rho'')."""
+    r, r1, r2 = spline(u), spline(u, 1), spline(u, 2)
+    return (r * r + r1 * r1) ** 1.5 / (r * r + 2 * r1 * r1 - r * r2)
+
+
+def undercut(spline, roller_radius, samples=PROFILE_SAMPLES * 4):
+    """Where the roller cannot follow the pitch curve: (angle in rad, convex radius of curvature in
+    m) of the sharpest convex point if it is below the roller radius (the cam surface, the pitch
+    curve offset by the roller radius, would loop: undercut), else None."""
+    u = spline.x[0] + np.arange(samples) * TWO_PI / samples
+    radius = pitch_curvature_radius(spline, u)
+    convex = radius > 0
+    if not np.any(convex):
+        return None
+    k = int(np.argmin(np.where(convex, radius, np.inf)))
+    return (float(u[k]), float(radius[k])) if radius[k] <= roller_radius else None
 
 
 # --- follower kinematics -----------------------------------------------------------------------

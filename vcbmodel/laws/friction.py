@@ -52,8 +52,8 @@ from ..parameters import STICK_TIME
 class NumericOps:
     """Scalar float operations (the pure-Python evaluation of the laws). Every ``ops`` namespace
     offers these: ``where``, ``abs``, ``sqrt``, ``sign``, ``min``, ``max``, ``sin``, ``cos``,
-    ``atan2``, ``acos``, ``pow``, ``floor`` (Exudyn's symbolic one: the first eight, what the
-    friction law needs)."""
+    ``atan2``, ``acos``, ``pow``, ``floor``, ``take`` (an item of a table by a computed index; Exudyn's
+    symbolic one: the first eight, what the friction law needs)."""
 
     @staticmethod
     def where(condition, if_true, if_false):
@@ -88,6 +88,10 @@ class NumericOps:
     def floor(a):
         return float(math.floor(a))
 
+    @staticmethod
+    def take(table, index):
+        return table[int(index) % len(table)]
+
 
 class ArrayOps:
     """The same operations on numpy arrays, elementwise (a law evaluated over a whole record at
@@ -106,6 +110,10 @@ class ArrayOps:
     acos = staticmethod(np.arccos)
     pow = staticmethod(np.power)
     floor = staticmethod(np.floor)
+
+    @staticmethod
+    def take(table, index):
+        return np.asarray(table)[np.asarray(index).astype(int) % len(table)]
 
 
 def symbolic_ops():

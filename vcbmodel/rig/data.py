@@ -74,6 +74,7 @@ class CamProfile:
     rise_end: float
     return_start: float
     return_end: float
+    table: tuple = ()  # a profile given by points: the pitch radius table (laws.cam_follower.profile_table)
 
 
 @dataclass(frozen=True)

@@ -8,9 +8,13 @@ from __future__ import annotations
 
 import math
 
+import numpy as np
+
 from .. import parameters as P
 
-from ..laws.breaker import TWO_PI, CamRollerLaw, LatchPoint, pitch_radius, rest_geometry
+from ..laws.breaker import CamRollerLaw, LatchPoint
+from ..laws.cam_follower import (MAX_PRESSURE_ANGLE, TWO_PI, pitch_radius, pressure_angle_curve, profile_spline,
+                                 profile_table, rest_geometry, undercut)
 from ..laws.contact import CAM_ROLLER_LAWS, DAMPING_LAWS
 from ..laws.coil import coil_mass, coil_stiffness
 from ..laws.mechanics import cam_pin
@@ -162,7 +166,8 @@ def read_cam_and_spring(rd, data):
 
 BREAKER_KEYS = {
     "": ("cam_profile", "roller_radius", "follower", "poles", "opening_spring", "contact", "latch"),
-    "cam_profile": ("base_radius", "lift", "rise_start", "rise_end", "return_start", "return_end"),
+    "cam_profile": ("base_radius", "lift", "rise_start", "rise_end", "return_start", "return_end", "points",
+                    "radius_points"),
     "follower": ("pivot", "inertia", "roller_arm", "output_arm", "output_angle", "rest_angle"),
     "poles": ("count", "moving_mass", "contact_gap", "gap_offsets", "push_rod_length", "wipe_preload", "wipe_rate",
               "rod_stiffness", "rod_damping", "bellows_force"),
@@ -183,14 +188,9 @@ def read_breaker(rd, data, cam) -> Breaker:
         section = rd.optional_section(b, key, "breaker.", known) if optional else rd.section(b, key, "breaker.", known)
         return without_comments(section), f"breaker.{key}."
 
+    roller_radius = rd.number(b, "roller_radius", "breaker.", positive=True)
     cp, p = part("cam_profile")
-    profile = CamProfile(
-        base_radius=rd.number(cp, "base_radius", p, positive=True), lift=rd.number(cp, "lift", p, positive=True),
-        rise_start=rd.number(cp, "rise_start", p), rise_end=rd.number(cp, "rise_end", p),
-        return_start=rd.number(cp, "return_start", p), return_end=rd.number(cp, "return_end", p))
-    angles = (profile.rise_start, profile.rise_end, profile.return_start, profile.return_end)
-    if not all(a < b_ for a, b_ in zip(angles, angles[1:])) or angles[3] > angles[0] + TWO_PI:
-        rd.fail(p + "rise_start", "need rise_start < rise_end < return_start < return_end <= rise_start + 2 pi")
+    profile = read_cam_profile(rd, cp, p, roller_radius)
     fo, p = part("follower")
     follower = Follower(pivot=rd.point(fo, "pivot", p), inertia=rd.number(fo, "inertia", p, positive=True),
                         roller_arm=rd.number(fo, "roller_arm", p, positive=True),
@@ -236,15 +236,89 @@ def read_breaker(rd, data, cam) -> Breaker:
     release = rd.number(latch, "release_time", p, nonnegative=True, default=0.0)
     latch_point = LatchPoint(rd.number(latch, "arm", p, positive=True) if "arm" in latch else None,
                              rd.number(latch, "angle", p, default=0.0))
-    breaker = Breaker(profile, rd.number(b, "roller_radius", "breaker.", positive=True), follower, poles, opening,
+    breaker = Breaker(profile, roller_radius, follower, poles, opening,
                       contact, release, CamRollerLaw(law, width, damping, factor), latch_point)
     try:
         rest_geometry(breaker, cam.pivot)
     except ValueError as e:
         rd.fail("breaker.follower.pivot", str(e))
-    if pitch_radius(cam.initial_angle, profile, breaker.roller_radius)[0] > profile.base_radius + breaker.roller_radius + 1e-12:
+    # a profile from points may ripple by micrometres between them (its spline): 10 um is still "on"
+    on_base = 1e-5 if profile.table else 1e-9
+    if pitch_radius(cam.initial_angle, profile, breaker.roller_radius)[0] > profile.base_radius + breaker.roller_radius + on_base:
         rd.fail("cam.initial_angle", "the roller is not on the cam's base circle at the start (breaker open)")
+    if profile.table:
+        check_pressure_angle(rd, breaker, cam)
     return breaker
+
+
+def read_cam_profile(rd, cp, p, roller_radius) -> CamProfile:
+    """The 4-5-6-7 profile of ``base_radius``, ``lift`` and its four angles, or a profile given by
+    points of the pitch curve (``points``: [cam angle rad, roller-centre lift m] with
+    ``base_radius``; or ``radius_points``: [cam angle rad, pitch radius m]), fitted by a periodic
+    cubic spline and checked: a profile the roller cannot follow (undercut) is refused."""
+    if "points" in cp or "radius_points" in cp:
+        return read_point_profile(rd, cp, p, roller_radius)
+    profile = CamProfile(
+        base_radius=rd.number(cp, "base_radius", p, positive=True), lift=rd.number(cp, "lift", p, positive=True),
+        rise_start=rd.number(cp, "rise_start", p), rise_end=rd.number(cp, "rise_end", p),
+        return_start=rd.number(cp, "return_start", p), return_end=rd.number(cp, "return_end", p))
+    angles = (profile.rise_start, profile.rise_end, profile.return_start, profile.return_end)
+    if not all(a < b_ for a, b_ in zip(angles, angles[1:])) or angles[3] > angles[0] + TWO_PI:
+        rd.fail(p + "rise_start", "need rise_start < rise_end < return_start < return_end <= rise_start + 2 pi")
+    return profile
+
+
+def read_point_profile(rd, cp, p, roller_radius) -> CamProfile:
+    key = "points" if "points" in cp else "radius_points"
+    if "points" in cp and "radius_points" in cp:
+        rd.fail(p + "points", "give points (lift) or radius_points (pitch radius), not both")
+    raw = cp[key]
+    if not isinstance(raw, list) or len(raw) < 8:
+        rd.fail(p + key, "must be a list of at least 8 [angle, value] pairs")
+    pairs = []
+    for i, item in enumerate(raw):
+        if not isinstance(item, list) or len(item) != 2:
+            rd.fail(f"{p}{key}.{i}", "must be a pair [angle in rad, value in m]")
+        pairs.append((rd.value(item[0], f"{p}{key}.{i}.0"), rd.value(item[1], f"{p}{key}.{i}.1")))
+    angles = [a for a, _ in pairs]
+    if any(b_ <= a for a, b_ in zip(angles, angles[1:])) or angles[-1] - angles[0] >= TWO_PI:
+        rd.fail(p + key, "the angles must increase and span less than one turn (2 pi rad; angles are in rad)")
+    if key == "points":
+        base = rd.number(cp, "base_radius", p, positive=True)
+        if min(v for _, v in pairs) < -1e-9:
+            rd.fail(p + key, "a lift below the base circle (negative): lifts are measured from the base circle")
+        radii = [base + roller_radius + v for _, v in pairs]
+    else:
+        radii = [v for _, v in pairs]
+        if min(radii) <= roller_radius:
+            rd.fail(p + key, f"a pitch radius at or below the roller radius ({roller_radius:g} m): the roller "
+                    "centre runs outside the cam, so the pitch radius is the cam's radius plus the roller's")
+        base = min(radii) - roller_radius
+    spline = profile_spline(angles, radii)
+    cut = undercut(spline, roller_radius)
+    if cut is not None:
+        rd.fail(p + key, f"the roller cannot follow this profile: at {math.degrees(cut[0]):.1f} deg the pitch curve "
+                f"bends with a radius of {1e3 * cut[1]:.2f} mm, below the {1e3 * roller_radius:g} mm roller (the cam "
+                "surface would undercut); smooth the profile there or use a smaller roller")
+    lift = max(radii) - min(radii)
+    return CamProfile(base_radius=base, lift=lift, rise_start=math.nan, rise_end=math.nan, return_start=math.nan,
+                      return_end=math.nan, table=profile_table(spline))
+
+
+def check_pressure_angle(rd, breaker, cam):
+    """Refuse a profile that drives the roller at a pressure angle above MAX_PRESSURE_ANGLE over
+    the turn after the start (the cam would jam the follower instead of lifting it)."""
+    geometry = rest_geometry(breaker, cam.pivot)
+    thetas = cam.initial_angle + np.linspace(0.0, TWO_PI, 721)
+    try:
+        pressure = pressure_angle_curve(breaker, geometry, thetas)
+    except ValueError as e:
+        rd.fail("breaker.cam_profile", f"the follower cannot stay on this profile: {e}")
+    k = int(np.argmax(pressure))
+    if pressure[k] > MAX_PRESSURE_ANGLE:
+        rd.fail("breaker.cam_profile", f"pressure angle {math.degrees(pressure[k]):.1f} deg at cam angle "
+                f"{math.degrees(thetas[k]):.1f} deg, above {math.degrees(MAX_PRESSURE_ANGLE):g} deg: the cam would "
+                "jam the roller rather than lift it (a longer rise or a larger base circle lowers it)")
 
 
 def read_closing(rd, data):
