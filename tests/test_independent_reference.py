@@ -296,7 +296,7 @@ def test_lagrange_equations_match_hand_written_newton():
     ch = {"masses": [0.11, 0.07], "stiffnesses": [6e4, 9e4, 7e4], "free_lengths": [0.09, 0.11, 0.1],
           "positions": [[0.2, 0.01], [0.35, -0.02]], "pin_mass": 0.05}
     spring = {"count": 2, "anchor": (0.01, -0.02), "stiffness": K0, "free_length": LFREE, "chain": ch, "weight": True}
-    mech = ref._CamMechanism(CAM, spring, G)
+    mech = ref.CamMechanism(CAM, spring, G)
     q = np.concatenate([[rng.uniform(0, 2 * np.pi)], (np.array(ch["positions"]) + rng.normal(0, 0.01, (2, 2))).ravel()])
     qd = rng.normal(0, 5.0, 5)
     Tf = 3.7
