@@ -139,6 +139,26 @@ def energy_balance(result, rig):
             "spring_energy_released": springs[0] - springs}
 
 
+def crossing_time(t, z, level):
+    """First time (s) the travel z reaches ``level`` (m), interpolated; None if it never does."""
+    above = z >= level
+    if not above.any():
+        return None
+    k = int(np.argmax(above))
+    if k == 0:
+        return float(t[0])
+    return float(t[k - 1] + (level - z[k - 1]) / (z[k] - z[k - 1]) * (t[k] - t[k - 1]))
+
+
+def zone_speed(t, z, gap, zone):
+    """Mean closing speed (m/s) of a pole over the travel zone ``zone`` = (start, end) in m before
+    its touch (at travel ``gap``): the zone's length over the time the pole takes to cross it."""
+    start, end = crossing_time(t, z, gap - zone[0]), crossing_time(t, z, gap - zone[1])
+    if start is None or end is None or end <= start:
+        return None
+    return (zone[0] - zone[1]) / (end - start)
+
+
 def figures_of_merit(result, rig):
     """Closing figures of merit from a result (SI units; times from the latch release).
 
@@ -172,6 +192,7 @@ def figures_of_merit(result, rig):
         else:
             bounce_times.append(0.0)
     travel = ch["follower_displacement"]
+    zone_speeds = [zone_speed(t, ch[f"pole_{i + 1}_travel"], gap, b.speed_zone) for i, gap in enumerate(gaps)]
     done = [x for x in touches if x is not None]
     at_touch = float(np.interp(min(done), t, travel)) if done else float("nan")
     force = ch["cam_roller_force"]
@@ -186,6 +207,9 @@ def figures_of_merit(result, rig):
         "first_touch_s": min(done) if done else None,
         "pole_spread_s": (max(done) - min(done)) if len(done) == len(gaps) else None,
         "touch_speed_m_s": float(np.mean([s for s in speeds if s is not None])) if done else None,
+        # an analyser's closing speed: the mean speed over the rig's zone before each pole's touch
+        "closing_speed_m_s": (float(np.mean([v for v in zone_speeds if v is not None]))
+                              if any(v is not None for v in zone_speeds) else None),
         "bounce_count": int(max(bounces)),
         "bounce_duration_s": float(max(bounce_times)),
         "final_travel_m": float(travel[-1]),
@@ -199,5 +223,6 @@ def figures_of_merit(result, rig):
         # the smallest roller force from the latch release to the first touch: the margin against a jump
         "min_cam_roller_force_before_touch_N": float(np.min(force[before])),
         "max_pressure_angle_deg": float(np.degrees(np.max(ch["pressure_angle"]))),
-        "per_pole": {"touch_s": touches, "touch_speed_m_s": speeds, "bounces": bounces, "bounce_duration_s": bounce_times},
+        "per_pole": {"touch_s": touches, "touch_speed_m_s": speeds, "closing_speed_m_s": zone_speeds, "bounces": bounces,
+                     "bounce_duration_s": bounce_times},
     }

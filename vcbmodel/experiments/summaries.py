@@ -52,6 +52,8 @@ def closing_summary(result, rig):
     lines = [(f"pole {i} closes at", v, "s") for i, v in enumerate(per_pole["touch_s"], start=1)]
     lines += [("closing time (last pole)", fom["closing_time_s"], "s"),
               ("touch speed (mean of poles)", fom["touch_speed_m_s"], "m/s"),
+              (f"closing speed ({1e3 * rig.breaker.speed_zone[0]:g} to {1e3 * rig.breaker.speed_zone[1]:g} mm "
+               "before touch)", fom["closing_speed_m_s"], "m/s"),
               ("pole spread", fom["pole_spread_s"], "s"), ("bounces (worst pole)", float(fom["bounce_count"]), "-"),
               ("bounce duration (worst pole)", fom["bounce_duration_s"], "s"),
               ("overtravel (follower, after first touch)", fom["overtravel_m"], "m"),

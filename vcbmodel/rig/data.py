@@ -136,6 +136,7 @@ class Breaker:
     latch_release_time: float  # s: the latch's holding torque falls linearly to 0 over it
     cam_roller: CamRollerLaw = CamRollerLaw()  # the cam-roller contact's law (breaker.contact)
     latch_point: LatchPoint = LatchPoint()  # where the latch holds the cam (breaker.latch)
+    speed_zone: tuple = (0.004, 0.0)  # m before touch: the travel zone of the closing speed (breaker.speed_zone)
 
 
 # --- the rig ------------------------------------------------------------------------------------

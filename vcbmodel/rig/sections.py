@@ -165,7 +165,7 @@ def read_cam_and_spring(rd, data):
 
 
 BREAKER_KEYS = {
-    "": ("cam_profile", "roller_radius", "follower", "poles", "opening_spring", "contact", "latch"),
+    "": ("cam_profile", "roller_radius", "follower", "poles", "opening_spring", "contact", "latch", "speed_zone"),
     "cam_profile": ("base_radius", "lift", "rise_start", "rise_end", "return_start", "return_end", "points",
                     "radius_points"),
     "follower": ("pivot", "inertia", "roller_arm", "output_arm", "output_angle", "rest_angle"),
@@ -237,7 +237,8 @@ def read_breaker(rd, data, cam) -> Breaker:
     latch_point = LatchPoint(rd.number(latch, "arm", p, positive=True) if "arm" in latch else None,
                              rd.number(latch, "angle", p, default=0.0))
     breaker = Breaker(profile, roller_radius, follower, poles, opening,
-                      contact, release, CamRollerLaw(law, width, damping, factor), latch_point)
+                      contact, release, CamRollerLaw(law, width, damping, factor), latch_point,
+                      read_speed_zone(rd, b, poles))
     try:
         rest_geometry(breaker, cam.pivot)
     except ValueError as e:
@@ -249,6 +250,24 @@ def read_breaker(rd, data, cam) -> Breaker:
     if profile.table:
         check_pressure_angle(rd, breaker, cam)
     return breaker
+
+
+#: The closing speed's default zone (m before each pole's touch): the last 4 mm, where a vacuum gap
+#: prestrikes (contacts within 2-4 mm of touch); analysers average the speed over a zone the user
+#: programs on the travel curve (e.g. Vanguard CT-7500 manual, sec. 9.14.5, "analysis points")
+DEFAULT_SPEED_ZONE = (0.004, 0.0)
+
+
+def read_speed_zone(rd, b, poles):
+    """``breaker.speed_zone``: [start, end] in m before the touch, start > end >= 0, within the gap."""
+    if "speed_zone" not in b:
+        return DEFAULT_SPEED_ZONE
+    zone = tuple(rd.numbers(b, "speed_zone", "breaker.", 2, None))
+    if not (zone[0] > zone[1] >= 0.0):
+        rd.fail("breaker.speed_zone", "must be [start, end] in m before the touch, start > end >= 0")
+    if zone[0] > min(poles.contact_gap + o for o in poles.gap_offsets):
+        rd.fail("breaker.speed_zone", "starts before the contacts move: it must lie within the smallest pole gap")
+    return zone
 
 
 def read_cam_profile(rd, cp, p, roller_radius) -> CamProfile:
