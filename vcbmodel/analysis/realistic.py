@@ -39,6 +39,7 @@ import copy
 import json
 import math
 from pathlib import Path
+from typing import Any, Mapping, Sequence
 
 import numpy as np
 
@@ -122,14 +123,47 @@ def _draw_complications(record, rng, complications):
     return c
 
 
-def realistic_closing(case, seed, folder, complications=(), analyser=True, travels=False, values=None):
+def realistic_closing(case: str, seed: int, folder: str | Path, complications: Sequence[str] = (),
+                      analyser: bool = True, travels: bool = False,
+                      values: Mapping[str, Any] | None = None) -> tuple[Path, Path, dict]:
     """A closing record as a breaker analyser gives it (follower travel from a camera, one 0/1
     contact channel per pole, optionally each pole's travel), from a truth with a 16-element ANCF
     spring.
-    Complications: ``pre_trigger`` (0.5-3 ms), ``offset`` (up to 0.2 mm), ``correlated``."""
+    Complications: ``pre_trigger`` (0.5-3 ms), ``offset`` (up to 0.2 mm), ``correlated``.
+    Returns (rig path, record path, truth dict)."""
     rng = np.random.default_rng(seed)
     _, start, truth_effects = HIDDEN[case]
     folder = Path(folder)
+    rig, truth_values = _closing_rig(rng, start)
+    drawn = _draw_closing_complications(rng, complications)
+    drawn.update(values or {})
+    rig["name"] = _record_name(case, seed, complications)
+    trig = _closing_truth_rig(rig, truth_values, folder)
+    rec = experiment_of("vcb_closing")
+    dt = 1.0 / rec.sample_rate
+    pre = drawn.get("pre_trigger", 0.0)
+    t_end = P.BREAKER_T_END
+    n = int(round((t_end + pre) / dt)) + 1
+    t_rec = np.arange(n) * dt
+    tau_grid = np.arange(int(math.ceil((t_end + 2 * dt) / dt)) + 1) * dt
+    res = simulate(trig, truth_effects, truth_values, spring_model="ancf", ancf_elements=16, sample_times=tau_grid)
+    tau = np.clip(t_rec - pre, 0.0, None)
+    channels, gaps = _analyser_channels(rng, res, trig, tau, tau_grid, rec.noise_sigma, drawn, analyser, travels)
+    rig_path, meas_path = _write_record(folder, rig, t_rec, channels,
+                                        f"SYNTHETIC (realistic closing): case {case}, seed {seed}, complications "
+                                        f"{json.dumps(drawn, default=float)}")
+    figs = analyser_figures(tau_grid, [(res.channels[f"pole_{i}_travel"] > g).astype(float) for i, g in
+                                       enumerate(gaps, start=1)], res.channels["follower_displacement"])
+    truth = {"case": case, "answer": hidden_answer(case), "truth_effects": list(truth_effects),
+             "truth_values": truth_values, "truth_spring_model": "ancf (16 elements)", "complications": drawn,
+             "release_time": pre, "noise_sigma": rec.noise_sigma, "registered": True, "figures_of_merit": figs}
+    return rig_path, meas_path, truth
+
+
+def _closing_rig(rng: np.random.Generator, start: Sequence[str]) -> tuple[dict, dict]:
+    """The reference breaker's rig file with the drawn friction (mu_k 0.10-0.16, mu_s 1.4-1.7
+    mu_k, Stribeck velocity 0.08-0.12 rad/s), restitution (0.45-0.85) and bellows force (100-250
+    N), the values of effects not in ``start`` left out; and the truth's values."""
     rig = copy.deepcopy(P.REFERENCE_BREAKER)
     rig["friction"] = {"mu_k": float(rng.uniform(0.1, 0.16)), "stick_velocity": 1e-3,
                        "stribeck_velocity": float(rng.uniform(0.08, 0.12))}
@@ -145,6 +179,12 @@ def realistic_closing(case, seed, folder, complications=(), analyser=True, trave
     if "coulomb_friction" not in start:
         rig["friction"] = {"stick_velocity": 1e-3}
     rig["model"] = {"effects": list(start), "spring_model": "lumped-2", "lumped_convention": "paper"}
+    return rig, truth_values
+
+
+def _draw_closing_complications(rng: np.random.Generator, complications: Sequence[str]) -> dict:
+    """Values of a closing record's complications: pre-trigger 0.5-3 ms (s), follower offset
+    0.05-0.2 mm (m, either sign), noise lag-1 correlation 0.5-0.9."""
     drawn = {}
     for name in complications:
         if name == "pre_trigger":
@@ -155,23 +195,24 @@ def realistic_closing(case, seed, folder, complications=(), analyser=True, trave
             drawn[name] = float(rng.uniform(0.5, 0.9))
         else:
             raise ValueError(f"complication {name!r} does not apply to a closing record")
-    drawn.update(values or {})
-    rig["name"] = f"{case}-{seed}" + ("+" + "+".join(complications) if complications else "")
+    return drawn
+
+
+def _closing_truth_rig(rig: dict, truth_values: Mapping[str, float], folder: Path):
+    """The loaded rig as it really is: the rig file with the truth's restitution and bellows force."""
     truth_rig = copy.deepcopy(rig)
-    truth_rig["breaker"]["contact"]["restitution"] = restitution
-    truth_rig["breaker"]["poles"]["bellows_force"] = bellows
-    trig = rig_from_data(truth_rig, str(folder / "truth.rig.json"))
-    rec = experiment_of("vcb_closing")
-    dt = 1.0 / rec.sample_rate
-    pre = drawn.get("pre_trigger", 0.0)
-    t_end = P.BREAKER_T_END
-    n = int(round((t_end + pre) / dt)) + 1
-    t_rec = np.arange(n) * dt
-    tau_grid = np.arange(int(math.ceil((t_end + 2 * dt) / dt)) + 1) * dt
-    res = simulate(trig, truth_effects, truth_values, spring_model="ancf", ancf_elements=16, sample_times=tau_grid)
-    tau = np.clip(t_rec - pre, 0.0, None)
+    truth_rig["breaker"]["contact"]["restitution"] = truth_values["restitution"]
+    truth_rig["breaker"]["poles"]["bellows_force"] = truth_values["bellows_force"]
+    return rig_from_data(truth_rig, str(folder / "truth.rig.json"))
+
+
+def _analyser_channels(rng, res, trig, tau, tau_grid, sigma, drawn, analyser, travels) -> tuple[dict, list]:
+    """(channels, pole gaps m): the follower's travel from the camera (m, with offset and noise of
+    ``sigma`` m), one 0/1 contact channel per pole and, with ``travels``, each pole's travel (m,
+    0.02 mm noise), sampled at record times ``tau`` (s from the release)."""
+    n = len(tau)
     channels = {"follower_displacement": np.interp(tau, tau_grid, res.channels["follower_displacement"])
-                + drawn.get("offset", 0.0) + _noise(rng, n, rec.noise_sigma, drawn.get("correlated", 0.0))}
+                + drawn.get("offset", 0.0) + _noise(rng, n, sigma, drawn.get("correlated", 0.0))}
     gaps = pole_gaps(trig.breaker.poles)
     if analyser:
         for i, gap in enumerate(gaps, start=1):
@@ -179,18 +220,20 @@ def realistic_closing(case, seed, folder, complications=(), analyser=True, trave
             channels[f"pole_{i}_contact"] = (z > gap).astype(float)
             if travels:
                 channels[f"pole_{i}_travel"] = z - res.channels[f"pole_{i}_travel"][0] + rng.normal(0, 2e-5, n)
+    return channels, gaps
+
+
+def _record_name(case: str, seed: int, complications: Sequence[str]) -> str:
+    return f"{case}-{seed}" + ("+" + "+".join(complications) if complications else "")
+
+
+def _write_record(folder: Path, rig: dict, t_rec: np.ndarray, channels: dict, header: str) -> tuple[Path, Path]:
+    """Write ``<name>.rig.json`` and ``<name>.csv`` (one header line) into ``folder``."""
     rig_path = folder / f"{rig['name']}.rig.json"
     rig_path.write_text(json.dumps(rig, indent=2) + "\n")
     meas_path = folder / f"{rig['name']}.csv"
-    write_measurement(Measurement(str(meas_path), t_rec, channels,
-                                  (f"SYNTHETIC (realistic closing): case {case}, seed {seed}, complications "
-                                   f"{json.dumps(drawn, default=float)}",)), meas_path)
-    figs = analyser_figures(tau_grid, [(res.channels[f"pole_{i}_travel"] > g).astype(float) for i, g in
-                                       enumerate(gaps, start=1)], res.channels["follower_displacement"])
-    truth = {"case": case, "answer": hidden_answer(case), "truth_effects": list(truth_effects),
-             "truth_values": truth_values, "truth_spring_model": "ancf (16 elements)", "complications": drawn,
-             "release_time": pre, "noise_sigma": rec.noise_sigma, "registered": True, "figures_of_merit": figs}
-    return rig_path, meas_path, truth
+    write_measurement(Measurement(str(meas_path), t_rec, channels, (header,)), meas_path)
+    return rig_path, meas_path
 
 
 def _noise(rng, n, sigma, phi):
@@ -202,7 +245,9 @@ def _noise(rng, n, sigma, phi):
     return e
 
 
-def realistic_record(case, seed, folder, complications=(), t_end=None, values=None, small=False):
+def realistic_record(case: str, seed: int, folder: str | Path, complications: Sequence[str] = (),
+                     t_end: float | None = None, values: Mapping[str, Any] | None = None,
+                     small: bool = False) -> tuple[Path, Path, dict]:
     """A rig file and a realistic record for hidden-effect ``case`` (:data:`HIDDEN`) with the
     listed ``complications`` (:data:`COMPLICATIONS`; random values from the seed, or ``values``
     name -> value). ``small``: a small laboratory pendulum (``Experiment.random_rig``, 20 s).
@@ -215,16 +260,42 @@ def realistic_record(case, seed, folder, complications=(), t_end=None, values=No
     folder = Path(folder)
     drawn = _draw_complications(rec, rng, complications)
     drawn.update(values or {})
-    friction = {"mu_k": float(rng.uniform(0.09, 0.16)), "stick_velocity": 1e-3,
-                "stribeck_velocity": float(rng.uniform(0.09, 0.15))}
-    friction["mu_s"] = friction["mu_k"] * float(rng.uniform(1.8, 2.0))
+    friction = _draw_friction(rng)
     if small and not rec.free_swing:
         raise ValueError(f"a small laboratory rig is a free swing, not a {experiment} test")
     rig = rec.random_rig(rng, friction, start, "small" if small else "realistic")
     t_end = t_end or (20.0 if small else rec.default_duration)
     rig["model"] = {"effects": list(start), "spring_model": "massless"}
-    rig["name"] = f"{case}-{seed}" + ("+" + "+".join(complications) if complications else "")
-    # the truth: the rig as it really is
+    rig["name"] = _record_name(case, seed, complications)
+    truth_rig = _truth_rig(rec, rig, drawn)  # the rig as it really is
+    t_rec, tau, tau_grid, lead = _record_times(rng, rec, drawn, t_end)
+    theta, spring = _true_angle(rng, truth_rig, folder, friction, truth_effects, tau_grid, drawn)
+    y = np.interp(np.clip(tau, 0.0, None), tau_grid, theta)
+    if drawn.get("hand_start"):
+        _hand_start(y, tau, drawn["hand_start"], truth_rig["pendulum"]["initial_angle"])
+    y, sigma_used = _sensor(rng, y, drawn, rec.noise_sigma)
+    rig_path, meas_path = _write_record(folder, rig, t_rec, {rec.measured_channel: y},
+                                        f"SYNTHETIC (realistic): case {case}, seed {seed}, complications "
+                                        f"{json.dumps(drawn, default=float)}")
+    truth = {"case": case, "answer": hidden_answer(case), "truth_effects": list(truth_effects),
+             "truth_friction": friction, "truth_spring_model": spring or "massless", "complications": drawn,
+             "release_time": lead, "noise_sigma": sigma_used, "registered": "position_dependent_friction" not in truth_effects}
+    return rig_path, meas_path, truth
+
+
+def _draw_friction(rng: np.random.Generator) -> dict:
+    """The truth's friction: mu_k 0.09-0.16, mu_s 1.8-2.0 mu_k, Stribeck velocity 0.09-0.15 rad/s,
+    stick velocity 1e-3 rad/s."""
+    friction = {"mu_k": float(rng.uniform(0.09, 0.16)), "stick_velocity": 1e-3,
+                "stribeck_velocity": float(rng.uniform(0.09, 0.15))}
+    friction["mu_s"] = friction["mu_k"] * float(rng.uniform(1.8, 2.0))
+    return friction
+
+
+def _truth_rig(rec, rig: dict, drawn: dict) -> dict:
+    """The rig as it really is: its release angle off by ``initial_angle`` (rad) and, with
+    ``period``, its inertia such that the rig file's nominal one (changed here) is off by the
+    period factor (the sign of ``period`` flips if the nominal inertia would fall below M L^2)."""
     truth_rig = copy.deepcopy(rig)
     section, field = rec.initial_angle_field.split(".")
     truth_rig[section][field] += drawn.get("initial_angle", 0.0)
@@ -236,6 +307,13 @@ def realistic_record(case, seed, folder, complications=(), t_end=None, values=No
             drawn["period"] = -drawn["period"]
         truth_rig["pendulum"]["inertia"] = true_inertia
         p["inertia"] = true_inertia / (1 + drawn["period"]) ** 2
+    return truth_rig
+
+
+def _record_times(rng: np.random.Generator, rec, drawn: Mapping[str, Any], t_end: float):
+    """(record times s, model times tau s, model sampling grid s, release time s): the record
+    leads the release by the pre-trigger or the hand start, its clock runs ``time_base`` fast
+    with 20 us jitter."""
     dt = 1.0 / rec.sample_rate
     pre = drawn.get("pre_trigger", 0.0)
     hand = drawn.get("hand_start")
@@ -248,48 +326,49 @@ def realistic_record(case, seed, folder, complications=(), t_end=None, values=No
     t_true = t_rec * (1 + clock) + (rng.normal(0.0, 2e-5, n) if clock else 0.0)
     tau = t_true - lead  # model time
     tau_grid = np.arange(int(math.ceil((tau[-1] + 2 * dt) / dt)) + 1) * dt
+    return t_rec, tau, tau_grid, lead
+
+
+def _true_angle(rng, truth_rig: dict, folder: Path, friction: Mapping[str, float], truth_effects: Sequence[str],
+                tau_grid: np.ndarray, drawn: dict):
+    """(the true angle over ``tau_grid`` rad, the truth's spring model or None): the position-
+    dependent friction's own solve (defect drawn into ``drawn``), a 20-mass chain, or the
+    independent reference."""
     model_effects = tuple(e for e in truth_effects if e != "position_dependent_friction")
     truth_values = {k: v for k, v in friction.items()}
     trig = rig_from_data(truth_rig, str(folder / "truth.rig.json"))
-    spring = None
     if "position_dependent_friction" in truth_effects:
         defect = {"amplitude": 0.5, "wavelength": float(rng.uniform(0.05, 0.09)), "phase": float(rng.uniform(0, 6.28))}
         fr = {"mu_k": friction["mu_k"], "viscous": friction["viscous"] if "viscous_friction" in truth_effects else 0.0}
         theta = position_dependent_pendulum(truth_rig["pendulum"], truth_rig["gravity"], truth_rig["shaft"]["radius"],
                                             fr, defect["amplitude"], defect["wavelength"], defect["phase"], tau_grid)
         drawn["defect"] = defect
-    elif "spring_mass" in truth_effects:
+        return theta, None
+    if "spring_mass" in truth_effects:
         spring = "lumped-20:uniform"
-        theta = simulate(trig, model_effects, truth_values, spring_model=spring, sample_times=tau_grid).measured
-    else:
-        theta = simulate(trig, model_effects, truth_values, sample_times=tau_grid, backend="reference").measured
-    y = np.interp(np.clip(tau, 0.0, None), tau_grid, theta)
-    if hand:  # a hand brings the pendulum from a smaller angle to the release angle and holds it
-        th0 = truth_rig["pendulum"]["initial_angle"]
-        start_angle = hand["from_fraction"] * th0
-        before = tau < 0
-        s = np.clip((tau[before] + hand["ramp_s"] + hand["hold_s"]) / hand["ramp_s"], 0.0, 1.0)
-        y[before] = start_angle + (th0 - start_angle) * (10 * s**3 - 15 * s**4 + 6 * s**5)
-        y[before] += 2e-4 * np.sin(2 * math.pi * 7.0 * tau[before])  # hand tremor
+        return simulate(trig, model_effects, truth_values, spring_model=spring, sample_times=tau_grid).measured, spring
+    return simulate(trig, model_effects, truth_values, sample_times=tau_grid, backend="reference").measured, None
+
+
+def _hand_start(y: np.ndarray, tau: np.ndarray, hand: Mapping[str, float], th0: float) -> None:
+    """Before the release (tau < 0), a hand brings the pendulum from ``from_fraction`` of the
+    release angle ``th0`` (rad) to it (quintic ramp of ``ramp_s`` s), holds it ``hold_s`` s, with
+    a 7 Hz, 0.2 mrad tremor; in place."""
+    start_angle = hand["from_fraction"] * th0
+    before = tau < 0
+    s = np.clip((tau[before] + hand["ramp_s"] + hand["hold_s"]) / hand["ramp_s"], 0.0, 1.0)
+    y[before] = start_angle + (th0 - start_angle) * (10 * s**3 - 15 * s**4 + 6 * s**5)
+    y[before] += 2e-4 * np.sin(2 * math.pi * 7.0 * tau[before])  # hand tremor
+
+
+def _sensor(rng: np.random.Generator, y: np.ndarray, drawn: Mapping[str, Any], sigma: float):
+    """(reading, its noise sigma): gain and offset, then an encoder's rounding or (correlated)
+    noise of ``sigma``."""
     y = drawn.get("gain", 1.0) * y + drawn.get("offset", 0.0)
-    sigma = rec.noise_sigma
     if "quantised" in drawn:
         y = np.round(y / drawn["quantised"]) * drawn["quantised"]
-        sigma_used = drawn["quantised"] / math.sqrt(12)
-    else:
-        y = y + _noise(rng, n, sigma, drawn.get("correlated", 0.0))
-        sigma_used = sigma
-    rig_path = folder / f"{rig['name']}.rig.json"
-    rig_path.write_text(json.dumps(rig, indent=2) + "\n")
-    meas_path = folder / f"{rig['name']}.csv"
-    meas = Measurement(str(meas_path), t_rec, {rec.measured_channel: y},
-                       (f"SYNTHETIC (realistic): case {case}, seed {seed}, complications "
-                        f"{json.dumps(drawn, default=float)}",))
-    write_measurement(meas, meas_path)
-    truth = {"case": case, "answer": hidden_answer(case), "truth_effects": list(truth_effects),
-             "truth_friction": friction, "truth_spring_model": spring or "massless", "complications": drawn,
-             "release_time": lead, "noise_sigma": sigma_used, "registered": "position_dependent_friction" not in truth_effects}
-    return rig_path, meas_path, truth
+        return y, drawn["quantised"] / math.sqrt(12)
+    return y + _noise(rng, len(y), sigma, drawn.get("correlated", 0.0)), sigma
 
 
 #: Complication groups of the realism study: name -> (complications, experiments it applies to).
