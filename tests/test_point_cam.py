@@ -1,7 +1,6 @@
 """A cam given by points (a CAD or CMM export of the pitch curve), fitted by a periodic spline,
 checked (undercut, pressure angle) and refused when the roller cannot follow it."""
 import copy
-import json
 import math
 
 import numpy as np
