@@ -122,6 +122,8 @@ def build_parser():
     w.add_argument("-o", "--output", metavar="OUT.csv", help="output CSV, written as runs finish (default: stdout)")
     w.add_argument("--resume", action="store_true", help="keep the runs already in -o and run the rest")
     w.add_argument("--force", action="store_true", help="replace -o if it exists (without it an existing table is refused)")
+    w.add_argument("--backend", choices=("fast", "exudyn"), default="fast",
+                   help="fast: the compiled path where it covers the model, else Exudyn (default); exudyn: every run on Exudyn")
     return p
 
 
@@ -237,7 +239,7 @@ def cmd_sweep(args):
     check_output(args.output, "-o", inputs=(args.rig,), force=args.force, keep=args.resume, resumable=True)
     table = sweep(args.rig, args.vary, samples=args.samples, seed=args.seed, workers=args.workers,
                   scheduler=args.scheduler, output=args.output, stream=None if args.output else sys.stdout,
-                  resume=args.resume, force=args.force)
+                  resume=args.resume, force=args.force, backend=args.backend)
     return 0 if len(table) else 1
 
 

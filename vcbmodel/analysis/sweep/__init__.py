@@ -71,6 +71,7 @@ class SweepPlan:
     draw: str  # how the parameter sets were made, for the progress line
     column_units: dict = field(default_factory=dict)
     backend: str = ""  # what runs the simulations (the compiled path where it covers the model, else Exudyn)
+    backend_choice: str = "fast"  # the sweep's backend option: fast | exudyn
 
     @property
     def paths(self):
@@ -104,7 +105,7 @@ def _design_table(vary, runs, samples, seed, sampling):
 
 
 def plan(rig, vary=(), *, runs=None, samples=None, seed=None, sampling="lhs", evaluate=None, columns=None,
-         label=None) -> SweepPlan:
+         label=None, backend="fast") -> SweepPlan:
     """Check a sweep before anything runs (bad input raises InputError naming the rig and the path):
     paths that are numeric fields of this rig, read by its model, and a nominal model that runs."""
     data, rig_path = _rig_input(rig)
@@ -132,12 +133,13 @@ def plan(rig, vary=(), *, runs=None, samples=None, seed=None, sampling="lhs", ev
             else "grid" if kind == "grid" else "given parameter sets")
     return SweepPlan(data, rig_path, nominal.experiment, label or f"sweep {nominal.name}", table, kind,
                      tuple(columns), draw, dict(record.figure_units) if evaluate is None else {},
-                     simulation_backend(record, spec.spring_model))
+                     simulation_backend(record, spec.spring_model, backend) if evaluate is None else "the evaluation's own",
+                     backend)
 
 
 def sweep(rig, vary=(), *, runs=None, samples=None, seed=None, sampling="lhs", workers=None, scheduler=None,
           output=None, stream=None, resume=False, force=False, evaluate=None, columns=None, t_end=None,
-          verbose=True, label=None) -> pd.DataFrame:
+          verbose=True, label=None, backend="fast") -> pd.DataFrame:
     """Run the rig's experiment once per parameter set; return the table (a DataFrame).
 
     Parameters
@@ -158,6 +160,8 @@ def sweep(rig, vary=(), *, runs=None, samples=None, seed=None, sampling="lhs", w
     evaluate, columns : a top-level function ``f(rig, t_end) -> dict`` (it must be importable
         by the workers) and its result columns, instead of the experiment's figures of merit.
     t_end : simulated duration (s), default the experiment's.
+    backend : ``fast`` (the compiled path where it covers the model, else Exudyn; default) or
+        ``exudyn`` (every run on the Exudyn model); ``attrs["simulated_with"]`` names what ran.
 
     Returns the table sorted by run: ``run``, the paths, the figures, ``status`` (``ok``,
     ``not_closed`` for a breaker that never closed, or ``failed: reason``); ``attrs`` carry the
@@ -166,8 +170,10 @@ def sweep(rig, vary=(), *, runs=None, samples=None, seed=None, sampling="lhs", w
     existing output without ``force``, a table another sweep is writing) raises
     :class:`~vcbmodel.errors.InputError` before anything runs or is written.
     """
+    if backend not in ("fast", "exudyn"):
+        raise InputError("backend", "backend", f"must be fast or exudyn, got {backend!r}")
     p = plan(rig, vary, runs=runs, samples=samples, seed=seed, sampling=sampling, evaluate=evaluate,
-             columns=columns, label=label)
+             columns=columns, label=label, backend=backend)
     if workers is not None and (isinstance(workers, bool) or int(workers) != workers or workers < 1):
         raise InputError("--workers", "workers", f"must be a whole number >= 1, got {workers}")
     if output and not (resume or force) and os.path.isfile(output) and os.path.getsize(output) > 0:
@@ -212,7 +218,7 @@ def _runner(p, todo, client, n_workers, evaluate, t_end):
     values_of = p.table.to_numpy(dtype=float)
     # a given parameter set without a value for a path (NaN) leaves that field at the rig's value
     jobs = ((run, (p.data, {k: float(v) for k, v in zip(p.paths, values_of[run - 1]) if not math.isnan(v)},
-                   p.rig_path, evaluate, t_end)) for run in todo)
+                   p.rig_path, evaluate, t_end, p.backend_choice)) for run in todo)
     if client is not None:
         return _dask(jobs, run_one, client)
     if n_workers > 1:

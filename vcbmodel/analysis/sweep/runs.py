@@ -54,12 +54,12 @@ def check_used(paths, effects, rig_path, experiment):
                              f"add {owner!r} to model.effects (or set the spring model) to sweep it")
 
 
-def figures_of_merit(rig, t_end=None):
-    """The default evaluation of a run: simulate the rig's model (compiled where the compiled path
-    covers it, else Exudyn: ``backend="fast"``) and return the experiment's figures of merit (the
-    record's ``figure_columns``)."""
+def figures_of_merit(rig, t_end=None, backend="fast"):
+    """The default evaluation of a run: simulate the rig's model (``backend``: ``fast``, compiled
+    where the compiled path covers it, else Exudyn; or ``exudyn``) and return the experiment's
+    figures of merit (the record's ``figure_columns``)."""
     record = experiment_of(rig.experiment)
-    result = simulate(rig, t_end=t_end, backend="fast")
+    result = simulate(rig, t_end=t_end, backend=backend)
     fom = record.figures_of_merit(result, rig)
     return {k: fom.get(k) for k in record.figure_columns}
 
@@ -74,7 +74,7 @@ def one_line(text, limit=300):
     return text if len(text) <= limit else text[:limit - 3] + "..."
 
 
-def run_one(data, overrides, rig_path, evaluate=None, t_end=None):
+def run_one(data, overrides, rig_path, evaluate=None, t_end=None, backend="fast"):
     """One run, in whichever process: edit the JSON, load the rig, simulate, evaluate.
 
     Never raises for a bad run: returns ``(values, status, seconds)`` with status ``ok`` or
@@ -83,7 +83,7 @@ def run_one(data, overrides, rig_path, evaluate=None, t_end=None):
     with _SOLVE_LOCK:
         try:
             rig = rig_from_data(with_overrides(data, overrides), rig_path)
-            values = (evaluate or figures_of_merit)(rig, t_end)
+            values = evaluate(rig, t_end) if evaluate is not None else figures_of_merit(rig, t_end, backend)
             status = experiment_of(rig.experiment).run_status(values) if evaluate is None else "ok"
         except InputError as e:
             values, status = {}, f"failed: {e.field}: {one_line(str(e).split(': ', 2)[-1])}"
