@@ -27,6 +27,7 @@ The cam profile, the follower's kinematics and the cam-roller contact's geometry
 from __future__ import annotations
 
 import math
+from collections.abc import Iterable
 from dataclasses import dataclass
 
 from scipy.optimize import brentq
@@ -38,18 +39,20 @@ from .cam_follower import (  # noqa: F401 -- re-exported: the breaker's laws are
     rest_geometry, CamRollerContact, cam_roller_contact, cam_roller_loads, kinematic_follower_angle, pressure_angle_curve, follower_displacement)
 from .friction import NumericOps
 from .mechanics import cam_pin, cam_weight_torque, massless_spring_force
+from .types import Ops, Scalar
 
 
 # --- contact laws ---------------------------------------------------------------------------------
 
-def contact_force(penetration, rate, stiffness, exponent, restitution, impact_speed, min_impact_speed, ops=NumericOps):
+def contact_force(penetration: Scalar, rate: Scalar, stiffness: Scalar, exponent: Scalar, restitution: Scalar, impact_speed: Scalar,
+                  min_impact_speed: Scalar, ops: Ops = NumericOps) -> Scalar:
     """Hertz force with Lankarani-Nikravesh damping (N); the impact speed (m/s) is the approach
     speed at the start of the contact, floored at ``min_impact_speed`` for resting contacts."""
     return hertz_contact_force(penetration, rate, stiffness, restitution, ops.max(impact_speed, min_impact_speed),
                                exponent, ops)
 
 
-def contact_energy(penetration, stiffness, exponent):
+def contact_energy(penetration: float, stiffness: float, exponent: float) -> float:
     """Elastic energy (J) stored in a Hertz contact: K delta^(n+1) / (n+1)."""
     return stiffness * max(penetration, 0.0) ** (exponent + 1.0) / (exponent + 1.0)
 
@@ -77,7 +80,7 @@ class LatchPoint:
     angle: float = 0.0
 
 
-def latch_force(torque, theta, arm, angle, ops=NumericOps):
+def latch_force(torque: Scalar, theta: Scalar, arm: Scalar, angle: Scalar, ops: Ops = NumericOps) -> tuple[Scalar, Scalar]:
     """Force (N, N) on the cam at the latch point that exerts ``torque`` (N m) about A:
     perpendicular to A->point, magnitude torque / arm."""
     a = theta + angle
@@ -85,7 +88,7 @@ def latch_force(torque, theta, arm, angle, ops=NumericOps):
     return -f * ops.sin(a), f * ops.cos(a)
 
 
-def push_rod_force(compression, rate, poles, ops=NumericOps):
+def push_rod_force(compression: Scalar, rate: Scalar, poles, ops: Ops = NumericOps) -> Scalar:
     """Compressive force (N) of one push rod with its wipe spring: stiff (rod_stiffness) until
     the wipe spring's preload is reached, then the wipe spring's rate; structural damping.
     ``compression`` (m) is rod length at rest minus current length (negative: tension)."""
@@ -95,7 +98,7 @@ def push_rod_force(compression, rate, poles, ops=NumericOps):
     return elastic + poles.rod_damping * rate
 
 
-def push_rod_energy(compression, poles):
+def push_rod_energy(compression: float, poles) -> float:
     """Elastic energy (J) of :func:`push_rod_force`'s spring part."""
     s0 = poles.wipe_preload / poles.rod_stiffness
     if compression <= s0:
@@ -104,18 +107,18 @@ def push_rod_energy(compression, poles):
     return 0.5 * poles.wipe_preload * s0 + poles.wipe_preload * x + 0.5 * poles.wipe_rate * x * x
 
 
-def latch_torque(t, holding_torque, release_time, ops=NumericOps):
+def latch_torque(t: Scalar, holding_torque: Scalar, release_time: Scalar, ops: Ops = NumericOps) -> Scalar:
     """Torque (N m) of the closing latch on the cam: the holding torque until t = 0, then
     falling linearly to zero over ``release_time`` (s)."""
     return ops.where(t <= 0.0, holding_torque,
                      ops.where(t >= release_time, 0.0, holding_torque * (1.0 - t / ops.max(release_time, 1e-300))))
 
 
-def pole_gaps(poles):
+def pole_gaps(poles) -> list[float]:
     return [poles.contact_gap + o for o in poles.gap_offsets]
 
 
-def update_impact_speeds(impact, state, ops=NumericOps):
+def update_impact_speeds(impact: list, state: Iterable[tuple[Scalar, Scalar]], ops: Ops = NumericOps) -> None:
     """While contact k is open (penetration <= 0) its impact speed follows the approach speed
     (m/s); once it penetrates, the last open value is kept: the speed at impact."""
     for k, (penetration, rate) in enumerate(state):
@@ -173,14 +176,14 @@ class BreakerLaws:
         self.latch_angle = latch.angle
 
     @classmethod
-    def of_rig(cls, rig, spec):
+    def of_rig(cls, rig, spec) -> BreakerLaws:
         """For a rig (its breaker, cam, gravity) and a model spec (restitution, bellows force,
         whether ``contact_damping`` is on)."""
         return cls(rig.breaker, rig.cam, rig.gravity, spec.restitution, spec.bellows_force,
                    damped="contact_damping" in spec.effects)
 
     # -- cam-roller contact
-    def roller_force(self, penetration, rate, impact_speed=0.0, ops=NumericOps):
+    def roller_force(self, penetration: Scalar, rate: Scalar, impact_speed: Scalar = 0.0, ops: Ops = NumericOps) -> Scalar:
         """Normal force (N) of the cam-roller contact at a penetration (m) and its rate (m/s)."""
         if self.roller_hunt_crossley:
             return hunt_crossley_force(penetration, rate, self.roller_stiffness, self.roller_exponent,
@@ -188,29 +191,32 @@ class BreakerLaws:
         return contact_force(penetration, rate, self.roller_stiffness, self.roller_exponent, self.restitution,
                              impact_speed, self.b.contact.min_impact_speed, ops)
 
-    def roller_elastic(self, penetration):
+    def roller_elastic(self, penetration: float) -> float:
         """Elastic part (N) of the cam-roller force."""
         return self.roller_stiffness * max(penetration, 0.0) ** self.roller_exponent
 
-    def roller_energy(self, penetration):
+    def roller_energy(self, penetration: float) -> float:
         """Elastic energy (J) stored in the cam-roller contact."""
         return contact_energy(penetration, self.roller_stiffness, self.roller_exponent)
 
-    def roller(self, theta, omega, phi, phi_dot, impact_speed=0.0, ops=NumericOps):
+    def roller(self, theta: Scalar, omega: Scalar, phi: Scalar, phi_dot: Scalar, impact_speed: Scalar = 0.0,
+               ops: Ops = NumericOps) -> tuple[CamRollerContact, Scalar]:
         """(CamRollerContact, normal force in N)."""
         c = cam_roller_contact(theta, omega, phi, phi_dot, self.b, self.geometry, ops)
         return c, self.roller_force(c.penetration, c.penetration_rate, impact_speed, ops)
 
-    def roller_loads(self, theta, omega, phi, phi_dot, impact_speed=0.0, ops=NumericOps):
+    def roller_loads(self, theta: Scalar, omega: Scalar, phi: Scalar, phi_dot: Scalar, impact_speed: Scalar = 0.0,
+                     ops: Ops = NumericOps) -> tuple[Scalar, Scalar, Scalar, Scalar]:
         """(torque on cam N m, torque on follower N m, force on cam Fx, Fy in N)."""
         c, force = self.roller(theta, omega, phi, phi_dot, impact_speed, ops)
         return cam_roller_loads(c, force, self.b, self.geometry)
 
     # -- push rods and poles
-    def pin(self, z):
+    def pin(self, z: Scalar) -> tuple[Scalar, Scalar]:
         return self.pin_rest[0], self.pin_rest[1] + z
 
-    def rod(self, phi, phi_dot, z, z_dot, ops=NumericOps):
+    def rod(self, phi: Scalar, phi_dot: Scalar, z: Scalar, z_dot: Scalar,
+            ops: Ops = NumericOps) -> tuple[Scalar, Scalar, tuple[Scalar, Scalar], Scalar]:
         """(compression m, its rate m/s, unit vector F -> pin, compressive force N)."""
         f = self.b.follower
         fx, fy = output_point(phi, f, ops)
@@ -224,7 +230,7 @@ class BreakerLaws:
         compression = self.b.poles.push_rod_length - length
         return compression, rate, (ex, ey), push_rod_force(compression, rate, self.b.poles, ops)
 
-    def rod_loads(self, phi, phi_dot, z, z_dot, ops=NumericOps):
+    def rod_loads(self, phi: Scalar, phi_dot: Scalar, z: Scalar, z_dot: Scalar, ops: Ops = NumericOps) -> tuple[Scalar, Scalar]:
         """(force on the pole along closing N, torque on the follower N m)."""
         _, _, (ex, ey), force = self.rod(phi, phi_dot, z, z_dot, ops)
         fx, fy = output_point(phi, self.b.follower, ops)
@@ -232,23 +238,23 @@ class BreakerLaws:
         # the rod pushes the pin along +e and F along -e
         return force * ey, (fx - pv[0]) * (-force * ey) - (fy - pv[1]) * (-force * ex)
 
-    def pole_contact(self, i, z, z_dot, impact_speed=0.0, ops=NumericOps):
+    def pole_contact(self, i: int, z: Scalar, z_dot: Scalar, impact_speed: Scalar = 0.0, ops: Ops = NumericOps) -> Scalar:
         """Force (N, opening direction) of pole i's fixed contact (Hertz point contact with
         Lankarani-Nikravesh damping: an impact contact)."""
         law = self.b.contact
         return contact_force(z - self.gaps[i], z_dot, law.pole_stiffness, law.exponent, self.restitution,
                              impact_speed, law.min_impact_speed, ops)
 
-    def pole_elastic(self, penetration):
+    def pole_elastic(self, penetration: float) -> float:
         law = self.b.contact
         return law.pole_stiffness * max(penetration, 0.0) ** law.exponent
 
-    def pole_energy(self, penetration):
+    def pole_energy(self, penetration: float) -> float:
         law = self.b.contact
         return contact_energy(penetration, law.pole_stiffness, law.exponent)
 
     # -- opening spring
-    def opening(self, phi, ops=NumericOps):
+    def opening(self, phi: Scalar, ops: Ops = NumericOps) -> tuple[Scalar, Scalar]:
         """(tension N, torque on the follower N m)."""
         f = self.b.follower
         fx, fy = output_point(phi, f, ops)
@@ -259,19 +265,20 @@ class BreakerLaws:
         return tension, (fx - f.pivot[0]) * gy - (fy - f.pivot[1]) * gx
 
     # -- rest state
-    def rod_rest_compression(self):
+    def rod_rest_compression(self) -> float:
         """Compression (m) of a rod holding its pole at rest: force m g - bellows."""
         force, p = -self.pole_load, self.b.poles
         s0 = p.wipe_preload / p.rod_stiffness
         return force / p.rod_stiffness if force <= p.wipe_preload else s0 + (force - p.wipe_preload) / p.wipe_rate
 
-    def rest_pole_travel(self, phi):
+    def rest_pole_travel(self, phi: float) -> float:
         """Pole travel z (m) with the rod at its rest compression for follower angle phi."""
         fx, fy = output_point(phi, self.b.follower)
         length = self.b.poles.push_rod_length - self.rod_rest_compression()
         return fy + math.sqrt(length * length - (self.pin_rest[0] - fx) ** 2) - self.pin_rest[1]
 
-    def follower_torque(self, theta, omega, phi, phi_dot, z, z_dot, impact_speed=0.0, ops=NumericOps):
+    def follower_torque(self, theta: Scalar, omega: Scalar, phi: Scalar, phi_dot: Scalar, z: Scalar, z_dot: Scalar, impact_speed: Scalar = 0.0,
+                        ops: Ops = NumericOps) -> tuple[Scalar, tuple[Scalar, Scalar, Scalar]]:
         """Total torque (N m) on the follower and the roller's loads on the cam."""
         t_cam, t_fol, fx, fy = self.roller_loads(theta, omega, phi, phi_dot, impact_speed, ops)
         t_fol += self.opening(phi, ops)[1]
@@ -308,7 +315,8 @@ class BreakerLaws:
                              + cam_weight_torque(theta, cam, self.gravity) + pin_weight_torque)
         return InitialState(phi, z, -(spring_and_weight + t_cam))
 
-    def latch_impact_speeds(self, impact, theta, omega, phi, phi_dot, z, z_dot, ops=NumericOps):
+    def latch_impact_speeds(self, impact: list, theta: Scalar, omega: Scalar, phi: Scalar, phi_dot: Scalar, z: Scalar, z_dot: Scalar,
+                            ops: Ops = NumericOps) -> CamRollerContact:
         """Update ``impact`` ([cam-roller, pole 1..n], m/s) from a state by
         :func:`update_impact_speeds`; returns the cam-roller contact at that state."""
         roller = cam_roller_contact(theta, omega, phi, phi_dot, self.b, self.geometry, ops)
@@ -318,18 +326,19 @@ class BreakerLaws:
         return roller
 
     # -- the closing latch
-    def latch(self, t, holding, ops=NumericOps):
+    def latch(self, t: Scalar, holding: Scalar, ops: Ops = NumericOps) -> Scalar:
         """The latch's torque (N m) on the cam at time t (s)."""
         return latch_torque(t, holding, self.b.latch_release_time, ops)
 
-    def latch_loads(self, t, theta, holding, ops=NumericOps):
+    def latch_loads(self, t: Scalar, theta: Scalar, holding: Scalar, ops: Ops = NumericOps) -> tuple[Scalar, Scalar, Scalar]:
         """(torque N m, Fx N, Fy N) of the latch on the cam: the force at the latch point that
         exerts :meth:`latch`'s torque, so that it also loads the shaft's journal."""
         torque = self.latch(t, holding, ops)
         fx, fy = latch_force(torque, theta, self.latch_arm, self.latch_angle, ops)
         return torque, fx, fy
 
-    def cam_loads(self, t, theta, omega, phi, phi_dot, holding, impact_speed=0.0, ops=NumericOps):
+    def cam_loads(self, t: Scalar, theta: Scalar, omega: Scalar, phi: Scalar, phi_dot: Scalar, holding: Scalar, impact_speed: Scalar = 0.0,
+                  ops: Ops = NumericOps) -> tuple[Scalar, Scalar, Scalar]:
         """(torque about A N m, Fx N, Fy N): the roller's and the latch's loads on the cam, the
         breaker's share of the cam's applied torque and shaft reaction."""
         t_cam, _, fx, fy = self.roller_loads(theta, omega, phi, phi_dot, impact_speed, ops)
@@ -337,6 +346,6 @@ class BreakerLaws:
         return t_cam + t_latch, fx + lx, fy + ly
 
 
-def massless_pull(cam, spring):
+def massless_pull(cam, spring) -> tuple[float, float]:
     """Pull (N, N) of massless closing springs on pin B at the cam's initial angle."""
     return massless_spring_force(*cam_pin(cam.initial_angle, cam), spring)

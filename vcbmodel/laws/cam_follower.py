@@ -11,18 +11,25 @@ rad/s. Functions with an ``ops`` argument serve floats, arrays, and the compiled
 from __future__ import annotations
 
 import math
+from collections.abc import Sequence
 from dataclasses import dataclass
+from typing import TYPE_CHECKING
 
 import numpy as np
+from numpy.typing import ArrayLike
 
 from .friction import NumericOps
+from .types import Ops, Scalar
+
+if TYPE_CHECKING:
+    from scipy.interpolate import CubicSpline
 
 TWO_PI = 2.0 * math.pi
 
 
 # --- cam profile -------------------------------------------------------------------------------
 
-def polynomial_rise(x, ops=NumericOps):
+def polynomial_rise(x: Scalar, ops: Ops = NumericOps) -> tuple[Scalar, Scalar]:
     """4-5-6-7 rise s(x) and ds/dx for x in [0, 1] (clipped outside); s(0)=0, s(1)=1."""
     x = ops.min(ops.max(x, 0.0), 1.0)
     x3 = x * x * x
@@ -31,7 +38,7 @@ def polynomial_rise(x, ops=NumericOps):
     return s, ds
 
 
-def pitch_radius(u, profile, roller_radius, ops=NumericOps):
+def pitch_radius(u: Scalar, profile, roller_radius: Scalar, ops: Ops = NumericOps) -> tuple[Scalar, Scalar]:
     """Distance rho (m) of the roller centre from the cam axis on the pitch curve, and
     d rho / d u (m/rad), at cam rotation u (rad) relative to the roller: the rise, the dwell at
     full lift, the return and the base circle (each piece evaluated, the one that applies chosen);
@@ -61,7 +68,7 @@ PROFILE_SAMPLES = 1440
 MAX_PRESSURE_ANGLE = math.radians(45.0)
 
 
-def profile_spline(angles, radii):
+def profile_spline(angles: ArrayLike, radii: ArrayLike) -> CubicSpline:
     """The periodic cubic spline rho(u) (m) through points of the pitch curve: cam angles (rad,
     increasing, within one turn) and the roller centre's distance from the cam axis (m)."""
     from scipy.interpolate import CubicSpline
@@ -71,7 +78,7 @@ def profile_spline(angles, radii):
     return CubicSpline(np.append(a, a[0] + TWO_PI), np.append(r, r[0]), bc_type="periodic")
 
 
-def profile_table(spline, samples=PROFILE_SAMPLES):
+def profile_table(spline: CubicSpline, samples: int = PROFILE_SAMPLES) -> tuple[float, ...]:
     """(rho_0, drho_0, rho_1, drho_1, ...): the spline's value (m) and slope (m/rad) at ``samples``
     angles k 2 pi / samples, the table :func:`table_radius` reads."""
     start = spline.x[0]
@@ -79,7 +86,7 @@ def profile_table(spline, samples=PROFILE_SAMPLES):
     return tuple(np.column_stack([spline(u), spline(u, 1)]).ravel().tolist())
 
 
-def table_radius(u, table, ops=NumericOps):
+def table_radius(u: Scalar, table: Sequence[float], ops: Ops = NumericOps) -> tuple[Scalar, Scalar]:
     """Pitch radius (m) and its slope (m/rad) at cam rotation u (rad) from a profile table
     (:func:`profile_table`): cubic Hermite between the samples."""
     n = len(table) // 2
@@ -98,14 +105,14 @@ def table_radius(u, table, ops=NumericOps):
     return rho, slope
 
 
-def pitch_curvature_radius(spline, u):
+def pitch_curvature_radius(spline: CubicSpline, u: float | np.ndarray) -> float | np.ndarray:
     """Signed radius of curvature (m) of the pitch curve rho(u) at u: positive where it is convex
     (centre of curvature towards the cam axis): (rho^2 + rho'^2)^(3/2) / (rho^2 + 2 rho'^2 - rho rho'')."""
     r, r1, r2 = spline(u), spline(u, 1), spline(u, 2)
     return (r * r + r1 * r1) ** 1.5 / (r * r + 2 * r1 * r1 - r * r2)
 
 
-def undercut(spline, roller_radius, samples=PROFILE_SAMPLES * 4):
+def undercut(spline: CubicSpline, roller_radius: float, samples: int = PROFILE_SAMPLES * 4) -> tuple[float, float] | None:
     """Where the roller cannot follow the pitch curve: (angle in rad, convex radius of curvature in
     m) of the sharpest convex point if it is below the roller radius (the cam surface, the pitch
     curve offset by the roller radius, would loop: undercut), else None."""
@@ -120,21 +127,21 @@ def undercut(spline, roller_radius, samples=PROFILE_SAMPLES * 4):
 
 # --- follower kinematics -----------------------------------------------------------------------
 
-def follower_point(phi, follower, arm, angle=0.0, ops=NumericOps):
+def follower_point(phi: Scalar, follower, arm: Scalar, angle: Scalar = 0.0, ops: Ops = NumericOps) -> tuple[Scalar, Scalar]:
     """Point on the follower at ``arm`` (m) and ``angle`` (rad) from the roller direction."""
     return (follower.pivot[0] + arm * ops.cos(phi + angle), follower.pivot[1] + arm * ops.sin(phi + angle))
 
 
-def roller_centre(phi, follower, ops=NumericOps):
+def roller_centre(phi: Scalar, follower, ops: Ops = NumericOps) -> tuple[Scalar, Scalar]:
     return follower_point(phi, follower, follower.roller_arm, 0.0, ops)
 
 
-def output_point(phi, follower, ops=NumericOps):
+def output_point(phi: Scalar, follower, ops: Ops = NumericOps) -> tuple[Scalar, Scalar]:
     """The follower's output point F (m) driving the push rods."""
     return follower_point(phi, follower, follower.output_arm, follower.output_angle, ops)
 
 
-def angle_on_circle(pivot, arm, centre, radius, near):
+def angle_on_circle(pivot: tuple[float, float], arm: float, centre: tuple[float, float], radius: float, near: float) -> float:
     """Angle phi (rad) with |pivot + arm (cos phi, sin phi) - centre| = radius, closest to
     ``near`` (the intersection of two circles)."""
     dx, dy = centre[0] - pivot[0], centre[1] - pivot[1]
@@ -248,6 +255,6 @@ def pressure_angle_curve(breaker, geometry: Geometry, thetas):
     return np.array(out)
 
 
-def follower_displacement(phi, follower, phi0):
+def follower_displacement(phi: float | np.ndarray, follower, phi0: float) -> np.ndarray:
     """Travel (m) of the output point F along the poles' closing direction (+y) from rest."""
     return np.array([output_point(p, follower)[1] for p in np.atleast_1d(phi)]) - output_point(phi0, follower)[1]

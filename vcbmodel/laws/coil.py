@@ -37,18 +37,18 @@ class CoilGeometry:
     shear_modulus: float  # G (Pa)
 
     @property
-    def index(self):
+    def index(self) -> float:
         return self.coil_diameter / self.wire_diameter
 
-    def wahl_factor(self):
+    def wahl_factor(self) -> float:
         c = self.index
         return (4 * c - 1) / (4 * c - 4) + 0.615 / c
 
-    def shear_stress(self, force):
+    def shear_stress(self, force: float) -> float:
         """Wahl-corrected shear stress (Pa) of the wire under an axial force (N)."""
         return self.wahl_factor() * 8 * force * self.coil_diameter / (math.pi * self.wire_diameter**3)
 
-    def mass(self):
+    def mass(self) -> float:
         """Mass (kg) of the active coils."""
         return P.STEEL_DENSITY * math.pi * self.wire_diameter**2 / 4 * math.pi * self.coil_diameter * self.active_coils
 
@@ -61,29 +61,29 @@ EXTENSION_BODY_FRACTION = 0.45
 COMPRESSION_SET_REMOVED_FRACTION = 0.65
 
 
-def coil_stiffness(wire_diameter, coil_diameter, active_coils, shear_modulus):
+def coil_stiffness(wire_diameter: float, coil_diameter: float, active_coils: float, shear_modulus: float) -> float:
     """k0 (N/m) = G d^4 / (8 D^3 n_a) of a helical spring (d, D in m; G in Pa)."""
     return shear_modulus * wire_diameter**4 / (8.0 * coil_diameter**3 * active_coils)
 
 
-def coil_mass(wire_diameter, coil_diameter, active_coils, density):
+def coil_mass(wire_diameter: float, coil_diameter: float, active_coils: float, density: float) -> float:
     """Mass (kg) of the active coils: rho (pi d^2 / 4) pi D n_a (density in kg/m^3)."""
     return density * math.pi * wire_diameter**2 / 4.0 * math.pi * coil_diameter * active_coils
 
 
-def surge_frequency(stiffness, mass):
+def surge_frequency(stiffness: float, mass: float) -> float:
     """First axial natural frequency (Hz) of a spring fixed at both ends: (1/2) sqrt(k0/m0)."""
     return 0.5 * math.sqrt(stiffness / mass)
 
 
-def wire_strength(wire_diameter, wire="chromium_silicon"):
+def wire_strength(wire_diameter: float, wire: str = "chromium_silicon") -> float:
     """Ultimate tensile strength S_ut (Pa) of spring wire of diameter d (m): Shigley's A / d^m."""
     a, m = WIRE_STRENGTH[wire]
     return a / (1000.0 * wire_diameter) ** m * 1e6
 
 
-def shear_stress_at_index(force, stiffness, mass, index, shear_modulus=P.DEFAULT_SHEAR_MODULUS,
-                          density=P.STEEL_DENSITY):
+def shear_stress_at_index(force: float, stiffness: float, mass: float, index: float, shear_modulus: float = P.DEFAULT_SHEAR_MODULUS,
+                          density: float = P.STEEL_DENSITY) -> float:
     """Wahl-corrected shear stress (Pa) of the lightest coil with stiffness k0 (N/m), active mass
     m0 (kg) and spring index C that carries ``force`` (N): with d^4 = 32 C^2 k0 m0 / (rho pi^2 G),
     tau = K_W 8 F C / (pi d^2), nearly independent of C (it scales with F / sqrt(k0 m0))."""
@@ -91,7 +91,7 @@ def shear_stress_at_index(force, stiffness, mass, index, shear_modulus=P.DEFAULT
     return CoilGeometry(d, index * d, 1.0, shear_modulus).shear_stress(force)
 
 
-def coil_geometry(spring):
+def coil_geometry(spring) -> CoilGeometry:
     """The coil of one spring (``stiffness`` k0 N/m, ``mass`` m0 kg): the rig's wire and coil
     diameters when given, else derived from k0 and m0 at SPRING_INDEX (module docstring);
     active coils from k0 unless given."""
@@ -108,7 +108,7 @@ def coil_geometry(spring):
     return CoilGeometry(d, D, n_active, G)
 
 
-def coil_bending_stiffness(spring):
+def coil_bending_stiffness(spring) -> float:
     """Equivalent bending stiffness EI_eq (N m^2) of one helical spring at its free length."""
     g = coil_geometry(spring)
     E = P.DEFAULT_YOUNGS_MODULUS
@@ -117,13 +117,13 @@ def coil_bending_stiffness(spring):
     return 2 * E * I_w * spring.free_length / (math.pi * g.active_coils * g.coil_diameter * (2 + nu))
 
 
-def coil_shear_stiffness(spring, length):
+def coil_shear_stiffness(spring, length: float) -> float:
     """Equivalent shear stiffness GA_eq (N) of one spring at ``length`` (m): (E/G) k0 L (Haringx)."""
     G = spring.shear_modulus or P.DEFAULT_SHEAR_MODULUS
     return P.DEFAULT_YOUNGS_MODULUS / G * spring.stiffness * length
 
 
-def spring_check(spring, charged_force, wire="chromium_silicon"):
+def spring_check(spring, charged_force: float, wire: str = "chromium_silicon") -> dict[str, float | bool]:
     """What a designer checks of one closing spring charged to ``charged_force`` (N): k0 (N/m), the
     active mass m0 (kg), the surge frequency (Hz), the wire's shear stress (Pa) there (the coil of
     the rig's datasheet, or of :func:`coil_geometry`'s default index), the wire's strength S_ut

@@ -36,6 +36,7 @@ from __future__ import annotations
 import math
 
 from .friction import NumericOps
+from .types import Ops, Scalar
 
 #: Exponent of the line-contact law (Palmgren): Q ~ delta^(10/9).
 LINE_EXPONENT = 10.0 / 9.0
@@ -47,8 +48,8 @@ CAM_ROLLER_LAWS = ("hertz_point", "line")
 DAMPING_LAWS = ("lankarani_nikravesh", "hunt_crossley")
 
 
-def hertz_contact_force(penetration, penetration_rate, stiffness, restitution, impact_velocity, exponent=1.5,
-                        ops=NumericOps):
+def hertz_contact_force(penetration: Scalar, penetration_rate: Scalar, stiffness: Scalar, restitution: Scalar, impact_velocity: Scalar,
+                        exponent: Scalar = 1.5, ops: Ops = NumericOps) -> Scalar:
     """Normal contact force (N, pushing the bodies apart) of the Lankarani-Nikravesh law."""
     v0 = ops.max(ops.abs(impact_velocity), 1e-9)
     damping = 3.0 * (1.0 - restitution * restitution) / 4.0 * penetration_rate / v0
@@ -56,13 +57,14 @@ def hertz_contact_force(penetration, penetration_rate, stiffness, restitution, i
     return ops.where(penetration <= 0.0, 0.0, ops.max(0.0, elastic * (1.0 + damping)))
 
 
-def hunt_crossley_force(penetration, penetration_rate, stiffness, exponent, damping_factor, ops=NumericOps):
+def hunt_crossley_force(penetration: Scalar, penetration_rate: Scalar, stiffness: Scalar, exponent: Scalar, damping_factor: Scalar,
+                        ops: Ops = NumericOps) -> Scalar:
     """Normal contact force (N) of the Hunt-Crossley law with a fixed damping factor alpha (s/m)."""
     elastic = stiffness * ops.pow(ops.max(penetration, 0.0), exponent)
     return ops.where(penetration <= 0.0, 0.0, ops.max(0.0, elastic * (1.0 + damping_factor * penetration_rate)))
 
 
-def palmgren_line_stiffness(length):
+def palmgren_line_stiffness(length: float) -> float:
     """K_L (N/m^(10/9)) of a steel roller of effective contact length ``length`` (m) on steel:
     Palmgren's delta = 3.84e-5 Q^0.9 / l^0.8 (mm, N) solved for Q and converted to SI."""
     length_mm = 1000.0 * length
@@ -70,7 +72,8 @@ def palmgren_line_stiffness(length):
     return (1000.0 * length_mm**0.8 / PALMGREN_COMPLIANCE) ** (1.0 / 0.9)
 
 
-def johnson_line_approach(force, length, radius_1, radius_2, youngs_modulus=206e9, poisson=0.3):
+def johnson_line_approach(force: float, length: float, radius_1: float, radius_2: float, youngs_modulus: float = 206e9,
+                          poisson: float = 0.3) -> float:
     """Approach (m) of two parallel elastic cylinders of the same material pressed together by
     ``force`` (N) over ``length`` (m): Johnson (1985) sec. 5.6,
     delta = P (1 - nu^2) / (pi E) (2 ln(4 R1 / a) - 1 + 2 ln(4 R2 / a) - 1), P = force / length,

@@ -42,11 +42,13 @@ term).
 from __future__ import annotations
 
 import math
+from collections.abc import Sequence
 from dataclasses import dataclass
 
 import numpy as np
 
 from ..parameters import STICK_TIME
+from .types import Ops, Scalar
 
 
 class NumericOps:
@@ -56,40 +58,40 @@ class NumericOps:
     symbolic one: the first eight, what the friction law needs)."""
 
     @staticmethod
-    def where(condition, if_true, if_false):
+    def where(condition: bool, if_true: float, if_false: float) -> float:
         return if_true if condition else if_false
 
     abs = staticmethod(abs)
     sqrt = staticmethod(math.sqrt)
 
     @staticmethod
-    def sign(x):
+    def sign(x: float) -> float:
         return 1.0 if x > 0 else (-1.0 if x < 0 else 0.0)
 
     @staticmethod
-    def min(a, b):
+    def min(a: float, b: float) -> float:
         return a if a < b else b
 
     sin = staticmethod(math.sin)
     cos = staticmethod(math.cos)
 
     @staticmethod
-    def max(a, b):
+    def max(a: float, b: float) -> float:
         return a if a > b else b
 
     atan2 = staticmethod(math.atan2)
     acos = staticmethod(math.acos)
 
     @staticmethod
-    def pow(a, b):
+    def pow(a: float, b: float) -> float:
         return math.pow(a, b)
 
     @staticmethod
-    def floor(a):
+    def floor(a: float) -> float:
         return float(math.floor(a))
 
     @staticmethod
-    def take(table, index):
+    def take(table: Sequence[float], index: float) -> float:
         return table[int(index) % len(table)]
 
 
@@ -112,11 +114,11 @@ class ArrayOps:
     floor = staticmethod(np.floor)
 
     @staticmethod
-    def take(table, index):
+    def take(table: Sequence[float] | np.ndarray, index: np.ndarray | float) -> np.ndarray:
         return np.asarray(table)[np.asarray(index).astype(int) % len(table)]
 
 
-def symbolic_ops():
+def symbolic_ops() -> type:
     """The same operations on Exudyn symbolic reals (compiled user functions)."""
     import exudyn
 
@@ -181,22 +183,23 @@ class FrictionLaw:
 REST_SPEED = 1e-9
 
 
-def effective_static(mu_s, mu_k):
+def effective_static(mu_s: Scalar, mu_k: Scalar) -> Scalar:
     """The static coefficient the law uses: mu_s, but never below mu_k (-)."""
     return mu_s if mu_s > mu_k else mu_k
 
 
-def viscous_from_zeta(zeta, inertia, mass, gravity, com_distance):
+def viscous_from_zeta(zeta: float, inertia: float, mass: float, gravity: float, com_distance: float) -> float:
     """Pendulum viscous coefficient Cv = 2 zeta sqrt(I M g L) (paper eq. 4), in N m s/rad."""
     return 2.0 * zeta * math.sqrt(inertia * mass * gravity * com_distance)
 
 
-def zeta_from_viscous(viscous, inertia, mass, gravity, com_distance):
+def zeta_from_viscous(viscous: float, inertia: float, mass: float, gravity: float, com_distance: float) -> float:
     """Inverse of :func:`viscous_from_zeta` (dimensionless damping ratio)."""
     return viscous / (2.0 * math.sqrt(inertia * mass * gravity * com_distance))
 
 
-def consistent_reaction(R0x, R0y, R1x, R1y, applied_torque, inertia, c, d, ops=NumericOps):
+def consistent_reaction(R0x: Scalar, R0y: Scalar, R1x: Scalar, R1y: Scalar, applied_torque: Scalar, inertia: Scalar, c: Scalar, d: Scalar,
+                        ops: Ops = NumericOps) -> Scalar:
     """Shaft reaction magnitude F_n (N) solved together with the acceleration.
 
     The reaction is ``R = R0 + R1 theta''`` with ``theta'' = (T_c - c F_n - d) / I``, i.e.
@@ -220,7 +223,8 @@ def _is_zero(x):
     return isinstance(x, (int, float)) and x == 0.0
 
 
-def shaft_friction(w, applied_torque, R0x, R0y, R1x, R1y, inertia, law: FrictionLaw, ops=NumericOps):
+def shaft_friction(w: Scalar, applied_torque: Scalar, R0x: Scalar, R0y: Scalar, R1x: Scalar, R1y: Scalar, inertia: Scalar, law: FrictionLaw,
+                   ops: Ops = NumericOps) -> tuple[Scalar, Scalar]:
     """Friction torque T_f (N m, opposing motion) and shaft reaction F_n (N).
 
     Parameters
@@ -284,7 +288,7 @@ def shaft_friction(w, applied_torque, R0x, R0y, R1x, R1y, inertia, law: Friction
     return Tf, ops.where(holds, Fn_stop, Fn_slip)
 
 
-def band_width(law, Fn_rest, inertia):
+def band_width(law: FrictionLaw, Fn_rest: float, inertia: float) -> float:
     """Half-width (rad/s) of the stick band: w0, widened for the passive law with a fixed step
     to the speed change one step can make near rest (module docstring)."""
     if law.sticking == "literal" or law.step <= 0.0:
@@ -292,7 +296,7 @@ def band_width(law, Fn_rest, inertia):
     return max(law.stick_velocity, 2.0 * law.step * law.mu_s * law.radius * Fn_rest / inertia)
 
 
-def friction_torque(w, applied_torque, reaction, law: FrictionLaw, band=None):
+def friction_torque(w: float, applied_torque: float, reaction: float, law: FrictionLaw, band: float | None = None) -> float:
     """The spec's slip law at a *given* shaft reaction F_n (N): T_f in N m.
 
     This is the law as written (paper eq. 2-4, eq. 3 read as T_f = T_s), without the coupling
@@ -314,7 +318,8 @@ def friction_torque(w, applied_torque, reaction, law: FrictionLaw, band=None):
     return law.mu_k * r * reaction * s + law.viscous * (w - ws * s)
 
 
-def stuck_torque(w, applied_torque, R0, R1, inertia, law: FrictionLaw):
+def stuck_torque(w: float, applied_torque: float, R0: tuple[float, float], R1: tuple[float, float], inertia: float,
+                 law: FrictionLaw) -> tuple[float, float]:
     """The passive stuck state (module docstring): (T_f in N m, F_n in N) for a shaft in the
     band whose applied torque static friction can hold; written out plainly (no ``ops``)."""
     tau = law.stick_time

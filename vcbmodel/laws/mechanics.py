@@ -8,9 +8,11 @@ symbolic arithmetic, so the Exudyn user functions evaluate exactly these formula
 from __future__ import annotations
 
 from .friction import NumericOps
+from .types import Ops, Scalar
 
 
-def pendulum_loads(theta, omega, mass, com_distance, gravity, ops=NumericOps):
+def pendulum_loads(theta: Scalar, omega: Scalar, mass: Scalar, com_distance: Scalar, gravity: Scalar,
+                   ops: Ops = NumericOps) -> tuple[Scalar, Scalar, Scalar, Scalar, Scalar]:
     """Pendulum (paper eq. 1, 5, 6): T_c = -M g L sin(theta).
 
     The reaction is expressed in the link frame: normal F_om = M g cos(th) + M L th'^2,
@@ -21,13 +23,13 @@ def pendulum_loads(theta, omega, mass, com_distance, gravity, ops=NumericOps):
     return -M * g * L * s, M * g * c + M * L * omega * omega, M * g * s, 0.0, M * L
 
 
-def cam_pin(theta, cam, ops=NumericOps):
+def cam_pin(theta: Scalar, cam, ops: Ops = NumericOps) -> tuple[Scalar, Scalar]:
     """Spring pin B = A + l_AB (cos th, sin th) (m)."""
     return (cam.pivot[0] + cam.arm_length * ops.cos(theta),
             cam.pivot[1] + cam.arm_length * ops.sin(theta))
 
 
-def link_pull(x0, y0, x1, y1, stiffness, free_length, ops=NumericOps):
+def link_pull(x0: Scalar, y0: Scalar, x1: Scalar, y1: Scalar, stiffness: Scalar, free_length: Scalar, ops: Ops = NumericOps) -> tuple[Scalar, Scalar]:
     """Pull (N) of a straight linear spring from point 0 to point 1 (m) on point 1, towards
     point 0: tension k (L - L0) along the link (an axial spring of stiffness ``stiffness`` in N/m
     and free length ``free_length`` in m; what Exudyn's ``ObjectConnectorSpringDamper`` applies
@@ -38,19 +40,19 @@ def link_pull(x0, y0, x1, y1, stiffness, free_length, ops=NumericOps):
     return -tension * dx / length, -tension * dy / length
 
 
-def massless_spring_force(bx, by, spring, ops=NumericOps):
+def massless_spring_force(bx: Scalar, by: Scalar, spring, ops: Ops = NumericOps) -> tuple[Scalar, Scalar]:
     """Pull (N) of ``spring.count`` massless tension springs on pin B, along B -> O."""
     return link_pull(spring.anchor[0], spring.anchor[1], bx, by, spring.count * spring.stiffness,
                      spring.free_length, ops)
 
 
-def cam_weight_torque(theta, cam, gravity, ops=NumericOps):
+def cam_weight_torque(theta: Scalar, cam, gravity: Scalar, ops: Ops = NumericOps) -> Scalar:
     """Torque (N m) of the cam's weight about A: -m_c g l_g cos(theta - psi) (eq. 12)."""
     return -cam.mass * gravity * cam.com_distance * ops.cos(theta - cam.com_angle)
 
 
-def cam_loads(theta, omega, cam, spring_force_x, spring_force_y, gravity, ops=NumericOps, pin_mass=0.0,
-              pin_weight=False):
+def cam_loads(theta: Scalar, omega: Scalar, cam, spring_force_x: Scalar, spring_force_y: Scalar, gravity: Scalar, ops: Ops = NumericOps,
+              pin_mass: float = 0.0, pin_weight: bool = False) -> tuple[Scalar, Scalar, Scalar, Scalar, Scalar]:
     """Cam (paper eq. 11-13) with a force (N) on pin B from the closing springs.
 
     T_c = r_AB x F_s - m_c g l_g cos(th - psi) (eq. 12). The shaft's reaction on the cam is
@@ -79,6 +81,6 @@ def cam_loads(theta, omega, cam, spring_force_x, spring_force_y, gravity, ops=Nu
     return torque, R0x, R0y, R1x, R1y
 
 
-def cam_inertia(cam, pin_mass=0.0):
+def cam_inertia(cam, pin_mass: float = 0.0) -> float:
     """Inertia (kg m^2) of the cam about A with the springs' pin mass: I_c + m_c l_g^2 + m_pin l_AB^2."""
     return cam.inertia_pivot + pin_mass * cam.arm_length**2

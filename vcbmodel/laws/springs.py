@@ -22,6 +22,7 @@ import math
 from dataclasses import dataclass, replace
 
 import numpy as np
+from numpy.typing import ArrayLike
 from scipy.optimize import least_squares
 
 
@@ -36,30 +37,30 @@ class LumpedChain:
     anchor_mass: float = 0.0  # kg at the fixed anchor O (never moves)
 
     @property
-    def total_mass(self):
+    def total_mass(self) -> float:
         """All of the spring's mass in the model (kg): chain, pin and anchor shares."""
         return float(self.masses.sum() + self.pin_mass + self.anchor_mass)
 
     @property
-    def quasi_static_pin_mass(self):
+    def quasi_static_pin_mass(self) -> float:
         """Mass (kg) a slowly moving pin feels: sum m_i f_i^2 + m_pin (Rayleigh: m0/3)."""
         return float(np.sum(self.masses * self.equilibrium_fractions() ** 2) + self.pin_mass)
 
     @property
-    def series_stiffness(self):
+    def series_stiffness(self) -> float:
         return 1.0 / np.sum(1.0 / self.stiffnesses)
 
-    def natural_frequencies(self):
+    def natural_frequencies(self) -> np.ndarray:
         """Fixed-fixed natural angular frequencies (rad/s), ascending."""
         return chain_frequencies(self.masses, self.stiffnesses)
 
-    def equilibrium_fractions(self):
+    def equilibrium_fractions(self) -> np.ndarray:
         """Positions of the masses along O->B as fractions of |OB| (static equilibrium)."""
         compliance = 1.0 / self.stiffnesses
         return np.cumsum(compliance)[:-1] / compliance.sum()
 
 
-def chain_stiffness_matrix(stiffnesses):
+def chain_stiffness_matrix(stiffnesses: ArrayLike) -> np.ndarray:
     """Tridiagonal stiffness matrix (N/m) of a chain fixed at both ends."""
     k = np.asarray(stiffnesses, float)
     K = np.diag(k[:-1] + k[1:])
@@ -67,7 +68,7 @@ def chain_stiffness_matrix(stiffnesses):
     return K
 
 
-def chain_frequencies(masses, stiffnesses):
+def chain_frequencies(masses: ArrayLike, stiffnesses: ArrayLike) -> np.ndarray:
     m = np.asarray(masses, float)
     K = chain_stiffness_matrix(stiffnesses)
     s = 1.0 / np.sqrt(m)
@@ -75,7 +76,7 @@ def chain_frequencies(masses, stiffnesses):
     return np.sqrt(lam)
 
 
-def fundamental(k0, m0, convention="exact"):
+def fundamental(k0: float, m0: float, convention: str = "exact") -> float:
     """w1 (rad/s): pi sqrt(k0/m0) (``exact``, fixed-fixed continuum) or 2 sqrt(k0/m0) (``paper``)."""
     if convention == "exact":
         return math.pi * math.sqrt(k0 / m0)
@@ -135,17 +136,17 @@ def lumped_chain(n, k0, m0, free_length, convention="exact") -> LumpedChain:
     return chain
 
 
-def fixed_fixed_frequencies(k0, m0, count=3):
+def fixed_fixed_frequencies(k0: float, m0: float, count: int = 3) -> np.ndarray:
     """The continuum spring's axial natural frequencies (rad/s): w_n = n pi sqrt(k0/m0)."""
     return math.pi * math.sqrt(k0 / m0) * np.arange(1, count + 1)
 
 
-def string_frequencies(tension, m0, length, count=3):
+def string_frequencies(tension: float, m0: float, length: float, count: int = 3) -> np.ndarray:
     """Lateral (string) natural frequencies (rad/s) of a preloaded spring: n pi sqrt(T L / m0) / L."""
     return np.arange(1, count + 1) * math.pi * math.sqrt(tension / (m0 * length))
 
 
-def chain_for(spring, spring_model):
+def chain_for(spring, spring_model) -> LumpedChain | None:
     """The lumped chain of ``spring`` (k0, m0, free length) for a spring model (``kind``,
     ``masses``, ``convention``); None for massless and ANCF springs."""
     if spring_model.kind != "lumped":
