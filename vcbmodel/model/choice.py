@@ -2,17 +2,18 @@
 from __future__ import annotations
 
 import json
+from collections.abc import Callable, Sequence
 
 from ..errors import InputError
 from ..rig.data import ModelChoice
-from ..rig.reader import did_you_mean
+from ..rig.reader import Reader, did_you_mean
 from ..rig.spring_model import SpringModel
 from .effects import EFFECTS
 
 MODEL_KEYS = ("effects", "spring_model", "lumped_convention")
 
 
-def check_effect_names(effects, experiment, fail):
+def check_effect_names(effects: Sequence[str], experiment: str, fail: Callable[[str], None]) -> None:
     """Refuse unknown, inapplicable or repeated effect names through ``fail(message)``."""
     for e in effects:
         if e not in EFFECTS:
@@ -23,7 +24,7 @@ def check_effect_names(effects, experiment, fail):
         fail("lists an effect twice")
 
 
-def read_model(rd, data, experiment):
+def read_model(rd: Reader, data: dict, experiment: str) -> ModelChoice:
     """The rig's ``model``: a :class:`vcbmodel.rig.data.ModelChoice`."""
     m = rd.section(data, "model")
     rd.known_keys(m, MODEL_KEYS, "model.")
@@ -50,7 +51,7 @@ def read_model(rd, data, experiment):
     return ModelChoice(tuple(effects), spring_model)
 
 
-def parse_effects_option(text, experiment, source="--effects"):
+def parse_effects_option(text: str, experiment: str, source: str = "--effects") -> tuple[str, ...]:
     """Effects given on the command line: comma-separated, spaces allowed."""
     effects = [e.strip() for e in text.split(",") if e.strip()]
 

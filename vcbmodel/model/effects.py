@@ -10,12 +10,17 @@ and, for ``spring_mass``, the variants the diagnosis tries. The diagnosis loops 
 """
 from __future__ import annotations
 
+from collections.abc import Iterable
 from dataclasses import dataclass, field
+from typing import TYPE_CHECKING
 
 from ..errors import InputError
 from ..laws.friction import FrictionLaw, effective_static, viscous_from_zeta
 from ..parameters import DEFAULT_SPRING_MASS_MODEL, DEFAULT_STICK_VELOCITY
 from ..rig.spring_model import SpringModel
+
+if TYPE_CHECKING:
+    from ..rig.data import Rig
 
 
 @dataclass(frozen=True)
@@ -48,7 +53,7 @@ class ModelSpec:
     restitution: float = 1.0  # whole breaker: contacts' coefficient of restitution (1: elastic)
     bellows_force: float = 0.0  # whole breaker: atmospheric force on each pole's bellows (N)
 
-    def friction_law(self, radius, step=0.0):
+    def friction_law(self, radius: float, step: float = 0.0) -> FrictionLaw:
         """The shaft friction law with journal radius ``radius`` (m), for an integrator with
         fixed step ``step`` (s; 0: adaptive)."""
         return FrictionLaw(mu_s=self.mu_s, mu_k=self.mu_k, stick_velocity=self.stick_velocity,
@@ -100,11 +105,11 @@ class CoulombFriction(Effect):
                   _friction("stick_velocity", DEFAULT_STICK_VELOCITY, 2e-4, 0.02, "rad/s", vary=False, log=True,
                             default=DEFAULT_STICK_VELOCITY))
 
-    def on(self, spec, values, rig):
+    def on(self, spec: ModelSpec, values: dict, rig: Rig) -> None:
         spec.mu_k = spec.mu_s = values["mu_k"]
         spec.stick_velocity = values["stick_velocity"]
 
-    def off(self, spec, values, rig):
+    def off(self, spec: ModelSpec, values: dict, rig: Rig) -> None:
         spec.mu_k = spec.mu_s = 0.0
 
 
@@ -114,11 +119,11 @@ class Stribeck(Effect):
     parameters = (_friction("mu_s", 0.2, 0.0, 1.5, "-", scan=(0.15, 0.25, 0.4)),
                   _friction("stribeck_velocity", 0.1, 0.003, 2.0, "rad/s", log=True, scan=(0.03, 0.1, 0.3)))
 
-    def on(self, spec, values, rig):
+    def on(self, spec: ModelSpec, values: dict, rig: Rig) -> None:
         spec.mu_s = effective_static(values["mu_s"], spec.mu_k)
         spec.stribeck_velocity = values["stribeck_velocity"]
 
-    def off(self, spec, values, rig):
+    def off(self, spec: ModelSpec, values: dict, rig: Rig) -> None:
         spec.mu_s = spec.mu_k
         spec.stribeck_velocity = 0.0
 
@@ -129,13 +134,13 @@ class ViscousFriction(Effect):
     parameters = (_friction("viscous", 0.3, 0.0, 20.0, "N m s/rad", scan=(0.1, 0.4, 1.2, 4.0)),)
     extra_rig_fields = ("friction.zeta",)
 
-    def on(self, spec, values, rig):
+    def on(self, spec: ModelSpec, values: dict, rig: Rig) -> None:
         spec.viscous = values["viscous"]
 
-    def off(self, spec, values, rig):
+    def off(self, spec: ModelSpec, values: dict, rig: Rig) -> None:
         spec.viscous = 0.0
 
-    def rig_values(self, rig):
+    def rig_values(self, rig: Rig) -> dict:
         """``viscous``, or for a pendulum its damping ratio ``zeta`` (Cv = 2 zeta sqrt(I M g L))."""
         out = super().rig_values(rig)
         if "zeta" in rig.friction and "viscous" not in out:
@@ -159,12 +164,12 @@ class SpringMass(Effect):
     variants = tuple(SpringModel.parse(s) for s in ("lumped-1", "lumped-2", "lumped-3", "lumped-1:paper",
                                                      "lumped-2:paper", "lumped-3:paper", "ancf"))
 
-    def on(self, spec, values, rig):
+    def on(self, spec: ModelSpec, values: dict, rig: Rig) -> None:
         chosen = rig.model.spring_model
         spec.spring_model = chosen if not chosen.is_massless else SpringModel.parse(
             DEFAULT_SPRING_MASS_MODEL, chosen.convention)
 
-    def off(self, spec, values, rig):
+    def off(self, spec: ModelSpec, values: dict, rig: Rig) -> None:
         spec.spring_model = SpringModel("massless", 0, rig.model.spring_model.convention)
 
 
@@ -176,13 +181,13 @@ class BreakerScalarEffect(Effect):
     off_value = 0.0
     experiments = ("vcb_closing",)
 
-    def on(self, spec, values, rig):
+    def on(self, spec: ModelSpec, values: dict, rig: Rig) -> None:
         setattr(spec, self.field, values[self.field])
 
-    def off(self, spec, values, rig):
+    def off(self, spec: ModelSpec, values: dict, rig: Rig) -> None:
         setattr(spec, self.field, self.off_value)
 
-    def rig_values(self, rig):
+    def rig_values(self, rig: Rig) -> dict:
         obj = rig.breaker
         for key in self.parameters[0].rig_field.split(".")[1:]:
             obj = getattr(obj, key, None)
@@ -211,7 +216,7 @@ EFFECTS = {e.name: e for e in (CoulombFriction(), Stribeck(), ViscousFriction(),
                                BellowsForce())}
 
 
-def effect_reading(path, registry=None):
+def effect_reading(path: str, registry: dict[str, Effect] | None = None) -> str | None:
     """The name of the effect that reads rig field ``path``, or None (a field every model uses)."""
     for name, effect in (registry or EFFECTS).items():
         if path in effect.rig_fields:
@@ -219,7 +224,7 @@ def effect_reading(path, registry=None):
     return None
 
 
-def parameter_specs(effects, registry=None):
+def parameter_specs(effects: Iterable[str], registry: dict[str, Effect] | None = None) -> list[ParameterSpec]:
     """The parameter specs owned by the listed effects, in registry order."""
     return [p for name, e in (registry or EFFECTS).items() if name in effects for p in e.parameters]
 

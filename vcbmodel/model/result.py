@@ -3,8 +3,14 @@ from __future__ import annotations
 
 import re
 from dataclasses import dataclass, field
+from typing import TYPE_CHECKING
 
 import numpy as np
+
+if TYPE_CHECKING:
+    import pandas as pd
+
+    from ..rig.spring_model import SpringModel
 
 #: Unit of each channel name (first matching pattern wins).
 CHANNEL_UNITS = (
@@ -17,7 +23,7 @@ CHANNEL_UNITS = (
 )
 
 
-def unit_of(channel):
+def unit_of(channel: str) -> str:
     """The SI unit of a channel by its name (``?`` if unknown)."""
     for pattern, unit in CHANNEL_UNITS:
         if re.fullmatch(pattern, channel):
@@ -44,25 +50,25 @@ class SimulationResult:
         self.units = {name: self.units.get(name) or unit_of(name) for name in self.channels}
 
     @property
-    def measured(self):
+    def measured(self) -> np.ndarray:
         """The measured channel's samples (rad or m)."""
         return self.channels[self.measured_channel]
 
     @property
-    def effects(self):
+    def effects(self) -> tuple:
         return self.spec.effects
 
     @property
-    def spring_model(self):
+    def spring_model(self) -> SpringModel:
         return self.spec.spring_model
 
-    def resample(self, t):
+    def resample(self, t: np.ndarray) -> SimulationResult:
         """The channels linearly interpolated at times ``t`` (s)."""
         t = np.asarray(t)
         return SimulationResult(t, {k: np.interp(t, self.t, v) for k, v in self.channels.items()}, self.experiment,
                                 self.measured_channel, self.spec, self.info, self.units)
 
-    def to_dataframe(self):
+    def to_dataframe(self) -> pd.DataFrame:
         """A pandas DataFrame indexed by ``t`` (s); column names carry their unit: ``cam_angle [rad]``."""
         import pandas as pd  # optional dependency, only for this conversion
 

@@ -20,7 +20,7 @@ def rig_values(rig) -> dict:
     return out
 
 
-def owner_of(parameter_name):
+def owner_of(parameter_name: str) -> str:
     return next((e.name for e in EFFECTS.values() if any(p.name == parameter_name for p in e.parameters)), "?")
 
 

@@ -24,11 +24,17 @@ poles; here the reference is the mechanical release, the record's ``release_time
 from __future__ import annotations
 
 import re
+from collections.abc import Iterable, Sequence
+from typing import TYPE_CHECKING
 
 import numpy as np
 
 from ..errors import InputError
 from ..laws.breaker import pole_gaps
+
+if TYPE_CHECKING:
+    from ..rig.data import Rig
+    from .measurement import Measurement
 
 CONTACT = re.compile(r"pole_(\d+)_contact")
 TRAVEL = re.compile(r"pole_(\d+)_travel")
@@ -40,12 +46,12 @@ MIN_BOUNCE = 5e-5
 CONTACT_SIGMA = 0.5
 
 
-def analyser_channels(poles):
+def analyser_channels(poles: int) -> tuple[str, ...]:
     """Channel names an analyser record of a breaker with ``poles`` poles may carry."""
     return tuple(f"pole_{i}_{kind}" for i in range(1, poles + 1) for kind in ("contact", "travel"))
 
 
-def check_contacts(measurement):
+def check_contacts(measurement: Measurement) -> None:
     """Refuse a contact channel that is not 0/1 (one line naming the channel)."""
     for name, values in measurement.channels.items():
         if CONTACT.fullmatch(name) and not np.all((values == 0) | (values == 1)):
@@ -53,7 +59,7 @@ def check_contacts(measurement):
             raise InputError(measurement.path, f"column {name!r}", f"a contact channel holds 0 (open) or 1 (closed), got {bad:g}")
 
 
-def channel_setup(rig, setup, channels, channel_sigma):
+def channel_setup(rig: Rig, setup, channels: Iterable[str], channel_sigma: dict[str, float]) -> None:
     """Fill a diagnosis' record setup for the analyser channels: each contact channel's gap (the
     model's pole travel at touch) and indicator width, and the weights."""
     gaps = pole_gaps(rig.breaker.poles)
@@ -78,7 +84,7 @@ def _transitions(t, c):
     return mid[d == 1], mid[d == -1]
 
 
-def pole_timing(t, contact, release=0.0, min_bounce=MIN_BOUNCE):
+def pole_timing(t: np.ndarray, contact: np.ndarray, release: float = 0.0, min_bounce: float = MIN_BOUNCE) -> dict[str, float | int | None]:
     """One pole: closing time (s from release, None if it never closes), bounces and the bounce
     duration (first touch to final closing)."""
     t = np.asarray(t, float)
@@ -97,7 +103,8 @@ def pole_timing(t, contact, release=0.0, min_bounce=MIN_BOUNCE):
     return {"closing_time_s": first - release, "bounces": int(bounces), "bounce_duration_s": max(0.0, final - first)}
 
 
-def figures_of_merit(t, contacts, travel=None, release=0.0, zone=TOUCH_ZONE, min_bounce=MIN_BOUNCE):
+def figures_of_merit(t: np.ndarray, contacts: Sequence[np.ndarray], travel: np.ndarray | None = None, release: float = 0.0,
+                     zone: tuple[float, float] = TOUCH_ZONE, min_bounce: float = MIN_BOUNCE) -> dict:
     """Analyser figures of merit (module docstring) from contact channels (list of 0/1 arrays,
     pole order) and a travel channel (m, towards closing; the follower displacement or a pole's
     travel). Times in s from ``release``; speeds in m/s; lengths in m."""
@@ -132,7 +139,7 @@ def figures_of_merit(t, contacts, travel=None, release=0.0, zone=TOUCH_ZONE, min
     return out
 
 
-def record_figures(measurement, release=0.0, zone=TOUCH_ZONE):
+def record_figures(measurement: Measurement, release: float = 0.0, zone: tuple[float, float] = TOUCH_ZONE) -> dict:
     """Figures of merit of a measured closing record (the channels it has)."""
     chans = measurement.channels
     contacts = [chans[k] for k in sorted((k for k in chans if CONTACT.fullmatch(k)),

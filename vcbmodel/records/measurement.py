@@ -25,10 +25,10 @@ class Measurement:
     channels: dict
     comments: tuple = ()
 
-    def channel(self, name):
+    def channel(self, name: str) -> np.ndarray:
         return self.channels[name]
 
-    def window(self, t0=-math.inf, t1=math.inf):
+    def window(self, t0: float = -math.inf, t1: float = math.inf) -> Measurement:
         """The samples with t0 <= t <= t1."""
         keep = (self.t >= t0) & (self.t <= t1)
         return replace(self, t=self.t[keep], channels={k: v[keep] for k, v in self.channels.items()})
@@ -156,7 +156,7 @@ def _check_header(header, path, line, known):
         raise InputError(path, f"line {line}", "no measured channel after 't'")
 
 
-def write_measurement(measurement, path):
+def write_measurement(measurement: Measurement, path: str | Path) -> None:
     """Write a measurement file (comments, header, one row per sample)."""
     path = Path(path)
     names = list(measurement.channels)
@@ -167,7 +167,7 @@ def write_measurement(measurement, path):
     path.write_text("\n".join(lines) + "\n")
 
 
-def sibling_rig_path(measurement_path):
+def sibling_rig_path(measurement_path: str | Path) -> str:
     """``NAME.rig.json`` beside ``NAME.csv``."""
     p = Path(measurement_path)
     name = p.name[:-4] if p.name.endswith(".csv") else p.stem

@@ -5,12 +5,13 @@ Pure functions of sampled data (``t`` in s, values in the channel's unit: rad or
 from __future__ import annotations
 
 import math
+from collections.abc import Sequence
 
 import numpy as np
 from scipy.stats import chi2, kstwobign
 
 
-def noise_estimate(y):
+def noise_estimate(y: np.ndarray) -> float:
     """Sensor noise sigma (same unit as ``y``) from the data alone.
 
     Third differences of a smooth signal sampled densely are almost pure noise:
@@ -26,7 +27,7 @@ def noise_estimate(y):
     return float(1.4826 * mad / math.sqrt(20.0))
 
 
-def swing_peaks(t, angle, min_separation=0.1, signed=False):
+def swing_peaks(t: np.ndarray, angle: np.ndarray, min_separation: float = 0.1, signed: bool = False) -> tuple[np.ndarray, ...]:
     """Extreme values of a free swing: returns (times, |amplitudes|) of alternating peaks,
     and with ``signed`` also the angle values at the peaks.
 
@@ -54,7 +55,7 @@ def swing_peaks(t, angle, min_separation=0.1, signed=False):
     return np.array(times), np.array(amps)
 
 
-def decay_shape(peak_times, amplitudes):
+def decay_shape(peak_times: np.ndarray, amplitudes: np.ndarray) -> dict:
     """Compare linear (Coulomb) and exponential (viscous) fits of the peak envelope.
 
     Returns a dict with the slope of the linear fit (rad/s), the decay rate of the
@@ -72,7 +73,7 @@ def decay_shape(peak_times, amplitudes):
             "exponential_rate": float(-ex[0]), "exponential_rms": exp_rms}
 
 
-def running_rms(residual, width):
+def running_rms(residual: np.ndarray, width: int) -> np.ndarray:
     """Centred moving rms of ``residual`` over ``width`` samples."""
     r2 = np.asarray(residual, float) ** 2
     width = max(1, min(int(width), r2.size))
@@ -80,7 +81,7 @@ def running_rms(residual, width):
     return np.sqrt(np.convolve(r2, kernel, mode="same"))
 
 
-def disagreement_window(t, residual, sigma, width=None):
+def disagreement_window(t: np.ndarray, residual: np.ndarray, sigma: float, width: int | None = None) -> tuple[float, float, float]:
     """The time window [t0, t1] (s) around the largest disagreement.
 
     The running rms of the residual (over ~2 % of the record) is compared with the noise
@@ -102,7 +103,7 @@ def disagreement_window(t, residual, sigma, width=None):
     return float(t[a]), float(t[b]), float(rr[i])
 
 
-def dominant_frequency(t, residual):
+def dominant_frequency(t: np.ndarray, residual: np.ndarray) -> float:
     """Frequency (Hz) of the largest spectral peak of the detrended residual."""
     t, r = np.asarray(t), np.asarray(residual, float)
     if r.size < 16:
@@ -114,14 +115,14 @@ def dominant_frequency(t, residual):
     return float(freqs[int(np.argmax(spec))])
 
 
-def lag1_autocorrelation(residual):
+def lag1_autocorrelation(residual: np.ndarray) -> float:
     """Lag-one autocorrelation of the residual: about 0 when it is white noise."""
     r = np.asarray(residual, float) - np.mean(residual)
     den = float(np.dot(r, r))
     return float(np.dot(r[1:], r[:-1]) / den) if den > 0 else 0.0
 
 
-def swing_spans(t, angle, sigma=None):
+def swing_spans(t: np.ndarray, angle: np.ndarray, sigma: float | None = None) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     """The clear part of a free swing: (mid times, spans) with span_i = |p_i - p_(i+1)|
     between successive extremes, from the release on, while spans exceed 20 noise levels
     and extremes follow each other at a regular half period. Empty arrays if none."""
@@ -138,7 +139,7 @@ def swing_spans(t, angle, sigma=None):
     return 0.5 * (tp[:n] + tp[1:n + 1]), spans[:n], gaps[:n]
 
 
-def motion_end_time(t, angle, sigma=None):
+def motion_end_time(t: np.ndarray, angle: np.ndarray, sigma: float | None = None) -> float:
     """Time (s) when a free swing visibly stops: the end of :func:`swing_spans` plus half
     a swing; ``t[-1]`` if it never stops."""
     t = np.asarray(t)
@@ -148,7 +149,7 @@ def motion_end_time(t, angle, sigma=None):
     return float(min(t[-1], mid[-1] + 1.5 * np.median(gaps)))
 
 
-def first_peak_amplitude(t, angle):
+def first_peak_amplitude(t: np.ndarray, angle: np.ndarray) -> float:
     """Amplitude (rad) of the first extreme of a free swing after release (the paper's 0.15 rad)."""
     tp, ap = swing_peaks(t, angle)
     later = ap[tp > t[0] + 0.05 * (t[-1] - t[0]) / 6] if tp.size else ap
@@ -157,7 +158,7 @@ def first_peak_amplitude(t, angle):
 
 # --- sensors that are not ideal: quantisation, correlated noise, a record that starts early ----------
 
-def quantisation_step(y, max_levels_fraction=0.25):
+def quantisation_step(y: np.ndarray, max_levels_fraction: float = 0.25) -> float:
     """The step (same unit as ``y``) of a quantised sensor (an encoder, a digitiser with few
     bits), or 0.0 when the values do not lie on a grid.
 
@@ -182,7 +183,7 @@ def quantisation_step(y, max_levels_fraction=0.25):
     return q
 
 
-def noise_estimate_floored(y, quantisation=None):
+def noise_estimate_floored(y: np.ndarray, quantisation: float | None = None) -> float:
     """:func:`noise_estimate`, but never below the rounding noise of a quantised sensor,
     ``q / sqrt(12)`` (a quantised record that moves slowly or not at all has third
     differences that are mostly exactly zero: the median would say "no noise")."""
@@ -193,7 +194,7 @@ def noise_estimate_floored(y, quantisation=None):
     return float(max(s, q / math.sqrt(12.0)))
 
 
-def autocovariance(x, max_lag):
+def autocovariance(x: np.ndarray, max_lag: int) -> np.ndarray:
     """Biased sample autocovariances of ``x`` (mean removed) at lags 0..max_lag."""
     x = np.asarray(x, float)
     x = x - np.mean(x)
@@ -206,7 +207,7 @@ def autocovariance(x, max_lag):
     return acov
 
 
-def levinson(acov, order):
+def levinson(acov: np.ndarray, order: int) -> tuple[np.ndarray, float]:
     """AR coefficients a_1..a_p and innovation variance from autocovariances (Yule-Walker by
     the Levinson-Durbin recursion): x_t = sum a_k x_(t-k) + u_t."""
     a = np.zeros(0)
@@ -220,7 +221,7 @@ def levinson(acov, order):
     return a, max(err, 0.0)
 
 
-def ar_fit(segments, max_order=3):
+def ar_fit(segments: Sequence[np.ndarray], max_order: int = 3) -> tuple[np.ndarray, float, float]:
     """Fit an autoregressive model of order 0..``max_order`` to one or more residual segments
     (pooled autocovariances), the order chosen by BIC. Returns (coefficients, innovation
     variance, marginal variance)."""
@@ -242,7 +243,7 @@ def ar_fit(segments, max_order=3):
     return best[1], best[2], float(acov[0])
 
 
-def ar_whiten(x, coefficients):
+def ar_whiten(x: np.ndarray, coefficients: np.ndarray) -> np.ndarray:
     """Innovations u_t = x_t - sum a_k x_(t-k) for t >= p (the first p samples are dropped)."""
     x = np.asarray(x, float)
     p = len(coefficients)
@@ -256,7 +257,7 @@ def ar_whiten(x, coefficients):
     return u
 
 
-def ar_autocorrelation(coefficients, lags):
+def ar_autocorrelation(coefficients: np.ndarray, lags: int) -> np.ndarray:
     """Autocorrelation at lags 1..lags of the AR process with these coefficients."""
     a = np.asarray(coefficients, float)
     p = a.size
@@ -273,7 +274,7 @@ def ar_autocorrelation(coefficients, lags):
     return np.array([np.dot(h[:-k], h[k:]) / g0 for k in range(1, lags + 1)])
 
 
-def ljung_box(x, lags):
+def ljung_box(x: np.ndarray, lags: int) -> tuple[float, float]:
     """Ljung-Box portmanteau statistic of ``x`` over lags 1..``lags`` and its p-value
     (chi-square with ``lags`` degrees of freedom): small p means not white."""
 
@@ -288,7 +289,7 @@ def ljung_box(x, lags):
     return q, float(chi2.sf(q, lags))
 
 
-def cumulative_periodogram_test(x):
+def cumulative_periodogram_test(x: np.ndarray) -> tuple[float, float]:
     """Bartlett's cumulative-periodogram test of whiteness: the largest deviation of the
     normalised cumulative periodogram from a straight line, and its p-value (Kolmogorov).
     Sensitive to power concentrated at low frequencies (slow structure left in a residual)."""
@@ -304,7 +305,7 @@ def cumulative_periodogram_test(x):
     return d, float(kstwobign.sf(d * (math.sqrt(m) + 0.12 + 0.11 / math.sqrt(m))))
 
 
-def motion_onset(t, y, sigma, k=6.0, hold=5):
+def motion_onset(t: np.ndarray, y: np.ndarray, sigma: float, k: float = 6.0, hold: int = 5) -> tuple[int, float, bool]:
     """Index where a record that starts at rest begins to move: the first sample after which
     |y - level| stays above ``k`` sigma for ``hold`` samples, ``level`` the median of the samples
     before it. Returns (index, level, still) with ``still`` False when the record moves from its

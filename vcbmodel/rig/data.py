@@ -7,6 +7,7 @@ and the experiment's own sections by name (``pendulum``; ``cam`` and ``closing_s
 """
 from __future__ import annotations
 
+from collections.abc import Sequence
 from dataclasses import dataclass, field, replace
 
 from ..laws.breaker import CamRollerLaw, LatchPoint
@@ -38,7 +39,7 @@ class Cam:
     initial_velocity: float = 0.0  # rad/s
 
     @property
-    def inertia_pivot(self):
+    def inertia_pivot(self) -> float:
         """I_c + m_c l_g^2 (kg m^2), the inertia about the shaft (eq. 12)."""
         return self.inertia_com + self.mass * self.com_distance**2
 
@@ -186,7 +187,7 @@ class Rig:
     def breaker(self) -> Breaker | None:
         return self.sections.get("breaker")
 
-    def with_model(self, effects=None, spring_model=None):
+    def with_model(self, effects: Sequence[str] | None = None, spring_model: str | SpringModel | None = None) -> Rig:
         """A copy with other effects and/or spring model (text or :class:`SpringModel`; text
         without a convention keeps the rig's)."""
         m = self.model

@@ -6,9 +6,13 @@ from __future__ import annotations
 
 import copy
 from dataclasses import replace
+from typing import TYPE_CHECKING, Any
+
+if TYPE_CHECKING:
+    from .data import Rig
 
 
-def path_keys(path):
+def path_keys(path: str) -> list[str | int]:
     """``a.b.2.c`` -> ["a", "b", 2, "c"] (digits index lists)."""
     keys = path.split(".")
     if any(k == "" for k in keys):
@@ -16,7 +20,7 @@ def path_keys(path):
     return [int(k) if k.isdigit() else k for k in keys]
 
 
-def get_path(data, path):
+def get_path(data: dict, path: str) -> Any:
     """The value at ``path``; KeyError if absent."""
     obj = data
     for k in path_keys(path):
@@ -29,7 +33,7 @@ def get_path(data, path):
     return obj
 
 
-def set_path(data, path, value):
+def set_path(data: dict, path: str, value: Any) -> None:
     """Set ``path`` in ``data`` (in place), creating missing objects on the way."""
     keys = path_keys(path)
     obj = data
@@ -53,7 +57,7 @@ def set_path(data, path, value):
         raise KeyError(path)
 
 
-def with_overrides(data, overrides):
+def with_overrides(data: dict, overrides: dict[str, Any]) -> dict:
     """A copy of the rig's JSON object with ``overrides`` ({path: value}) set."""
     out = copy.deepcopy(data)
     for path, value in overrides.items():
@@ -61,7 +65,7 @@ def with_overrides(data, overrides):
     return out
 
 
-def numeric_at(data, path):
+def numeric_at(data: dict, path: str) -> float | None:
     """The number at ``path`` (not a bool), or None when absent or not a number."""
     try:
         value = get_path(data, path)
@@ -70,7 +74,7 @@ def numeric_at(data, path):
     return value if isinstance(value, (int, float)) and not isinstance(value, bool) else None
 
 
-def loaded_value(rig, path):
+def loaded_value(rig: Rig, path: str) -> float:
     """A numeric rig value by its dotted path (``pendulum.inertia``, ``shaft.radius``, ``gravity``,
     ``friction.mu_k``, ``breaker.poles.moving_mass``)."""
     if path == "gravity":
@@ -86,7 +90,7 @@ def loaded_value(rig, path):
     return obj
 
 
-def loaded_with(rig, overrides):
+def loaded_with(rig: Rig, overrides: dict[str, float]) -> Rig:
     """A copy of ``rig`` with numeric fields replaced (dotted paths, see :func:`loaded_value`;
     ``friction.*`` values are passed to the simulation as values instead)."""
     if not overrides:

@@ -15,7 +15,9 @@ import json
 import math
 import os
 import stat
+from collections.abc import Iterable, Sequence
 from pathlib import Path
+from typing import Any, NoReturn
 
 from ..errors import InputError
 
@@ -28,7 +30,7 @@ MAX_DEPTH = 32
 UTF8_BOM = b"\xef\xbb\xbf"
 
 
-def text_bytes(path, raw):
+def text_bytes(path: str | Path, raw: bytes) -> bytes:
     """A text file's bytes without a UTF-8 byte-order mark; UTF-16 and binary files are refused
     with a one-line error."""
     if raw.startswith(UTF8_BOM):
@@ -40,7 +42,7 @@ def text_bytes(path, raw):
     return raw
 
 
-def decode_text(path, raw):
+def decode_text(path: str | Path, raw: bytes) -> str:
     """The text of a file's bytes: UTF-8, with or without a byte-order mark (:func:`text_bytes`)."""
     raw = text_bytes(path, raw)
     try:
@@ -55,7 +57,7 @@ def decode_text(path, raw):
 MAX_FILE_BYTES = 200_000_000
 
 
-def read_bytes(path):
+def read_bytes(path: str | Path) -> bytes:
     """A regular file's bytes, at most MAX_FILE_BYTES (InputError otherwise)."""
     try:
         info = os.stat(path)
@@ -83,7 +85,7 @@ def _depth(obj, level=0):
     return level
 
 
-def read_json(path):
+def read_json(path: str | Path) -> Any:
     """Parse a JSON file (see module docstring)."""
     path = str(path)
     text = decode_text(path, read_bytes(path))
@@ -125,7 +127,7 @@ class DuplicateKey(ValueError):
     """A JSON object names the same key twice."""
 
 
-def did_you_mean(name, known):
+def did_you_mean(name: str, known: Iterable[str]) -> str:
     close = difflib.get_close_matches(name, list(known), n=1, cutoff=0.6)
     return f" (did you mean {close[0]!r}?)" if close else ""
 
@@ -136,17 +138,17 @@ class Reader:
     def __init__(self, path):
         self.path = str(path)
 
-    def fail(self, fieldname, message):
+    def fail(self, fieldname: str, message: str) -> NoReturn:
         raise InputError(self.path, fieldname, message)
 
-    def known_keys(self, obj, known, prefix=""):
+    def known_keys(self, obj: dict, known: Iterable[str], prefix: str = "") -> None:
         """Refuse keys of ``obj`` not in ``known``, naming the first unknown one; keys starting
         with ``_`` are free comments."""
         for key in obj:
             if key not in known and not key.startswith("_"):
                 self.fail(prefix + key, f"unknown field{did_you_mean(key, known)}; known: {', '.join(known)}")
 
-    def section(self, obj, key, prefix="", known=None):
+    def section(self, obj: dict, key: str, prefix: str = "", known: Iterable[str] | None = None) -> dict:
         name = prefix + key
         if key not in obj:
             self.fail(name, "missing")
@@ -156,12 +158,13 @@ class Reader:
             self.known_keys(obj[key], known, name + ".")
         return obj[key]
 
-    def optional_section(self, obj, key, prefix="", known=None):
+    def optional_section(self, obj: dict, key: str, prefix: str = "", known: Iterable[str] | None = None) -> dict:
         if key not in obj:
             return {}
         return self.section(obj, key, prefix, known)
 
-    def number(self, obj, key, prefix="", *, positive=False, nonnegative=False, default=None):
+    def number(self, obj: dict, key: str, prefix: str = "", *, positive: bool = False, nonnegative: bool = False,
+               default: float | None = None) -> float:
         name = prefix + key
         if key not in obj:
             if default is not None:
@@ -169,7 +172,7 @@ class Reader:
             self.fail(name, "missing")
         return self.value(obj[key], name, positive=positive, nonnegative=nonnegative)
 
-    def value(self, v, name, *, positive=False, nonnegative=False):
+    def value(self, v: Any, name: str, *, positive: bool = False, nonnegative: bool = False) -> float:
         if isinstance(v, bool) or not isinstance(v, (int, float)):
             self.fail(name, f"must be a number, got {json.dumps(v)[:40]}")
         try:
@@ -186,33 +189,33 @@ class Reader:
             self.fail(name, f"must not be negative, got {v:g}")
         return v
 
-    def count(self, obj, key, prefix="", default=None):
+    def count(self, obj: dict, key: str, prefix: str = "", default: int | None = None) -> int:
         """A whole, positive number (a count)."""
         v = self.number(obj, key, prefix, positive=True, default=default)
         if v != int(v):
             self.fail(prefix + key, "must be a whole number")
         return int(v)
 
-    def boolean(self, obj, key, prefix="", default=False):
+    def boolean(self, obj: dict, key: str, prefix: str = "", default: bool = False) -> bool:
         v = obj.get(key, default)
         if not isinstance(v, bool):
             self.fail(prefix + key, "must be true or false")
         return v
 
-    def choice(self, obj, key, prefix, options, default=None):
+    def choice(self, obj: dict, key: str, prefix: str, options: Sequence[str], default: str | None = None) -> str:
         """``obj[key]`` (``default`` when absent), which must be one of ``options``."""
         v = obj.get(key, default)
         if v not in options:
             self.fail(prefix + key, f"must be one of {', '.join(options)}")
         return v
 
-    def text(self, obj, key, prefix="", default=None):
+    def text(self, obj: dict, key: str, prefix: str = "", default: str | None = None) -> str | None:
         v = obj.get(key, default)
         if not isinstance(v, str):
             self.fail(prefix + key, "must be a string")
         return v
 
-    def point(self, obj, key, prefix=""):
+    def point(self, obj: dict, key: str, prefix: str = "") -> tuple[float, ...]:
         name = prefix + key
         if key not in obj:
             self.fail(name, "missing")
@@ -221,7 +224,7 @@ class Reader:
             self.fail(name, "must be a list of two numbers [x, y]")
         return tuple(self.value(x, name) for x in v)
 
-    def numbers(self, obj, key, prefix, count, default):
+    def numbers(self, obj: dict, key: str, prefix: str, count: int, default: Sequence[float] | None) -> tuple[float, ...]:
         """A list of ``count`` numbers."""
         name = prefix + key
         v = obj.get(key, default)

@@ -19,6 +19,7 @@ from ..laws.contact import CAM_ROLLER_LAWS, DAMPING_LAWS
 from ..laws.coil import coil_mass, coil_stiffness
 from ..laws.mechanics import cam_pin
 from .paths import numeric_at
+from .reader import Reader
 from .data import (Breaker, Cam, CamProfile, ClosingSpring, ContactLaw, Follower, OpeningSpring, Pendulum,
                    Poles)
 
@@ -33,11 +34,11 @@ SPRING_KEYS = ("count", "stiffness", "mass", "free_length", "anchor", "wire_diam
 DATASHEET_TOLERANCE = 0.05
 
 
-def without_comments(obj):
+def without_comments(obj: dict) -> dict:
     return {k: v for k, v in obj.items() if not k.startswith("_")}
 
 
-def read_friction(rd, data):
+def read_friction(rd: Reader, data: dict) -> dict[str, float]:
     """The friction values the rig gives (subset of FRICTION_KEYS), checked."""
     f = without_comments(rd.optional_section(data, "friction"))
     rd.known_keys(f, FRICTION_KEYS, "friction.")
@@ -52,7 +53,7 @@ def read_friction(rd, data):
 RECORD_KEYS = ("release_time", "initial_angle", "sensor_offset", "sensor_gain")
 
 
-def read_record(rd, data):
+def read_record(rd: Reader, data: dict) -> dict[str, float]:
     """The optional ``record`` section: facts about the measurement that the diagnosis would
     otherwise estimate (release time in the record, initial angle, sensor offset and gain)."""
     r = without_comments(rd.optional_section(data, "record", known=RECORD_KEYS))
@@ -62,7 +63,7 @@ def read_record(rd, data):
     return out
 
 
-def read_uncertain(rd, data):
+def read_uncertain(rd: Reader, data: dict) -> dict[str, float]:
     """The optional ``uncertain`` section: dotted path of a numeric rig field -> its relative
     standard deviation (0.05: known to +-5 %). The field must be in the rig and non-zero."""
     u = without_comments(rd.optional_section(data, "uncertain"))
@@ -83,7 +84,7 @@ def read_uncertain(rd, data):
     return out
 
 
-def read_pendulum(rd, data):
+def read_pendulum(rd: Reader, data: dict) -> dict[str, Pendulum]:
     p = without_comments(rd.section(data, "pendulum", known=PENDULUM_KEYS))
     pre = "pendulum."
     pendulum = Pendulum(
@@ -97,7 +98,7 @@ def read_pendulum(rd, data):
     return {"pendulum": pendulum}
 
 
-def read_cam(rd, data):
+def read_cam(rd: Reader, data: dict) -> dict[str, Cam]:
     c = without_comments(rd.section(data, "cam", known=CAM_KEYS))
     pre = "cam."
     cam = Cam(
@@ -111,7 +112,7 @@ def read_cam(rd, data):
     return {"cam": cam}
 
 
-def read_closing_spring(rd, data, cam):
+def read_closing_spring(rd: Reader, data: dict, cam: Cam) -> dict[str, ClosingSpring]:
     s = without_comments(rd.section(data, "closing_spring", known=SPRING_KEYS))
     pre = "closing_spring."
     optional = {k: rd.number(s, k, pre, positive=True)
@@ -127,7 +128,7 @@ def read_closing_spring(rd, data, cam):
     return {"closing_spring": spring}
 
 
-def spring_rate_and_mass(rd, s, coil):
+def spring_rate_and_mass(rd: Reader, s: dict, coil: dict) -> tuple[float, float, tuple[str, ...]]:
     """k0 (N/m) and m0 (kg) of a closing spring: as given, or from its datasheet (wire and mean
     coil diameter, active coils, shear modulus; the wire's density, steel's 7850 kg/m^3 unless
     given: :mod:`vcbmodel.laws.coil`). Given and datasheet values must agree within
@@ -157,7 +158,7 @@ def spring_rate_and_mass(rd, s, coil):
     return values["stiffness"], values["mass"], tuple(derived)
 
 
-def read_cam_and_spring(rd, data):
+def read_cam_and_spring(rd: Reader, data: dict) -> dict:
     """``cam`` and ``closing_spring`` (cam drop; the whole breaker's cam too)."""
     sections = read_cam(rd, data)
     sections.update(read_closing_spring(rd, data, sections["cam"]))
@@ -258,7 +259,7 @@ def read_breaker(rd, data, cam) -> Breaker:
 DEFAULT_SPEED_ZONE = (0.004, 0.0)
 
 
-def read_speed_zone(rd, b, poles):
+def read_speed_zone(rd: Reader, b: dict, poles: Poles) -> tuple[float, float]:
     """``breaker.speed_zone``: [start, end] in m before the touch, start > end >= 0, within the gap."""
     if "speed_zone" not in b:
         return DEFAULT_SPEED_ZONE
@@ -324,7 +325,7 @@ def read_point_profile(rd, cp, p, roller_radius) -> CamProfile:
                       return_end=math.nan, table=profile_table(spline))
 
 
-def check_pressure_angle(rd, breaker, cam):
+def check_pressure_angle(rd: Reader, breaker: Breaker, cam: Cam) -> None:
     """Refuse a profile that drives the roller at a pressure angle above MAX_PRESSURE_ANGLE over
     the turn after the start (the cam would jam the follower instead of lifting it)."""
     geometry = rest_geometry(breaker, cam.pivot)
@@ -340,7 +341,7 @@ def check_pressure_angle(rd, breaker, cam):
                 "jam the roller rather than lift it (a longer rise or a larger base circle lowers it)")
 
 
-def read_closing(rd, data):
+def read_closing(rd: Reader, data: dict) -> dict:
     """``cam``, ``closing_spring`` and ``breaker`` of a ``vcb_closing`` rig."""
     sections = read_cam_and_spring(rd, data)
     sections["breaker"] = read_breaker(rd, data, sections["cam"])

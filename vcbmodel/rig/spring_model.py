@@ -45,20 +45,20 @@ class SpringModel:
             raise ValueError(f"must be massless, lumped-N (N = 1..99) or ancf, got {text!r}")
         return cls("lumped", int(m.group(1)), conv)
 
-    def with_convention(self, convention):
+    def with_convention(self, convention: str) -> SpringModel:
         return replace(self, convention=convention)
 
     @property
-    def is_massless(self):
+    def is_massless(self) -> bool:
         return self.kind == "massless"
 
     @property
-    def name(self):
+    def name(self) -> str:
         """The spec's ``spring_model`` text: ``massless``, ``lumped-N`` or ``ancf``."""
         return f"lumped-{self.masses}" if self.kind == "lumped" else self.kind
 
     @property
-    def label(self):
+    def label(self) -> str:
         """For reports: the name, with the convention for a lumped chain."""
         return f"{self.name} ({self.convention})" if self.kind == "lumped" else self.name
 
