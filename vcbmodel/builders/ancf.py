@@ -24,8 +24,10 @@ generalized alpha (measured once, extrapolated in the step) the result is within
 from __future__ import annotations
 
 import math
+from collections.abc import Callable
 from dataclasses import dataclass
 from types import SimpleNamespace
+from typing import TYPE_CHECKING
 
 import numpy as np
 
@@ -33,6 +35,10 @@ from .. import parameters as P
 from ..laws.coil import coil_bending_stiffness
 from ..laws.mechanics import cam_pin
 from .core import ExudynModel, add_cam_body, add_cam_friction, exudyn_modules
+
+if TYPE_CHECKING:
+    from ..laws.friction import FrictionLaw
+    from ..rig.data import ClosingSpring, Rig
 
 
 def _add_cable(mbs, it, start, end, free_length, elements, EA, rhoA, EI):
@@ -62,13 +68,13 @@ class AncfOptions:
     bending_stiffness: float | None = None
 
     @classmethod
-    def of(cls, value):
+    def of(cls, value: AncfOptions | int | None) -> AncfOptions:
         """From None (defaults), an element count or an AncfOptions."""
         if isinstance(value, AncfOptions):
             return value
         return cls() if value is None else cls(elements=int(value))
 
-    def step(self, spring=None):
+    def step(self, spring: ClosingSpring | None = None) -> float:
         """RK4 step (s) for studies: ANCF_STEP up to ANCF_ELEMENTS elements and the default tie
         stiffness, shorter in proportion to the elements above and by sqrt(k_default / k) for
         stiffer ties, and never above :meth:`stable_step` for ``spring`` (a rig's
@@ -77,7 +83,7 @@ class AncfOptions:
                     * min(1.0, math.sqrt(P.ANCF_PENALTY_STIFFNESS / self.penalty_stiffness)))
         return accurate if spring is None else min(accurate, self.stable_step(spring))
 
-    def stable_step(self, spring):
+    def stable_step(self, spring: ClosingSpring) -> float:
         """The longest step (s) kept well inside RK4's stability limit, set by the ties' damped
         fast mode: ANCF_STEP_FACTOR sqrt(m_end / k_tie), m_end = m0 / (2 N) per spring (the
         count cancels). Fits use it: within 0.01 mrad of a step half as long."""
@@ -85,7 +91,8 @@ class AncfOptions:
         return P.ANCF_STEP_FACTOR * math.sqrt(end_mass / self.penalty_stiffness)
 
 
-def build_cam_drop_ancf(rig, law, user_function="auto", options=None, extra_loads=None):
+def build_cam_drop_ancf(rig: Rig, law: FrictionLaw, user_function: str = "auto", options: AncfOptions | int | None = None,
+                        extra_loads: Callable | None = None) -> ExudynModel:
     """Cam drop with the closing springs as one ANCF cable (see module docstring);
     ``options``: :class:`AncfOptions` (or an element count)."""
     exu, it = exudyn_modules()
@@ -137,7 +144,7 @@ def build_cam_drop_ancf(rig, law, user_function="auto", options=None, extra_load
     return model
 
 
-def ancf_modes(k0, m0, free_length, elements, preload=0.0, count=6):
+def ancf_modes(k0: float, m0: float, free_length: float, elements: int, preload: float = 0.0, count: int = 6) -> tuple[list[float], list[float]]:
     """Fixed-fixed natural frequencies (Hz) of one cable along x: (axial, lateral) lists.
 
     ``preload`` (N) stretches it to free_length + preload / k0. Both end nodes' positions are
@@ -170,6 +177,6 @@ def ancf_modes(k0, m0, free_length, elements, preload=0.0, count=6):
     return axial[:count], lateral[:count]
 
 
-def ancf_fixed_fixed_frequencies(k0, m0, free_length, elements, count=3, preload=0.0):
+def ancf_fixed_fixed_frequencies(k0: float, m0: float, free_length: float, elements: int, count: int = 3, preload: float = 0.0) -> list[float]:
     """The first ``count`` axial fixed-fixed frequencies (Hz)."""
     return ancf_modes(k0, m0, free_length, elements, preload, count)[0][:count]

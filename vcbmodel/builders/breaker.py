@@ -28,13 +28,22 @@ The follower's own weight is left out (a balanced main shaft).
 from __future__ import annotations
 
 import math
+from collections.abc import Callable
 from dataclasses import dataclass
+from typing import TYPE_CHECKING
 
 import numpy as np
 
 from ..laws.breaker import BreakerLaws, massless_pull, push_rod_force
 from .cam_drop import build_cam_drop
-from .core import exudyn_modules
+from .core import ExudynModel, exudyn_modules
+
+if TYPE_CHECKING:
+    from ..laws.friction import FrictionLaw
+    from ..laws.springs import LumpedChain
+    from ..model.effects import ModelSpec
+    from ..rig.data import Rig
+    from .ancf import AncfOptions
 
 
 @dataclass
@@ -45,7 +54,8 @@ class Follower:
     mOutput: int
 
 
-def build_vcb_closing(rig, spec, law, chain=None, user_function="auto", ancf_elements=None):
+def build_vcb_closing(rig: Rig, spec: ModelSpec, law: FrictionLaw, chain: LumpedChain | None = None, user_function: str = "auto",
+                      ancf_elements: AncfOptions | int | None = None) -> ExudynModel:
     """The whole breaker in Exudyn (module docstring); returns the model with ``laws`` and
     ``initial`` (the static rest held by the latch) attached."""
     laws = BreakerLaws.of_rig(rig, spec)
@@ -74,7 +84,7 @@ def build_vcb_closing(rig, spec, law, chain=None, user_function="auto", ancf_ele
     return model
 
 
-def pin_weight_torque(rig, chain):
+def pin_weight_torque(rig: Rig, chain: LumpedChain | None) -> float:
     """Torque (N m) about A of the weight of the springs' pin mass (``chain.pin_mass``, riding on
     B) at the start, when the springs carry weight; 0 otherwise."""
     pin_mass = getattr(chain, "pin_mass", 0.0) if chain is not None else 0.0
@@ -84,7 +94,7 @@ def pin_weight_torque(rig, chain):
     return -rig.closing_spring.count * pin_mass * rig.gravity * cam.arm_length * math.cos(cam.initial_angle)
 
 
-def node_state_reader(mbs, node):
+def node_state_reader(mbs, node) -> Callable[[], tuple]:
     """A function returning (coordinate, velocity) of a 1-D node at the current RK stage."""
     exu, _ = exudyn_modules()
     coordinates, velocities = exu.OutputVariableType.Coordinates, exu.OutputVariableType.Coordinates_t
@@ -106,7 +116,7 @@ def add_follower(model, f, phi0) -> Follower:
     return Follower(nFollower, mF)
 
 
-def add_cam_roller_contact(model, laws, cam_node, follower_node, impact):
+def add_cam_roller_contact(model: ExudynModel, laws: BreakerLaws, cam_node, follower_node, impact: list) -> None:
     """The cam-roller contact: torques on cam and follower from the contact force."""
     _, it = exudyn_modules()
 
@@ -118,7 +128,7 @@ def add_cam_roller_contact(model, laws, cam_node, follower_node, impact):
                                              visualization=it.VObjectGenericODE2(show=False)))
 
 
-def add_latch(model, laws, holding_torque):
+def add_latch(model: ExudynModel, laws: BreakerLaws, holding_torque: float) -> None:
     """The closing latch's torque on the cam, released from t = 0."""
     _, it = exudyn_modules()
     model.mbs.AddLoad(it.LoadCoordinate(markerNumber=model.cam_body.shaft.mShaftCoordinate, load=0.0,
@@ -173,7 +183,7 @@ def add_poles(model, laws, follower: Follower, travel0, impact):
     return nodes
 
 
-def add_impact_latching(model, laws, cam_node, follower_node, pole_nodes, impact):
+def add_impact_latching(model: ExudynModel, laws: BreakerLaws, cam_node, follower_node, pole_nodes, impact: list) -> None:
     """A pre-step function that latches each contact's impact speed (see
     :meth:`BreakerLaws.latch_impact_speeds`) from the state at the start of the step."""
     cam = node_state_reader(model.mbs, cam_node)

@@ -8,13 +8,23 @@ masses and stiffnesses represents them.
 """
 from __future__ import annotations
 
+from collections.abc import Callable
+from typing import TYPE_CHECKING
 
 from ..laws.mechanics import cam_pin, link_pull, massless_spring_force
 from .ancf import build_cam_drop_ancf
 from .core import ExudynModel, add_cam_body, add_cam_friction, exudyn_modules
 
+if TYPE_CHECKING:
+    from ..laws.friction import FrictionLaw
+    from ..laws.springs import LumpedChain
+    from ..rig.data import Rig
+    from ..rig.spring_model import SpringModel
+    from .ancf import AncfOptions
 
-def build_cam_drop(rig, law, spring_model, chain=None, user_function="auto", extra_loads=None, ancf_elements=None):
+
+def build_cam_drop(rig: Rig, law: FrictionLaw, spring_model: SpringModel, chain: LumpedChain | None = None, user_function: str = "auto",
+                   extra_loads: Callable | None = None, ancf_elements: AncfOptions | int | None = None) -> ExudynModel:
     """The cam of eq. 11-13 pulled at pin B by the closing springs of ``spring_model``
     (:class:`vcbmodel.rig.spring_model.SpringModel`; ``chain``: the lumped chain,
     :class:`vcbmodel.laws.springs.LumpedChain`; ``ancf_elements``: the ANCF spring's element count

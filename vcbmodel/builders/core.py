@@ -23,7 +23,7 @@ from ..laws.mechanics import cam_inertia, cam_loads
 _EXU = None
 
 
-def exudyn_modules():
+def exudyn_modules() -> tuple:
     """(exudyn, exudyn.itemInterface), imported on first use (the package loads without
     Exudyn; only building a model needs it)."""
     global _EXU
@@ -47,14 +47,14 @@ class ExudynModel:
         self.sensors = {}
         self.keep = []  # symbolic user functions must outlive the solve
 
-    def add_sensor(self, name, node, output):
+    def add_sensor(self, name: str, node, output: str) -> None:
         """Store a node's output (``exu.OutputVariableType`` name) under ``name``."""
         exu, it = exudyn_modules()
         self.sensors[name] = self.mbs.AddSensor(it.SensorNode(
             nodeNumber=node, outputVariableType=getattr(exu.OutputVariableType, output),
             storeInternal=True, writeToFile=False))
 
-    def solve(self, t_end, step, sensor_period=None):
+    def solve(self, t_end: float, step: float, sensor_period: float | None = None) -> dict[str, np.ndarray]:
         """Run explicit RK4 with a fixed step; returns {sensor name: array of (t, values...)}."""
         exu, _ = exudyn_modules()
         mbs = self.mbs

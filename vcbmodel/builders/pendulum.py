@@ -1,12 +1,18 @@
 """Exudyn model of the pendulum test (paper section 2, eq. 1, 5, 6)."""
 from __future__ import annotations
 
+from typing import TYPE_CHECKING
+
 from ..laws.friction import shaft_friction
 from ..laws.mechanics import pendulum_loads
 from .core import ExudynModel, add_friction_connector, add_shaft, exudyn_modules
 
+if TYPE_CHECKING:
+    from ..laws.friction import FrictionLaw
+    from ..rig.data import Rig
 
-def build_pendulum(rig, law, user_function="symbolic"):
+
+def build_pendulum(rig: Rig, law: FrictionLaw, user_function: str = "symbolic") -> ExudynModel:
     """Pendulum of eq. 1 on the shaft coordinate; the weight M g acts at distance L.
     ``user_function``: friction connector as 'symbolic' (compiled), 'python' or 'none'."""
     exu, it = exudyn_modules()

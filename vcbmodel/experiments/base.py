@@ -2,13 +2,19 @@
 from __future__ import annotations
 
 import math
+from collections.abc import Sequence
 from dataclasses import dataclass
-from typing import Callable
+from typing import TYPE_CHECKING, Callable
 
 import numpy as np
 
 from ..compiled import OdeModel
 from ..errors import InputError
+
+if TYPE_CHECKING:
+    from ..records.measurement import Measurement
+    from ..model.result import SimulationResult
+    from ..rig.data import Rig
 
 #: Shortest sample interval of any record (s): 10 MHz is beyond any sensor of a mechanism test; a
 #: smaller spacing is a time column in the wrong unit, and would make the fits' step (which must
@@ -18,35 +24,35 @@ MIN_SAMPLE_INTERVAL = 1e-7
 MAX_SAMPLES = 2_000_000
 
 
-def no_guesses(rig, measurement):
+def no_guesses(rig: Rig, measurement: Measurement) -> list[dict[str, float]]:
     return [{}]
 
 
-def no_signature(rig, measurement, model_curve, residual, sigma):
+def no_signature(rig: Rig, measurement: Measurement, model_curve: np.ndarray, residual: np.ndarray, sigma: float) -> dict:
     return {}
 
 
-def whole_record(t, y, sigma):
+def whole_record(t: np.ndarray, y: np.ndarray, sigma: float) -> float | None:
     return None
 
 
-def default_fit_step(rig, spring_kind):
+def default_fit_step(rig: Rig, spring_kind: str) -> float | None:
     """The experiment's own step for fits too (None)."""
     return None
 
 
-def measured_only(result, rig):
+def measured_only(result: SimulationResult, rig: Rig) -> dict[str, tuple[np.ndarray, str]]:
     """{channel: (values, unit)}: the experiment's measured channel (what ``simulate`` writes)."""
     return {result.measured_channel: (result.measured, result.units[result.measured_channel])}
 
 
-def figures_summary(result, rig):
+def figures_summary(result: SimulationResult, rig: Rig) -> list[tuple]:
     """[(what, value, unit)]: the experiment's figures of merit (``simulate``'s one-run summary)."""
     fom = experiment_of(rig.experiment).figures_of_merit(result, rig)
     return [(name, fom.get(name), unit) for name, unit in experiment_of(rig.experiment).figure_units]
 
 
-def format_summary(lines):
+def format_summary(lines: Sequence[tuple]) -> str:
     """One line per figure: what, value and unit (``never`` for something that did not happen)."""
     width = max((len(what) for what, _, _ in lines), default=0)
     out = []
@@ -144,7 +150,7 @@ class Experiment:
                 return status
         return "ok"
 
-    def check_record(self, t, y, source, others=()):
+    def check_record(self, t: np.ndarray, y: np.ndarray, source: str, others: Sequence[np.ndarray] = ()) -> None:
         """Refuse, before any work, a record this experiment cannot have produced: too short or too
         long, sampled implausibly fast or densely, a measured channel beyond its plausible range
         (a unit slip: degrees for rad, mm for m), or with no channel (``y`` and ``others``) that ever
@@ -169,7 +175,7 @@ class Experiment:
             raise InputError(source, f"column {self.measured_channel!r}", "never changes: the record shows no motion to "
                              "fit or compare (a disconnected sensor, or the wrong column?)")
 
-    def check_duration(self, duration, source, field):
+    def check_duration(self, duration: float, source: str, field: str) -> None:
         """Refuse an implausibly long record or simulation (one line with a hint)."""
         if duration > self.max_duration:
             raise InputError(source, field, f"{duration:g} s is implausible for a {self.name} test (at most "
@@ -192,7 +198,7 @@ def experiment_of(name) -> Experiment:
         raise ValueError(f"unknown experiment {name!r}") from None
 
 
-def shaft_channels(data, measured_channel):
+def shaft_channels(data: dict[str, np.ndarray], measured_channel: str) -> dict[str, np.ndarray]:
     """Channels of a shaft experiment from sensor rows: the shaft angle as the measured
     channel (rad), ``shaft_velocity`` (rad/s), ``friction_torque`` (N m, on the shaft,
     opposing motion), spring points ``..._x``/``..._y`` (m) and velocities (m/s)."""

@@ -2,6 +2,7 @@
 from __future__ import annotations
 
 import math
+from typing import TYPE_CHECKING
 
 import numpy as np
 
@@ -17,16 +18,26 @@ from .random_rigs import cam_drop_random_rig
 from .base import Experiment, shaft_channels
 from .summaries import cam_drop_summary
 
+if TYPE_CHECKING:
+    from ..builders.core import ExudynModel
+    from ..laws.friction import FrictionLaw
+    from ..laws.springs import LumpedChain
+    from ..model.effects import ModelSpec
+    from ..model.result import SimulationResult
+    from ..records.measurement import Measurement
+    from ..rig.data import Rig
 
-def build(rig, spec, law, chain, user_function, ancf_elements):
+
+def build(rig: Rig, spec: ModelSpec, law: FrictionLaw, chain: LumpedChain | None, user_function: str,
+          ancf_elements: AncfOptions | int | None) -> ExudynModel:
     return build_cam_drop(rig, law, spec.spring_model, chain, user_function, ancf_elements=ancf_elements)
 
 
-def channels(data, rig, spec, info):
+def channels(data: dict[str, np.ndarray], rig: Rig, spec: ModelSpec, info: dict) -> dict[str, np.ndarray]:
     return shaft_channels(data, "cam_angle")
 
 
-def default_step(rig):
+def default_step(rig: Rig) -> float:
     return P.CAM_STEP
 
 
@@ -37,7 +48,7 @@ def default_step(rig):
 CAM_FIT_STEP = {"massless": 2e-5, "lumped": 4.2e-5}
 
 
-def fit_step(rig, spring_kind):
+def fit_step(rig: Rig, spring_kind: str) -> float | None:
     """Step (s) of the cam drop's fits. The ANCF spring's is its stability-bounded step
     (:meth:`AncfOptions.stable_step`: 4.3e-6 s for a 1 kg spring, 1.7x the studies' 2.5e-6 s,
     within 0.01 mrad of it)."""
@@ -46,13 +57,13 @@ def fit_step(rig, spring_kind):
     return CAM_FIT_STEP.get(spring_kind)
 
 
-def figures_of_merit(result, rig):
+def figures_of_merit(result: SimulationResult, rig: Rig) -> dict:
     """``cam_angle_end_rad``: cam angle at the end; ``peak_shaft_velocity_rad_s``."""
     return {"cam_angle_end_rad": float(result.channels["cam_angle"][-1]),
             "peak_shaft_velocity_rad_s": float(np.max(np.abs(result.channels["shaft_velocity"])))}
 
 
-def spring_signature(rig, measurement, model_curve, residual, sigma):
+def spring_signature(rig: Rig, measurement: Measurement, model_curve: np.ndarray, residual: np.ndarray, sigma: float) -> dict:
     """The closing spring's surge frequency (Hz) and how the residual follows the travel."""
     s = rig.closing_spring
     y = model_curve - residual  # the measured channel (residual = model - measured)

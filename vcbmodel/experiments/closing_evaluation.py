@@ -5,6 +5,7 @@ from :class:`vcbmodel.laws.breaker.BreakerLaws`, as in the Exudyn model.
 """
 from __future__ import annotations
 
+from typing import TYPE_CHECKING
 import numpy as np
 from scipy.integrate import cumulative_trapezoid
 
@@ -12,8 +13,13 @@ from ..laws.breaker import BreakerLaws, cam_roller_contact, follower_displacemen
 from ..laws.friction import ArrayOps
 from ..laws.springs import chain_for
 
+if TYPE_CHECKING:
+    from ..model.effects import ModelSpec
+    from ..model.result import SimulationResult
+    from ..rig.data import Rig
 
-def closing_channels(data, rig, spec, info):
+
+def closing_channels(data: dict[str, np.ndarray], rig: Rig, spec: ModelSpec, info: dict) -> dict[str, np.ndarray]:
     """Channels of a closing from sensor rows (either backend): cam and follower angles (rad)
     and speeds (rad/s), ``follower_displacement`` (m, the measured channel), pole travels (m)
     and speeds (m/s), spring points, shaft friction, and the contact forces of
@@ -35,7 +41,7 @@ def closing_channels(data, rig, spec, info):
     return ch
 
 
-def contact_channels(laws, ch, n):
+def contact_channels(laws: BreakerLaws, ch: dict[str, np.ndarray], n: int) -> dict[str, np.ndarray]:
     """Cam-roller force, pole contact forces and rod forces (N), penetrations (m), with the
     impact speeds replayed over the samples (exact when sampled at every step): the laws
     evaluated on the whole record at once (``ArrayOps``)."""
@@ -64,7 +70,7 @@ def contact_channels(laws, ch, n):
     return {name: np.asarray(v, float) * np.ones(len(th)) for name, v in out.items()}
 
 
-def latched_impact_speeds(penetration, rate):
+def latched_impact_speeds(penetration: np.ndarray, rate: np.ndarray) -> np.ndarray:
     """The impact speed (m/s) a contact's damping uses at each sample: the approach speed
     max(rate, 0) at the last sample, up to this one, where the contact was open
     (:func:`vcbmodel.laws.breaker.update_impact_speeds` replayed over a record); 0 before any."""
@@ -73,7 +79,7 @@ def latched_impact_speeds(penetration, rate):
     return np.where(last_open >= 0, np.maximum(rate[np.maximum(last_open, 0)], 0.0), 0.0)
 
 
-def energy_balance(result, rig):
+def energy_balance(result: SimulationResult, rig: Rig) -> dict:
     """Energy bookkeeping of a closing (J), from the recorded states (massless or lumped spring).
 
     The closing springs' chain follows from the result's spring model (ANCF: not covered); a
@@ -139,7 +145,7 @@ def energy_balance(result, rig):
             "spring_energy_released": springs[0] - springs}
 
 
-def crossing_time(t, z, level):
+def crossing_time(t: np.ndarray, z: np.ndarray, level: float) -> float | None:
     """First time (s) the travel z reaches ``level`` (m), interpolated; None if it never does."""
     above = z >= level
     if not above.any():
@@ -150,7 +156,7 @@ def crossing_time(t, z, level):
     return float(t[k - 1] + (level - z[k - 1]) / (z[k] - z[k - 1]) * (t[k] - t[k - 1]))
 
 
-def zone_speed(t, z, gap, zone):
+def zone_speed(t: np.ndarray, z: np.ndarray, gap: float, zone: tuple[float, float]) -> float | None:
     """Mean closing speed (m/s) of a pole over the travel zone ``zone`` = (start, end) in m before
     its touch (at travel ``gap``): the zone's length over the time the pole takes to cross it."""
     start, end = crossing_time(t, z, gap - zone[0]), crossing_time(t, z, gap - zone[1])
@@ -159,7 +165,7 @@ def zone_speed(t, z, gap, zone):
     return (zone[0] - zone[1]) / (end - start)
 
 
-def figures_of_merit(result, rig):
+def figures_of_merit(result: SimulationResult, rig: Rig) -> dict:
     """Closing figures of merit from a result (SI units; times from the latch release).
 
     Among them: ``roller_lift_off_s``, the total time the roller is off the cam (no contact

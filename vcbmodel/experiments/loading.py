@@ -7,6 +7,7 @@ from __future__ import annotations
 
 import json
 from pathlib import Path
+from typing import TYPE_CHECKING
 
 from ..errors import InputError
 from ..model.choice import read_model
@@ -19,17 +20,30 @@ from ..rig.reader import Reader, read_json
 from ..rig.sections import read_friction, read_record, read_uncertain
 from .base import EXPERIMENTS
 
+if TYPE_CHECKING:
+    from ..records.measurement import Measurement
+
 FORMAT = "vcb-rig/1"
 COMMON_KEYS = ("format", "name", "experiment", "gravity", "shaft", "friction", "model", "record", "uncertain")
 
 
-def load_rig(path) -> Rig:
-    """Read and check a ``vcb-rig/1`` file (docs/rig-format.md)."""
+def load_rig(path: str | Path) -> Rig:
+    """Read and check a ``vcb-rig/1`` file (docs/rig-format.md).
+
+    Parameters
+    ----------
+    path : the rig file (``NAME.rig.json``).
+
+    Returns
+    -------
+    Rig
+        The checked rig; its values in SI units (m, kg, kg m^2, N/m, N, rad, s; docs/rig-format.md).
+    """
     path = str(path)
     return rig_from_data(read_json(path), path)
 
 
-def rig_from_data(data, path="(rig)") -> Rig:
+def rig_from_data(data: dict, path: str = "(rig)") -> Rig:
     """Check a rig's JSON object (as read from ``path``) and build the :class:`Rig`."""
     rd = Reader(path)
     if not isinstance(data, dict):
@@ -58,7 +72,7 @@ def rig_from_data(data, path="(rig)") -> Rig:
     return rig
 
 
-def load_record(measurement_path, rig):
+def load_record(measurement_path: str | Path, rig: Rig) -> Measurement:
     """A measurement file for ``rig``: it must carry the experiment's channel and a plausible
     time axis (seconds)."""
     record = EXPERIMENTS[rig.experiment]
@@ -70,7 +84,7 @@ def load_record(measurement_path, rig):
     return meas
 
 
-def known_channels(rig=None):
+def known_channels(rig: Rig | None = None) -> tuple[str, ...]:
     """Channel names a measurement file may carry: every experiment's measured channel, and for
     a closing the breaker analyser's ``pole_i_contact`` (0/1) and ``pole_i_travel`` (m)."""
     names = tuple(dict.fromkeys(r.measured_channel for r in EXPERIMENTS.values()))
@@ -79,8 +93,19 @@ def known_channels(rig=None):
     return names
 
 
-def load_pair(measurement_path, rig_path=None):
-    """(rig, measurement): the rig defaults to the measurement's sibling ``NAME.rig.json``."""
+def load_pair(measurement_path: str | Path, rig_path: str | Path | None = None) -> tuple[Rig, Measurement]:
+    """(rig, measurement): the rig defaults to the measurement's sibling ``NAME.rig.json``.
+
+    Parameters
+    ----------
+    measurement_path : the measurement file (``NAME.csv``: ``t`` in s, channels in SI units).
+    rig_path : its rig file (default: ``NAME.rig.json`` beside it).
+
+    Returns
+    -------
+    tuple of (Rig, Measurement)
+        The checked rig (SI units) and the record (``t`` in s; channels in rad, m, or 0/1 contacts).
+    """
     if str(measurement_path).endswith(".rig.json"):
         raise InputError(measurement_path, "file", "is a rig file: give the measurement NAME.csv (its rig "
                          "NAME.rig.json is found beside it, or give it with --rig)")
@@ -88,6 +113,6 @@ def load_pair(measurement_path, rig_path=None):
     return rig, load_record(measurement_path, rig)
 
 
-def require_experiment(rig, name, command):
+def require_experiment(rig: Rig, name: str, command: str) -> None:
     if rig.experiment != name:
         raise InputError(rig.path, "experiment", f"{command} needs a {name} rig, got {rig.experiment}")

@@ -2,6 +2,7 @@
 from __future__ import annotations
 
 import math
+from typing import TYPE_CHECKING
 
 import numpy as np
 
@@ -16,28 +17,39 @@ from .random_rigs import pendulum_random_rig
 from .base import Experiment, shaft_channels
 from .summaries import pendulum_summary
 
+if TYPE_CHECKING:
+    from ..builders.ancf import AncfOptions
+    from ..builders.core import ExudynModel
+    from ..laws.friction import FrictionLaw
+    from ..laws.springs import LumpedChain
+    from ..model.effects import ModelSpec
+    from ..model.result import SimulationResult
+    from ..records.measurement import Measurement
+    from ..rig.data import Rig
 
-def build(rig, spec, law, chain, user_function, ancf_elements):
+
+def build(rig: Rig, spec: ModelSpec, law: FrictionLaw, chain: LumpedChain | None, user_function: str,
+          ancf_elements: AncfOptions | int | None) -> ExudynModel:
     return build_pendulum(rig, law, user_function)
 
 
-def channels(data, rig, spec, info):
+def channels(data: dict[str, np.ndarray], rig: Rig, spec: ModelSpec, info: dict) -> dict[str, np.ndarray]:
     return shaft_channels(data, "pendulum_angle")
 
 
-def default_step(rig):
+def default_step(rig: Rig) -> float:
     """PENDULUM_STEP: sized for accuracy only; the passive stuck state catches a reversing
     shaft whatever the step (:mod:`vcbmodel.laws.friction`)."""
     return P.PENDULUM_STEP
 
 
-def swing_frequency(rig):
+def swing_frequency(rig: Rig) -> float:
     """Small-angle swing frequency (Hz) of the pendulum of eq. 1: sqrt(M g L / I) / 2 pi."""
     p = rig.pendulum
     return math.sqrt(p.mass * rig.gravity * p.com_distance / p.inertia) / (2 * math.pi)
 
 
-def figures_of_merit(result, rig):
+def figures_of_merit(result: SimulationResult, rig: Rig) -> dict:
     """``first_peak_rad``: amplitude of the first extreme after release; ``stop_time_s``:
     when the shaft last moved faster than the stick band."""
     w = result.channels["shaft_velocity"]
@@ -46,7 +58,7 @@ def figures_of_merit(result, rig):
             "stop_time_s": float(result.t[moving[-1]]) if moving.size else 0.0}
 
 
-def start_guesses(rig, measurement):
+def start_guesses(rig: Rig, measurement: Measurement) -> list[dict[str, float]]:
     """Starting values from the measured swing.
 
     While the pendulum swings clearly, the span between successive extremes shrinks at
@@ -74,14 +86,14 @@ def start_guesses(rig, measurement):
             {"mu_k": 0.0, "viscous": 2 * lam_all * p.inertia, "mu_s": 0.0}]
 
 
-def swinging_part(t, y, sigma):
+def swinging_part(t: np.ndarray, y: np.ndarray, sigma: float) -> float | None:
     """After a free swing sticks, the stuck angle depends discontinuously on the friction:
     fits take the swinging part first (None when the swing never stops within the record)."""
     t_stop = motion_end_time(t, y, sigma)
     return t_stop if t_stop < 0.9 * t[-1] else None
 
 
-def signature(rig, measurement, model_curve, residual, sigma):
+def signature(rig: Rig, measurement: Measurement, model_curve: np.ndarray, residual: np.ndarray, sigma: float) -> dict:
     """How the measured amplitude decays and when the swing stops, measured vs model."""
     t, y = measurement.t, measurement.channel("pendulum_angle")
     tp, ap = swing_peaks(t, y)

@@ -12,11 +12,12 @@ seeds: keep it.
 from __future__ import annotations
 
 import math
+from collections.abc import Sequence
 
 import numpy as np
 
 
-def pendulum_random_rig(rng, friction, start, variant="synthetic"):
+def pendulum_random_rig(rng: np.random.Generator, friction: dict[str, float], start: Sequence[str], variant: str = "synthetic") -> dict:
     """A pendulum rig like the paper's (40-60 kg at 0.19-0.235 m, let go from 10 or 15 deg), or
     with ``variant="small"`` a small laboratory pendulum (0.3-0.8 kg bob on a 0.1-0.2 m rod, a
     4-8 mm shaft in plain bearings, let go from 15-25 deg: it swings for tens of seconds; its
@@ -49,7 +50,7 @@ def pendulum_random_rig(rng, friction, start, variant="synthetic"):
     return rig
 
 
-def cam_drop_random_rig(rng, friction, start, variant="synthetic"):
+def cam_drop_random_rig(rng: np.random.Generator, friction: dict[str, float], start: Sequence[str], variant: str = "synthetic") -> dict:
     """A cam drop rig around the reference cam (4-7 kg cam, arm 98-106 mm) with two closing
     springs of 0.9-1.15 kg; the rig knows mu_k when Coulomb friction is in the starting model."""
     if variant not in ("synthetic", "realistic"):

@@ -3,7 +3,9 @@
 from __future__ import annotations
 
 import math
+from collections.abc import Sequence
 from dataclasses import replace
+from typing import TYPE_CHECKING
 
 import numpy as np
 
@@ -17,11 +19,30 @@ from ..model.values import model_values
 from ..rig.data import Rig
 from .base import experiment_of
 
+if TYPE_CHECKING:
+    from ..rig.spring_model import SpringModel
+    from .base import Experiment
 
-def model_spec(rig: Rig, effects=None, values=None, spring_model=None) -> ModelSpec:
+
+def model_spec(rig: Rig, effects: Sequence[str] | None = None, values: dict[str, float] | None = None,
+               spring_model: str | SpringModel | None = None) -> ModelSpec:
     """The model of a run: the rig's ``model`` unless ``effects`` / ``spring_model`` (text or
     :class:`~vcbmodel.rig.spring_model.SpringModel`) override it; values given > rig; a value
-    the effects need that neither gives is refused (:func:`vcbmodel.model.values.model_values`)."""
+    the effects need that neither gives is refused (:func:`vcbmodel.model.values.model_values`).
+
+    Parameters
+    ----------
+    rig : the loaded rig.
+    effects : effect names (default: the rig's ``model.effects``).
+    values : effect parameter values, each in its parameter's unit (``mu_k`` -, ``stick_velocity``
+        rad/s, ``viscous`` N m s/rad, ``bellows_force`` N, ...), overriding the rig's.
+    spring_model : override of the rig's spring model (text such as ``lumped-2:paper``).
+
+    Returns
+    -------
+    ModelSpec
+        Effects, friction values (SI units, as above) and spring model of the run.
+    """
     if spring_model is not None:
         rig = rig.with_model(spring_model=spring_model)
     effects = tuple(rig.model.effects if effects is None else effects)
@@ -30,16 +51,28 @@ def model_spec(rig: Rig, effects=None, values=None, spring_model=None) -> ModelS
     return assemble(rig, effects, model_values(rig, effects, values))
 
 
-def output_times(rig, t_end):
-    """Sample times (s) from 0 to t_end at the experiment's sensor rate."""
+def output_times(rig: Rig, t_end: float) -> np.ndarray:
+    """Sample times (s) from 0 to t_end at the experiment's sensor rate.
+
+    Parameters
+    ----------
+    rig : the loaded rig (its experiment's ``sample_rate``, Hz).
+    t_end : last time (s).
+
+    Returns
+    -------
+    numpy.ndarray
+        Times (s), 0, 1/rate, ... up to ``t_end``.
+    """
     dt = 1.0 / experiment_of(rig.experiment).sample_rate
     n = int(np.floor(t_end / dt + 1e-9))
     return np.arange(n + 1) * dt
 
 
-def simulate(rig: Rig, effects=None, values=None, *, spring_model=None, t_end=None, sample_times=None,
-             backend="exudyn", user_function="auto", step=None, method="DOP853",
-             ancf_elements=None, ancf_tie_stiffness=None, ancf=None, sticking=None) -> SimulationResult:
+def simulate(rig: Rig, effects: Sequence[str] | None = None, values: dict[str, float] | None = None, *, spring_model: str | SpringModel | None = None,
+             t_end: float | None = None, sample_times: np.ndarray | None = None, backend: str = "exudyn", user_function: str = "auto",
+             step: float | None = None, method: str = "DOP853", ancf_elements: int | None = None, ancf_tie_stiffness: float | None = None,
+             ancf: AncfOptions | None = None, sticking: str | None = None) -> SimulationResult:
     """Simulate the rig's experiment.
 
     Parameters
@@ -63,6 +96,12 @@ def simulate(rig: Rig, effects=None, values=None, *, spring_model=None, t_end=No
         :func:`simulate_rigid_ties` extrapolates to rigid ties.
     ancf : :class:`~vcbmodel.builders.ancf.AncfOptions` (instead of the two above).
     sticking : ``passive`` (default, or the rig's ``friction.sticking``) or ``literal``.
+
+    Returns
+    -------
+    SimulationResult
+        Times ``t`` (s) and channels in SI units (``units`` names each: rad, rad/s, m, m/s, N, N m);
+        ``info`` says which backend ran and with which step (s).
     """
     record = experiment_of(rig.experiment)
     spec = model_spec(rig, effects, values, spring_model)
@@ -99,7 +138,7 @@ def simulate(rig: Rig, effects=None, values=None, *, spring_model=None, t_end=No
     return result
 
 
-def compiled_covers(record, spring_model) -> bool:
+def compiled_covers(record: Experiment, spring_model: SpringModel) -> bool:
     """Whether the compiled path covers this model (the experiment states its equations; not
     the ANCF spring) and runs here (a C compiler: checked once, by compiling)."""
     if record.ode_model is None or spring_model.kind == "ancf":
@@ -107,7 +146,7 @@ def compiled_covers(record, spring_model) -> bool:
     return compiler_works()
 
 
-def simulation_backend(record, spring_model, backend="fast") -> str:
+def simulation_backend(record: Experiment, spring_model: SpringModel, backend: str = "fast") -> str:
     """The name of what runs ``backend`` (``fast``: compiled where it covers the model) for this
     experiment and spring model, as results report it."""
     if backend == "fast":
@@ -139,14 +178,14 @@ def _solve_compiled(rig, record, spec, law, chain, t_end, step, period):
     return data, {"backend": BACKEND_NAME, "step": step, "initial": extra.get("initial")}
 
 
-def extrapolate_ties(value_1, value_2, k1, k2):
+def extrapolate_ties(value_1: np.ndarray, value_2: np.ndarray, k1: float, k2: float) -> np.ndarray:
     """Richardson extrapolation to rigid ties, value(k) = value_inf + c / k:
     value_inf = (k2 value_2 - k1 value_1) / (k2 - k1)."""
     return (k2 * np.asarray(value_2) - k1 * np.asarray(value_1)) / (k2 - k1)
 
 
-def simulate_rigid_ties(rig, effects=None, values=None, *, sample_times, stiffnesses=(1e8, 1e9), ancf=None,
-                        **options):
+def simulate_rigid_ties(rig: Rig, effects: Sequence[str] | None = None, values: dict[str, float] | None = None, *, sample_times: np.ndarray,
+                        stiffnesses: tuple[float, float] = (1e8, 1e9), ancf: AncfOptions | None = None, **options) -> SimulationResult:
     """The rig with an ANCF spring whose end ties are extrapolated to infinite stiffness: two
     runs with tie stiffnesses ``stiffnesses`` (N/m per spring) combined channel by channel by
     :func:`extrapolate_ties` (the truth of the spring studies; about 4x one run). ``ancf``:

@@ -6,14 +6,19 @@ record and compares no experiment names.
 """
 from __future__ import annotations
 
+from typing import TYPE_CHECKING
 import numpy as np
 
 from ..laws.breaker import pole_gaps
 from ..records.signals import decay_shape, swing_peaks
 from .base import experiment_of, measured_only
 
+if TYPE_CHECKING:
+    from ..model.result import SimulationResult
+    from ..rig.data import Rig
 
-def closing_record_channels(result, rig):
+
+def closing_record_channels(result: SimulationResult, rig: Rig) -> dict[str, tuple[np.ndarray, str]]:
     """The follower's travel and, as a breaker analyser records them, each pole's travel (m) and
     contact (0 open, 1 closed: travel beyond the pole's gap); a file ``vcbmodel diagnose`` reads."""
     out = measured_only(result, rig)
@@ -24,7 +29,7 @@ def closing_record_channels(result, rig):
     return out
 
 
-def pendulum_summary(result, rig):
+def pendulum_summary(result: SimulationResult, rig: Rig) -> list[tuple]:
     """[(what, value, unit)]: swing period, first peak, how the amplitude decays, when it stops."""
     t, y = result.t, result.measured
     times, amps = swing_peaks(t, y)
@@ -40,13 +45,13 @@ def pendulum_summary(result, rig):
     return lines
 
 
-def cam_drop_summary(result, rig):
+def cam_drop_summary(result: SimulationResult, rig: Rig) -> list[tuple]:
     fom = result_figures(result, rig)
     return [("end time", float(result.t[-1]), "s"), ("cam angle at the end", fom["cam_angle_end_rad"], "rad"),
             ("peak shaft speed", fom["peak_shaft_velocity_rad_s"], "rad/s")]
 
 
-def closing_summary(result, rig):
+def closing_summary(result: SimulationResult, rig: Rig) -> list[tuple]:
     fom = result_figures(result, rig)
     per_pole = fom["per_pole"]
     lines = [(f"pole {i} closes at", v, "s") for i, v in enumerate(per_pole["touch_s"], start=1)]
@@ -61,5 +66,5 @@ def closing_summary(result, rig):
     return lines
 
 
-def result_figures(result, rig):
+def result_figures(result: SimulationResult, rig: Rig) -> dict:
     return experiment_of(rig.experiment).figures_of_merit(result, rig)

@@ -6,6 +6,7 @@ The rig's ``cam``, ``closing_spring`` and ``breaker`` sections are read by
 from __future__ import annotations
 
 
+from typing import TYPE_CHECKING
 from .. import parameters as P
 from ..builders.breaker import build_vcb_closing
 from ..compiled import OdeModel
@@ -17,12 +18,21 @@ from .summaries import closing_record_channels, closing_summary
 from .cam_drop import spring_signature
 from .closing_evaluation import closing_channels, figures_of_merit
 
+if TYPE_CHECKING:
+    from ..builders.ancf import AncfOptions
+    from ..builders.core import ExudynModel
+    from ..laws.friction import FrictionLaw
+    from ..laws.springs import LumpedChain
+    from ..model.effects import ModelSpec
+    from ..rig.data import Rig
 
-def build(rig, spec, law, chain, user_function, ancf_elements):
+
+def build(rig: Rig, spec: ModelSpec, law: FrictionLaw, chain: LumpedChain | None, user_function: str,
+          ancf_elements: AncfOptions | int | None) -> ExudynModel:
     return build_vcb_closing(rig, spec, law, chain, user_function, ancf_elements)
 
 
-def default_step(rig):
+def default_step(rig: Rig) -> float:
     return P.BREAKER_STEP
 
 
@@ -37,7 +47,7 @@ CLOSING_FIT_STEP = 2e-5
 CLOSING_SCAN_STEP = 4e-5
 
 
-def fit_step(rig, spring_kind):
+def fit_step(rig: Rig, spring_kind: str) -> float | None:
     """Step (s) of a closing's fits: CLOSING_FIT_STEP for lumped and massless springs, the
     experiment's own for the ANCF continuum (None)."""
     return None if spring_kind == "ancf" else CLOSING_FIT_STEP
