@@ -17,10 +17,12 @@ friction connector reports).
 from __future__ import annotations
 
 import math
+from collections.abc import Sequence
 
 from ..laws.breaker import BreakerLaws, massless_pull
 from ..laws.friction import shaft_friction
 from ..laws.mechanics import cam_inertia, cam_loads, cam_pin, link_pull, massless_spring_force, pendulum_loads
+from ..laws.types import Ops, Scalar
 from . import OdeSetup
 
 SHAFT = [("angle", "velocity", 1)]
@@ -33,7 +35,8 @@ def prepare_pendulum(rig, spec, law, chain=None) -> OdeSetup:
                     list(SHAFT))
 
 
-def pendulum_equations(t, q, v, memory, inputs, ops):
+def pendulum_equations(t: Scalar, q: Sequence[Scalar], v: Sequence[Scalar], memory: list, inputs: dict,
+                       ops: Ops) -> tuple[list[Scalar], dict[str, Scalar]]:
     """Paper eq. 1 with the shaft friction of eq. 2-6: I theta'' = -M g L sin(theta) - T_f."""
     p, law = inputs["pendulum"], inputs["law"]
     theta, omega = q[0], v[0]
@@ -60,7 +63,8 @@ def prepare_cam_drop(rig, spec, law, chain=None) -> OdeSetup:
     return OdeSetup(inputs, q0, v0, layout)
 
 
-def cam_drop_equations(t, q, v, memory, inputs, ops):
+def cam_drop_equations(t: Scalar, q: Sequence[Scalar], v: Sequence[Scalar], memory: list, inputs: dict,
+                       ops: Ops) -> tuple[list[Scalar], dict[str, Scalar]]:
     """Paper eq. 9-13: the cam pulled at B by the closing springs (massless, eq. 9-10, or a
     lumped chain, eq. 7-8 generalised), with the shaft friction of eq. 2-6 and eq. 13."""
     accelerations, Tf = _cam_and_chain(t, q, v, inputs, ops, (0.0, 0.0, 0.0))
@@ -133,7 +137,8 @@ def _breaker_laws(inputs):
     return laws
 
 
-def closing_equations(t, q, v, memory, inputs, ops):
+def closing_equations(t: Scalar, q: Sequence[Scalar], v: Sequence[Scalar], memory: list, inputs: dict,
+                      ops: Ops) -> tuple[list[Scalar], dict[str, Scalar]]:
     """The whole breaker (paper section 4): the cam and its springs as in the cam drop, loaded
     by the roller and the latch; the follower (roller contact, opening spring, push rods); each
     pole (push rod, fixed contact, bellows force minus weight)."""
@@ -154,7 +159,7 @@ def closing_equations(t, q, v, memory, inputs, ops):
     return cam_chain + [t_fol / laws.b.follower.inertia] + poles, {"friction_torque": Tf}
 
 
-def closing_prestep(t, q, v, memory, inputs, ops):
+def closing_prestep(t: Scalar, q: Sequence[Scalar], v: Sequence[Scalar], memory: list, inputs: dict, ops: Ops) -> list[Scalar]:
     """The contacts' impact speeds latched from the state at the step's start
     (:meth:`BreakerLaws.latch_impact_speeds`)."""
     laws = _breaker_laws(inputs)

@@ -18,6 +18,7 @@ the state with ``ops.where``.
 from __future__ import annotations
 
 import math
+from collections.abc import Iterable, Sequence
 
 CONST, PARAM, STATE = 0, 1, 2
 
@@ -156,7 +157,7 @@ class Graph:
             return xs[1]
         return None
 
-    def used(self, roots):
+    def used(self, roots: Iterable[int]) -> list[int]:
         """Indices of the nodes the ``roots`` depend on, in order."""
         need = set()
         stack = list(roots)
@@ -170,7 +171,7 @@ class Graph:
                 stack.extend(args)
         return sorted(need)
 
-    def c_statements(self, outputs, prefix="v"):
+    def c_statements(self, outputs: dict[str, Expr | float], prefix: str = "v") -> list[str]:
         """C lines computing the ``outputs`` ({C lvalue: Expr or number}) from ``p``, the state
         names and ``t``."""
         outs = {target: self.lift(e) for target, e in outputs.items()}
@@ -214,7 +215,7 @@ class Graph:
             return f"({a[0]} != 0.0) ? {a[1]} : {a[2]}"
         return f"{op}({a[0]})"  # sqrt, sin, cos, acos, floor
 
-    def c_guards(self, prefix="g"):
+    def c_guards(self, prefix: str = "g") -> list[str]:
         """C lines setting ``ok`` to 0 when the parameters ``p`` take another branch than the trace."""
         if not self.guards:
             return ["    (void)p;"]
@@ -235,7 +236,7 @@ class Expr:
         self.graph, self.index = graph, index
 
     @property
-    def value(self):
+    def value(self) -> float:
         """The value at the trace point (float)."""
         return self.graph.values[self.index]
 
@@ -298,41 +299,41 @@ class TraceOps:
     def __init__(self, graph: Graph):
         self.graph = graph
 
-    def where(self, condition, if_true, if_false):
+    def where(self, condition: Expr | float, if_true: Expr | float, if_false: Expr | float) -> Expr:
         return self.graph.apply("where", condition, if_true, if_false)
 
-    def abs(self, x):
+    def abs(self, x: Expr | float) -> Expr:
         return self.graph.apply("abs", x)
 
-    def sqrt(self, x):
+    def sqrt(self, x: Expr | float) -> Expr:
         return self.graph.apply("sqrt", x)
 
-    def sign(self, x):
+    def sign(self, x: Expr | float) -> Expr:
         return self.graph.apply("sign", x)
 
-    def min(self, a, b):
+    def min(self, a: Expr | float, b: Expr | float) -> Expr:
         return self.graph.apply("min", a, b)
 
-    def max(self, a, b):
+    def max(self, a: Expr | float, b: Expr | float) -> Expr:
         return self.graph.apply("max", a, b)
 
-    def atan2(self, y, x):
+    def atan2(self, y: Expr | float, x: Expr | float) -> Expr:
         return self.graph.apply("atan2", y, x)
 
-    def acos(self, x):
+    def acos(self, x: Expr | float) -> Expr:
         return self.graph.apply("acos", x)
 
-    def pow(self, a, b):
+    def pow(self, a: Expr | float, b: Expr | float) -> Expr:
         return self.graph.apply("pow", a, b)
 
-    def floor(self, x):
+    def floor(self, x: Expr | float) -> Expr:
         return self.graph.apply("floor", x)
 
-    def take(self, table, index):
+    def take(self, table: Sequence[float], index: Expr | float) -> Expr:
         return self.graph.take(table, index)
 
-    def sin(self, x):
+    def sin(self, x: Expr | float) -> Expr:
         return self.graph.apply("sin", x)
 
-    def cos(self, x):
+    def cos(self, x: Expr | float) -> Expr:
         return self.graph.apply("cos", x)
