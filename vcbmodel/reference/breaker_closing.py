@@ -21,7 +21,7 @@ forces in N, torques in N m, stiffnesses in N/m (N/m^n for a Hertz law), gravity
 from __future__ import annotations
 
 import math
-from typing import Any
+from typing import Any, Sequence
 
 import numpy as np
 from scipy.optimize import brentq
@@ -126,7 +126,7 @@ class Closing(Geometry):
         return roller_contact(self, theta, omega, phi, phid, self.distance)
 
     # -- forces -------------------------------------------------------------------------------
-    def roller_force(self, pen, rate):
+    def roller_force(self, pen: float, rate: float) -> float:
         if pen <= 0.0:
             return 0.0
         elastic = self.K_roller * pen**self.n_roller
@@ -135,14 +135,14 @@ class Closing(Geometry):
         v = max(self.impact[0], self.v_floor)
         return max(0.0, elastic * (1.0 + 0.75 * (1.0 - self.e**2) * rate / v))
 
-    def pole_force(self, i, z, zd):
+    def pole_force(self, i: int, z: float, zd: float) -> float:
         pen = z - self.gaps[i]
         if pen <= 0.0:
             return 0.0
         v = max(self.impact[i + 1], self.v_floor)
         return max(0.0, self.K_pole * pen**self.n_pole * (1.0 + 0.75 * (1.0 - self.e**2) * zd / v))
 
-    def rod(self, phi, phid, z, zd):
+    def rod(self, phi: float, phid: float, z: float, zd: float) -> tuple[float, float, float]:
         """(force on the pole along +y, torque on the follower, compression)."""
         F = self.output_point(phi)
         vF = (-phid * (F[1] - self.P[1]), phid * (F[0] - self.P[0]))
@@ -157,7 +157,7 @@ class Closing(Geometry):
         torque = (F[0] - self.P[0]) * (-force * ey) - (F[1] - self.P[1]) * (-force * ex)
         return force * ey, torque, comp
 
-    def opening_torque(self, phi):
+    def opening_torque(self, phi: float) -> float:
         F = self.output_point(phi)
         dx, dy = F[0] - self.anchor[0], F[1] - self.anchor[1]
         L = math.hypot(dx, dy)
@@ -165,7 +165,7 @@ class Closing(Geometry):
         gx, gy = -tension * dx / L, -tension * dy / L
         return (F[0] - self.P[0]) * gy - (F[1] - self.P[1]) * gx
 
-    def latch(self, t, theta):
+    def latch(self, t: float, theta: float) -> tuple[float, float, float]:
         """(torque, Fx, Fy) of the latch on the cam."""
         if t <= 0.0:
             torque = self.holding
@@ -177,7 +177,7 @@ class Closing(Geometry):
         f = torque / self.latch_arm
         return torque, -f * math.sin(a), f * math.cos(a)
 
-    def chain_forces(self, theta, pts):
+    def chain_forces(self, theta: float, pts: list[tuple[float, float]]) -> tuple[list[tuple[float, float]], tuple[float, float]]:
         """(accelerations of the chain points, pull on pin B)."""
         B = self.pin(theta)
         nodes = [self.O] + pts + [B]
@@ -194,7 +194,7 @@ class Closing(Geometry):
             acc.append((fx / m, fy / m))
         return acc, (-pulls[-1][0], -pulls[-1][1])
 
-    def cam_applied(self, t, y):
+    def cam_applied(self, t: float, y: np.ndarray) -> tuple[float, tuple[float, float], tuple[float, float], tuple]:
         """Everything on the cam but friction: (T_c, R0, R1, roller state) at state y."""
         theta, omega = y[0], y[1]
         pts = [(y[2 + 2 * k], y[3 + 2 * k]) for k in range(self.nm)]
@@ -217,7 +217,7 @@ class Closing(Geometry):
         R1 = (-self.mc * rg[1] - self.mpin * rb[1], self.mc * rg[0] + self.mpin * rb[0])
         return Tc, R0, R1, (pen, rate, f, (nx, ny), C)
 
-    def others(self, t, y, roller):
+    def others(self, t: float, y: np.ndarray, roller: tuple) -> tuple[list[tuple[float, float]], float, list[float]]:
         """Rates of the chain, follower and poles at state y (roller: its contact state)."""
         theta = y[0]
         nm, n = self.nm, self.n
@@ -236,7 +236,7 @@ class Closing(Geometry):
         return acc, t_fol / self.If, zacc
 
     # -- friction -----------------------------------------------------------------------------
-    def regime_split(self, regime, w, s):
+    def regime_split(self, regime: int, w: float, s: float) -> tuple[float, float]:
         """(k, v): T_f = k F_n + v in speed regime ``regime`` (bounds index), direction s."""
         lo, hi = self.bounds[regime], self.bounds[regime + 1]
         mid = 0.5 * (lo + hi) if math.isfinite(hi) else lo + 1.0
@@ -249,7 +249,7 @@ class Closing(Geometry):
             return (self.mu_s - (self.mu_s - self.mu_k) * speed / self.ws) * self.r * s, 0.0
         return self.mu_k * self.r * s, self.cv * (w - (self.ws if self.ws > 0 else 0.0) * s)
 
-    def slip_acceleration(self, Tc, R0, R1, k, v):
+    def slip_acceleration(self, Tc: float, R0: tuple[float, float], R1: tuple[float, float], k: float, v: float) -> tuple[float, float]:
         """theta'' with T_f = k |R0 + R1 theta''| + v (Brent on a monotonic function)."""
         I = self.IA
         a_c = (Tc - v) / I
@@ -272,7 +272,7 @@ class Closing(Geometry):
         return a, math.hypot(R0[0] + R1[0] * a, R0[1] + R1[1] * a)
 
     # -- rest state ---------------------------------------------------------------------------
-    def rest(self):
+    def rest(self) -> tuple[float, list[float], float]:
         """Static rest held by the latch: (follower angle, pole travels, holding torque)."""
         n = self.n
         force = -self.pole_push  # the rod holds the pole's weight minus the bellows force
@@ -298,7 +298,7 @@ class Closing(Geometry):
         self.holding = -Tc
         return phi, z, -Tc
 
-    def initial_vector(self, phi, z):
+    def initial_vector(self, phi: float, z: Sequence[float]) -> np.ndarray:
         B = self.pin(self.theta0)
         compliance = [1.0 / k for k in self.ks]
         total, acc, pts = sum(compliance), 0.0, []

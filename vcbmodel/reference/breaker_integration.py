@@ -109,7 +109,7 @@ class ClosingRun:
         return ("slip", 1 if Tc > 0 else -1, 0)
 
     # -- events -------------------------------------------------------------------------------
-    def friction_events(self):
+    def friction_events(self) -> tuple[list[Callable], list[str]]:
         """(events, kinds) ending the friction mode: breakaway when stuck; leaving the speed
         regime (``down``, ``up``) when slipping."""
         mech, mode, tiny = self.mech, self.mode, self.tiny
@@ -134,7 +134,7 @@ class ClosingRun:
             kinds.append("up")
         return evs, kinds
 
-    def contact_events(self):
+    def contact_events(self) -> tuple[list[Callable], list[tuple]]:
         """(events, kinds) of the contacts: an open one waits for its start (LN: the impact
         speed), a closed one for its end (which re-arms the start); the contact's state is
         tracked, not read from a state that sits on the switching surface."""

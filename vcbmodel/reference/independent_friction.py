@@ -65,21 +65,21 @@ class FrictionLaw:
         for lo, hi in zip(bounds[:-1], bounds[1:]):
             self.kinds.append(self.kind(0.5 * (lo + hi) if math.isfinite(hi) else lo + 1.0))
 
-    def kind(self, speed):
+    def kind(self, speed: float) -> str:
         if speed <= self.w0:
             return "band"
         if self.ws > 0.0 and speed < self.ws:
             return "stribeck"
         return "kinetic"
 
-    def regime_of(self, speed):
+    def regime_of(self, speed: float) -> int:
         """Index of the regime with bounds[i] <= speed < bounds[i+1]."""
         for i in range(len(self.bounds) - 1):
             if self.bounds[i] <= speed < self.bounds[i + 1]:
                 return i
         raise SimulationError(f"independent reference: non-finite shaft speed {speed!r}")
 
-    def split(self, regime, w, s):
+    def split(self, regime: int, w: float, s: float) -> tuple[float, float]:
         """(k, v): Tf = k * Fn + v in the given regime, shaft speed w, direction s = +-1."""
         kind = self.kinds[regime]
         if kind == "band":
@@ -88,7 +88,7 @@ class FrictionLaw:
             return (self.mu_s - (self.mu_s - self.mu_k) * abs(w) / self.ws) * self.r * s, 0.0
         return self.mu_k * self.r * s, self.cv * (w - self.ws_shift * s)
 
-    def holds(self, torque, fn0):
+    def holds(self, torque: float, fn0: float) -> bool:
         """Static friction can carry ``torque`` with the shaft at rest (reaction ``fn0``)."""
         return abs(torque) <= self.mu_s * self.r * fn0
 

@@ -18,7 +18,7 @@ Units: SI. Times in s, angles in rad, speeds in rad/s, torques in N m, forces in
 from __future__ import annotations
 
 import math
-from typing import Sequence
+from typing import Callable, Sequence
 
 import numpy as np
 from scipy.integrate import solve_ivp
@@ -54,7 +54,7 @@ class Hybrid:
         self.nq = mech.nq
 
     # -- accelerations ------------------------------------------------------------------------
-    def slip(self, q, qd, s, regime):
+    def slip(self, q: np.ndarray, qd: np.ndarray, s: float, regime: int) -> tuple[np.ndarray, float, float, float]:
         """(q'', Tf, Fn, Tc) in slip mode."""
         M, Minv = self.mech.mass(q)
         h = self.mech.forces(q, qd)
@@ -68,7 +68,7 @@ class Hybrid:
         qdd = a_free - b * tf
         return qdd, tf, fn, a_free[0] / b[0]
 
-    def stuck(self, q, qd):
+    def stuck(self, q: np.ndarray, qd: np.ndarray) -> tuple[np.ndarray, float, float, float]:
         """(q'' with theta'' = 0, Tf holding the shaft, Fn0, Tc); qd[0] must be 0."""
         M, _ = self.mech.mass(q)
         h = self.mech.forces(q, qd)
@@ -84,7 +84,7 @@ class Hybrid:
         if not np.all(np.isfinite(y)):
             raise SimulationError(f"independent reference: non-finite state at t = {t:.6g} s")
 
-    def slip_rhs(self, s, regime):
+    def slip_rhs(self, s: float, regime: int) -> Callable[[float, np.ndarray], np.ndarray]:
         nq = self.nq
 
         def rhs(t, y):
@@ -94,7 +94,7 @@ class Hybrid:
 
         return rhs
 
-    def stuck_rhs(self, theta):
+    def stuck_rhs(self, theta: float) -> Callable[[float, np.ndarray], np.ndarray]:
         nq = self.nq
 
         def rhs(t, z):
@@ -105,7 +105,7 @@ class Hybrid:
 
         return rhs
 
-    def full(self, theta, z):
+    def full(self, theta: float, z: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
         nq = self.nq
         q = np.concatenate([[theta], z[:nq - 1]])
         qd = np.concatenate([[0.0], z[nq - 1:]])
@@ -262,7 +262,7 @@ class Hybrid:
         return mode, y
 
     # -- output -------------------------------------------------------------------------------
-    def sample(self, segments, t_eval):
+    def sample(self, segments: Sequence[Segment], t_eval: np.ndarray) -> tuple[dict[str, np.ndarray], np.ndarray, np.ndarray]:
         nq = self.nq
         starts = np.array([seg.t0 for seg in segments])
         idx = np.clip(np.searchsorted(starts, t_eval, side="right") - 1, 0, len(segments) - 1)

@@ -17,7 +17,7 @@ from __future__ import annotations
 
 import functools
 import math
-from typing import Any, Mapping
+from typing import Any, Mapping, Sequence
 
 import numpy as np
 import sympy as sp
@@ -54,10 +54,10 @@ class Equations:
         self._M = sp.lambdify([qs, params], M, modules="numpy")
         self._h = sp.lambdify([qs, qds, params], list(h), modules="numpy", cse=True)
 
-    def mass(self, q, p):
+    def mass(self, q: Sequence[float], p: Sequence[float]) -> np.ndarray:
         return np.array(self._M(q, p), dtype=float)
 
-    def forces(self, q, qd, p):
+    def forces(self, q: Sequence[float], qd: Sequence[float], p: Sequence[float]) -> np.ndarray:
         return np.array(self._h(q, qd, p), dtype=float)
 
 
@@ -123,13 +123,13 @@ class Mechanism:
             M = eqs.mass(np.zeros(self.nq), self.p)
             self._M, self._Minv = M, np.linalg.inv(M)
 
-    def mass(self, q):
+    def mass(self, q: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
         if self._M is not None:
             return self._M, self._Minv
         M = self.eqs.mass(q, self.p)
         return M, np.linalg.inv(M)
 
-    def forces(self, q, qd):
+    def forces(self, q: np.ndarray, qd: np.ndarray) -> np.ndarray:
         return self.eqs.forces(q, qd, self.p)
 
 
@@ -138,7 +138,7 @@ class PendulumMechanism(Mechanism):
         self.M_, self.L_, self.g_ = float(mass), float(com_distance), float(gravity)
         super().__init__(pendulum_equations(), [inertia, mass, gravity, com_distance])
 
-    def reaction(self, q, qd):
+    def reaction(self, q: np.ndarray, qd: np.ndarray) -> tuple[tuple[float, float], tuple[float, float]]:
         """Paper eq. 6 in the pendulum's frame: (F_om, F_ot) = R0 + R1 theta''."""
         th, w = q[0], qd[0]
         M, L, g = self.M_, self.L_, self.g_
@@ -181,10 +181,10 @@ class CamMechanism(Mechanism):
                   *masses, *ks, *ls]
         super().__init__(cam_equations(n), params)
 
-    def pin(self, th):
+    def pin(self, th: float) -> np.ndarray:
         return self.A + self.lAB * np.array([math.cos(th), math.sin(th)])
 
-    def spring_pull_on_pin(self, q):
+    def spring_pull_on_pin(self, q: np.ndarray) -> np.ndarray:
         """Force (N) of the last axial spring on pin B (all springs together)."""
         B = self.pin(q[0])
         P = q[2 * self.n - 1:2 * self.n + 1] if self.n else self.O
@@ -194,7 +194,7 @@ class CamMechanism(Mechanism):
             raise SimulationError("independent reference: a spring segment collapsed to zero length")
         return self.ks[-1] * (length - self.ls[-1]) * d / length
 
-    def reaction(self, q, qd):
+    def reaction(self, q: np.ndarray, qd: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
         """Bearing force at A on the cam body (cam + pin mass), Newton-Euler:
         F_A = m_c a_G + m_pin a_B - F_spring_on_B - W_cam - W_pin, a linear in theta''."""
         th, w = q[0], qd[0]

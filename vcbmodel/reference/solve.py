@@ -15,6 +15,7 @@ step scheme, and smooth ones (no friction, viscous only, cam drop) with DOP853.
 from __future__ import annotations
 
 import math
+from typing import TYPE_CHECKING, Callable
 
 import numpy as np
 from scipy.integrate import solve_ivp
@@ -25,8 +26,15 @@ from ..laws.friction import band_width, friction_torque, stuck_torque
 from ..laws.mechanics import cam_inertia, cam_loads, cam_pin, pendulum_loads
 from . import independent
 
+if TYPE_CHECKING:
+    from ..laws.friction import FrictionLaw
+    from ..laws.springs import LumpedChain
+    from ..model.effects import ModelSpec
+    from ..rig.data import Rig
 
-def friction_iterated(w, applied_torque, R0, R1, inertia, law, tol=1e-12, max_iter=100):
+
+def friction_iterated(w: float, applied_torque: float, R0: tuple[float, float], R1: tuple[float, float], inertia: float, law: FrictionLaw,
+                      tol: float = 1e-12, max_iter: int = 100) -> tuple[float, float]:
     """(T_f, F_n): the stick test at rest, the passive stuck state, or the slip law with the
     reaction found by fixed-point iteration F_n -> T_f -> theta'' -> R -> F_n."""
     Fn = math.hypot(*R0)
@@ -45,7 +53,7 @@ def friction_iterated(w, applied_torque, R0, R1, inertia, law, tol=1e-12, max_it
     raise SimulationError("reference: the reaction-force iteration did not converge")
 
 
-def pendulum_rhs(rig, law):
+def pendulum_rhs(rig: Rig, law: FrictionLaw) -> tuple[Callable[[float, np.ndarray], np.ndarray], np.ndarray]:
     p, g = rig.pendulum, rig.gravity
 
     def rhs(t, y):
@@ -57,7 +65,8 @@ def pendulum_rhs(rig, law):
     return rhs, np.array([p.initial_angle, p.initial_velocity])
 
 
-def cam_rhs(rig, law, chain=None, extension=None):
+def cam_rhs(rig: Rig, law: FrictionLaw, chain: LumpedChain | None = None,
+            extension: BreakerExtension | None = None) -> tuple[Callable[[float, np.ndarray], np.ndarray], np.ndarray]:
     """State: theta, omega, then x_i, y_i of each spring mass, then their velocities, then
     the ``extension``'s states (the whole breaker: :class:`BreakerExtension`)."""
     cam, spring, g = rig.cam, rig.closing_spring, rig.gravity
@@ -117,7 +126,7 @@ class BreakerExtension:
         self.impact = np.zeros(self.n + 1)
         self.offset = None  # index of the extension in the full state (set by reference_closing)
 
-    def loads_and_rates(self, t, th, w, y):
+    def loads_and_rates(self, t: float, th: float, w: float, y: np.ndarray) -> tuple:
         laws, n, b = self.laws, self.n, self.laws.b
         phi, z, phid, zd = y[0], y[1:1 + n], y[1 + n], y[2 + n:]
         t_fol, _ = laws.follower_torque(th, w, phi, phid, z, zd, self.impact[0])
@@ -127,12 +136,13 @@ class BreakerExtension:
         # the roller's and the latch's loads on the cam (torque, and force into the journal)
         return laws.cam_loads(t, th, w, phi, phid, self.initial.holding_torque, self.impact[0]), rates
 
-    def pre_step(self, t, y_full):
+    def pre_step(self, t: float, y_full: np.ndarray) -> None:
         y, n = y_full[self.offset:], self.n
         self.laws.latch_impact_speeds(self.impact, y_full[0], y_full[1], y[0], y[1 + n], y[1:1 + n], y[2 + n:])
 
 
-def rk4(rhs, y0, t_end, step, pre_step=None):
+def rk4(rhs: Callable[[float, np.ndarray], np.ndarray], y0: np.ndarray, t_end: float, step: float,
+        pre_step: Callable[[float, np.ndarray], None] | None = None) -> tuple[np.ndarray, np.ndarray]:
     """Classical fixed-step Runge-Kutta (returns t, Y); ``pre_step(t, y)`` runs before each step."""
     n = max(1, int(round(t_end / step)))
     h = t_end / n
@@ -152,13 +162,14 @@ def rk4(rhs, y0, t_end, step, pre_step=None):
     return np.linspace(0.0, t_end, n + 1), Y
 
 
-def friction_values(law):
+def friction_values(law: FrictionLaw) -> dict[str, float]:
     """The friction law's values as the independent reference takes them."""
     return {"mu_s": law.mu_s, "mu_k": law.mu_k, "stick_velocity": law.stick_velocity,
             "stribeck_velocity": law.stribeck_velocity, "viscous": law.viscous}
 
 
-def reference_pendulum(rig, spec, law, chain, t_end, method="DOP853", step=None):
+def reference_pendulum(rig: Rig, spec: ModelSpec, law: FrictionLaw, chain: LumpedChain | None, t_end: float, method: str = "DOP853",
+                       step: float | None = None) -> tuple[dict[str, np.ndarray], dict]:
     """The pendulum from :mod:`vcbmodel.reference.independent` (shares no law with the model;
     event-driven sticking), as sensor rows sampled every ``step`` (default 1e-4 s)."""
     t = _sample_times(t_end, step)
@@ -168,7 +179,8 @@ def reference_pendulum(rig, spec, law, chain, t_end, method="DOP853", step=None)
     return _shaft_rows(t, out)
 
 
-def reference_cam_drop(rig, spec, law, chain, t_end, method="DOP853", step=None):
+def reference_cam_drop(rig: Rig, spec: ModelSpec, law: FrictionLaw, chain: LumpedChain | None, t_end: float, method: str = "DOP853",
+                       step: float | None = None) -> tuple[dict[str, np.ndarray], dict]:
     """The cam drop from :mod:`vcbmodel.reference.independent`, as :func:`reference_pendulum`."""
     t = _sample_times(t_end, step)
     cam, spring = rig.cam, rig.closing_spring
@@ -205,7 +217,8 @@ def _shaft_rows(t, out):
                   "stuck": out["stuck"]}
 
 
-def reference_closing(rig, spec, law, chain, t_end, method="DOP853", step=None):
+def reference_closing(rig: Rig, spec: ModelSpec, law: FrictionLaw, chain: LumpedChain | None, t_end: float, method: str = "DOP853",
+                      step: float | None = None) -> tuple[dict[str, np.ndarray], dict]:
     """The whole breaker without Exudyn: the hand-written equations above with the model's laws
     (a wiring check), adaptive or fixed-step RK4.
 

@@ -5,12 +5,14 @@ this folder, sharing no law with the model.
 from __future__ import annotations
 
 import math
+from typing import Mapping
 
 import numpy as np
 from scipy.integrate import solve_ivp
 
 
-def position_dependent_pendulum(p, gravity, radius, friction, amplitude, wavelength, phase, t_eval):
+def position_dependent_pendulum(p: Mapping[str, float], gravity: float, radius: float, friction: Mapping[str, float], amplitude: float,
+                                wavelength: float, phase: float, t_eval: np.ndarray) -> np.ndarray:
     """A pendulum whose journal friction depends on the shaft angle (no registered effect):
     T_f = mu_k (1 + a sin(2 pi theta / lambda + phase)) r F_n sign(w) + Cv w, static friction 1.5x
     that; sticking by events (stuck for good once static friction holds the weight's torque).
