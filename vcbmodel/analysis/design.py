@@ -8,7 +8,9 @@ from __future__ import annotations
 
 import copy
 import math
+from collections.abc import Sequence
 from dataclasses import dataclass
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
@@ -16,13 +18,16 @@ from ..experiments import experiment_of
 from ..experiments.simulation import simulate
 from ..laws.mechanics import cam_pin
 
+if TYPE_CHECKING:
+    from ..rig.data import Rig
+
 #: The shaft friction's effects: "dropping the friction" turns all of them off.
 FRICTION_EFFECTS = ("coulomb_friction", "stribeck", "viscous_friction")
 
 
 # --- the closing springs ---------------------------------------------------------------------------
 
-def spring_length(rig, theta):
+def spring_length(rig: Rig, theta: float | np.ndarray) -> float | np.ndarray:
     """Pin-to-anchor length (m) of a closing spring at cam angle(s) ``theta`` (rad)."""
     theta = np.asarray(theta, float)
     if theta.ndim == 0:
@@ -33,24 +38,24 @@ def spring_length(rig, theta):
     return np.hypot(bx - rig.closing_spring.anchor[0], by - rig.closing_spring.anchor[1])
 
 
-def charged_length(rig):
+def charged_length(rig: Rig) -> float:
     """Length (m) of a closing spring when charged (the cam at its initial angle)."""
     return float(spring_length(rig, rig.cam.initial_angle))
 
 
-def preload(rig):
+def preload(rig: Rig) -> float:
     """Pull (N) of one closing spring when charged: k0 (L_charged - L_free)."""
     s = rig.closing_spring
     return s.stiffness * (charged_length(rig) - s.free_length)
 
 
-def stored_energy(rig):
+def stored_energy(rig: Rig) -> float:
     """Energy (J) stored in all closing springs when charged: count * F0^2 / (2 k0)."""
     s = rig.closing_spring
     return s.count * 0.5 * s.stiffness * (charged_length(rig) - s.free_length) ** 2
 
 
-def free_length_for(rig, pull, stiffness=None):
+def free_length_for(rig: Rig, pull: float, stiffness: float | None = None) -> float:
     """Free length (m) that gives one spring the charged pull ``pull`` (N) at ``stiffness``
     (N/m, default the rig's): the way a design study sets the preload."""
     k = rig.closing_spring.stiffness if stiffness is None else stiffness
@@ -64,7 +69,7 @@ def free_length_for(rig, pull, stiffness=None):
 DESIGN_COLUMNS = experiment_of("vcb_closing").figure_columns + ("preload_N", "stored_energy_J", "min_spring_force_N")
 
 
-def closing_design(rig, t_end=None):
+def closing_design(rig: Rig, t_end: float | None = None) -> dict:
     """A closing's figures of merit plus the closing springs' preload (N, one spring), stored
     energy (J, all springs) and smallest static pull k0 (L(theta) - L_free) over the run (N; a
     tension spring must stay stretched: below zero it would push)."""
@@ -88,7 +93,7 @@ def _closing_time(rig, result):
     return experiment_of(rig.experiment).figures_of_merit(result, rig)["closing_time_s"]
 
 
-def conclusion_effects(rig, t_end=None):
+def conclusion_effects(rig: Rig, t_end: float | None = None) -> dict[str, float]:
     """The paper's conclusion at one design point: how far the closing moves when the shaft
     friction is dropped (all of :data:`FRICTION_EFFECTS` off) and when the spring is made
     massless, each against the rig's full model.
@@ -145,21 +150,21 @@ class Factor:
     distribution: str = "normal"  # of a tolerance study: normal (sd = tolerance / 3) or uniform (low..high)
 
     @property
-    def low(self):
+    def low(self) -> float:
         return max(self.nominal - self.tolerance, self.lower)
 
     @property
-    def high(self):
+    def high(self) -> float:
         return min(self.nominal + self.tolerance, self.upper)
 
     @property
-    def sd(self):
+    def sd(self) -> float:
         return self.tolerance / 3.0
 
-    def clip(self, value):
+    def clip(self, value: float) -> float:
         return float(min(max(value, self.lower), self.upper))
 
-    def overrides(self, value, rig):
+    def overrides(self, value: float, rig: Rig) -> dict[str, float]:
         value = self.clip(value)
         if self.kind == "preload":
             return {"closing_spring.free_length": free_length_for(rig, value)}
@@ -170,7 +175,7 @@ class Factor:
         return {self.path: value}
 
 
-def with_viscous_shaft(data):
+def with_viscous_shaft(data: dict) -> dict:
     """A copy of a rig's JSON object whose model lists the shaft's viscous friction, at the
     rig's value or 0 (the same closing), so that its uncertainty can be varied."""
     out = copy.deepcopy(data)
@@ -197,7 +202,7 @@ TOLERANCES = {
 }
 
 
-def breaker_factors(rig, viscous_upper=None):
+def breaker_factors(rig: Rig, viscous_upper: float | None = None) -> list[Factor]:
     """The uncertain parameters of a ``vcb_closing`` rig (loaded; its model should list
     ``viscous_friction`` for the viscous factor: :func:`with_viscous_shaft`), nominal values
     read from the rig, tolerances from :data:`TOLERANCES`. A rig without a viscous term
@@ -250,7 +255,7 @@ def breaker_factors(rig, viscous_upper=None):
     return factors
 
 
-def runs_of(factors, values, rig):
+def runs_of(factors: Sequence[Factor], values: np.ndarray, rig: Rig) -> list[dict[str, float]]:
     """Override dicts, one per row of ``values`` (rows x factors), for :func:`sweep`'s ``runs``."""
     runs = []
     for row in np.atleast_2d(values):
@@ -261,7 +266,7 @@ def runs_of(factors, values, rig):
     return runs
 
 
-def json_ready(obj):
+def json_ready(obj: Any) -> Any:
     """``obj`` with every non-finite float (NaN: not reached or failed) as None, numpy scalars
     and arrays as Python numbers and lists: strict JSON for the studies' outputs."""
     if isinstance(obj, dict):

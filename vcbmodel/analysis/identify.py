@@ -17,7 +17,9 @@ after release.
 from __future__ import annotations
 
 import logging
+from collections.abc import Sequence
 from dataclasses import dataclass, replace
+from typing import TYPE_CHECKING
 
 import numpy as np
 
@@ -27,6 +29,10 @@ from ..laws.friction import effective_static, zeta_from_viscous
 from ..records.signals import first_peak_amplitude
 from ..rig.spring_model import SpringModel
 from .fit import Dataset, FitResult, SimulationPool, fit, make_parameters, staged_fit
+
+if TYPE_CHECKING:
+    from ..records.measurement import Measurement
+    from ..rig.data import Rig
 
 #: Simulations allowed to the optional simplex polish after the least-squares stage (it
 #: refines the least-squares optimum the way the paper's simplex would).
@@ -58,7 +64,7 @@ WARN_RATIO = 1.5
 DENSE_FACTOR = 2.0
 
 
-def usual_rate(pair):
+def usual_rate(pair: tuple[Rig, Measurement]) -> tuple[Rig, Measurement]:
     """A (rig, measurement) pair thinned to about its experiment's usual sample rate when it is
     much denser: every k-th sample is kept, times unchanged. A pendulum swings at about 1 Hz, so
     the usual 1 kHz resolves it many times over; the fit of a full million-sample record (100 s at
@@ -84,23 +90,23 @@ class IdentifyResult:
     first_peaks: list  # rad, per dataset
 
     @property
-    def values(self):
+    def values(self) -> dict[str, float]:
         v = dict(self.fit.values)
         v.setdefault("viscous", 0.0)
         v["mu_s"] = effective_static(v["mu_s"], v["mu_k"])  # what the law uses
         return v
 
-    def max_error_percent(self):
+    def max_error_percent(self) -> float:
         """max |error| / first peak amplitude after release, in %, worst dataset."""
         return float(max(100 * np.max(np.abs(r)) / a for r, a in zip(self.fit.residuals, self.first_peaks)))
 
     @property
-    def residual_to_noise(self):
+    def residual_to_noise(self) -> float:
         """rms residual over the records' own high-frequency noise (not shaped by the fit)."""
         return float(self.fit.rms / self.fit.sigma) if self.fit.sigma > 0 else float("inf")
 
     @property
-    def warning(self):
+    def warning(self) -> str | None:
         """Why the fitted values should not be trusted as they stand, or None."""
         r = self.residual_to_noise
         if r <= WARN_RATIO:
@@ -109,11 +115,11 @@ class IdentifyResult:
                 "records fully (another friction behaviour, a rig value off, or a sensor artefact); the values and "
                 "their standard errors are those of the best fit of a wrong model. Try vcbmodel diagnose")
 
-    def zeta(self):
+    def zeta(self) -> float:
         p, rig = self.datasets[0].rig.pendulum, self.datasets[0].rig
         return zeta_from_viscous(self.values["viscous"], p.inertia, p.mass, rig.gravity, p.com_distance)
 
-    def to_json(self):
+    def to_json(self) -> dict:
         v = self.values
         return {"law": self.law, "mu_s": v["mu_s"], "mu_k": v["mu_k"], "stick_velocity": v["stick_velocity"],
                 "stribeck_velocity": v["stribeck_velocity"], "viscous": v["viscous"], "zeta": self.zeta(),
@@ -128,20 +134,37 @@ class IdentifyResult:
                 "simulated_with": self.fit.backend,
                 "measurements": [d.measurement.path for d in self.datasets]}
 
-    def report(self):
+    def report(self) -> str:
         return (f"Friction identification, {self.law} law, {len(self.datasets)} measurement(s)\n"
                 + (f"  WARNING: {self.warning}\n" if self.warning else "")
                 + f"  max |error| {self.max_error_percent():.2f} % of the first peak amplitude; zeta {self.zeta():.4g}\n"
                 + self.fit.report())
 
 
-def identify(pairs, law="hybrid", verbose=True, polish=False, processes=2) -> IdentifyResult:
+def identify(pairs: Sequence[tuple[Rig, Measurement]], law: str = "hybrid", verbose: bool = True, polish: bool = False,
+             processes: int = 2) -> IdentifyResult:
     """Fit ``law`` to the (rig, measurement) pairs at once (shared friction parameters).
 
     Least squares from the record's own starting values (the swing's decay), first on the
     swinging part at a coarse step, then on the whole record; the Jacobian's simulations run
     in parallel on ``processes`` processes. ``polish``: a short simplex run afterwards, as in
-    the paper (it rarely changes the least-squares optimum)."""
+    the paper (it rarely changes the least-squares optimum).
+
+    Parameters
+    ----------
+    pairs : (rig, measurement) pairs of pendulum records (``t`` in s, angle in rad), e.g. from
+        :func:`~vcbmodel.experiments.loading.load_pair`.
+    law : a key of :data:`LAWS` (``hybrid``, ...): which friction parameters are fitted.
+    verbose : report each fit's progress.
+    polish : run the simplex afterwards.
+    processes : processes for the Jacobian's simulations.
+
+    Returns
+    -------
+    IdentifyResult
+        The fit; ``values`` in SI units: ``mu_s``, ``mu_k`` (-), ``stick_velocity``,
+        ``stribeck_velocity`` (rad/s), ``viscous`` (N m s/rad); ``first_peaks`` in rad.
+    """
     spec = LAWS[law]
     pairs = [usual_rate(pair) for pair in pairs]
     datasets = [Dataset(rig, meas) for rig, meas in pairs]

@@ -23,6 +23,7 @@ within the rounding band (+-q/2 plus the other noise) once smoothed.
 from __future__ import annotations
 
 import math
+from collections.abc import Sequence
 from dataclasses import dataclass, field
 
 import numpy as np
@@ -40,7 +41,7 @@ ALPHA = 0.01
 STRUCTURE_TOLERANCE = 0.1
 
 
-def third_difference_gain(coefficients):
+def third_difference_gain(coefficients: np.ndarray) -> float:
     """Variance of the third difference of a unit-innovation AR process (white: 20)."""
     rho = np.concatenate([[1.0], ar_autocorrelation(coefficients, 3)])
     var = marginal_variance(coefficients)
@@ -48,7 +49,7 @@ def third_difference_gain(coefficients):
     return float(var * sum(h[i] * h[j] * rho[abs(i - j)] for i in range(4) for j in range(4)))
 
 
-def marginal_variance(coefficients):
+def marginal_variance(coefficients: np.ndarray) -> float:
     """Variance of a unit-innovation AR process (1 for white noise)."""
     a = np.asarray(coefficients, float)
     if a.size == 0:
@@ -72,25 +73,25 @@ class NoiseModel:
     details: dict = field(default_factory=dict)
 
     @classmethod
-    def white(cls, sigma, quantisation=0.0, source="record (third differences)"):
+    def white(cls, sigma: float, quantisation: float = 0.0, source: str = "record (third differences)") -> NoiseModel:
         return cls(float(sigma), (), float(quantisation), float(sigma), source)
 
     @property
-    def order(self):
+    def order(self) -> int:
         return len(self.ar)
 
     @property
-    def marginal_sd(self):
+    def marginal_sd(self) -> float:
         """Standard deviation of the noise itself (not its innovations)."""
         return self.sigma * math.sqrt(marginal_variance(self.ar))
 
     @property
-    def lag1(self):
+    def lag1(self) -> float:
         """The noise's lag-1 autocorrelation (0 for white noise)."""
         return float(ar_autocorrelation(self.ar, 1)[0]) if self.ar else 0.0
 
     @property
-    def variance_inflation(self):
+    def variance_inflation(self) -> float:
         """How much the variance of a long average exceeds the white-noise value (the
         ratio n / n_eff of an effective sample size): sum of all autocorrelations."""
         a = np.asarray(self.ar, float)
@@ -99,24 +100,24 @@ class NoiseModel:
         # spectral density at zero over the variance: (1 / (1 - sum a)^2) / marginal variance
         return float(1.0 / (1.0 - a.sum()) ** 2 / marginal_variance(a))
 
-    def whiten(self, residual):
+    def whiten(self, residual: np.ndarray) -> np.ndarray:
         """Innovations of one contiguous residual segment, in units of sigma."""
         return ar_whiten(residual, self.ar) / self.sigma
 
-    def chi2(self, segments):
+    def chi2(self, segments: Sequence[np.ndarray]) -> float:
         """sum of squared whitened residuals over contiguous segments (each whitened alone)."""
         return float(sum(np.sum(self.whiten(s) ** 2) for s in segments))
 
-    def n_data(self, segments):
+    def n_data(self, segments: Sequence[np.ndarray]) -> int:
         return int(sum(max(0, np.asarray(s).size - self.order) for s in segments))
 
-    def to_json(self):
+    def to_json(self) -> dict:
         return {"sigma_innovation": self.sigma, "sigma": self.marginal_sd, "ar": [float(a) for a in self.ar],
                 "lag1_correlation": self.lag1, "quantisation_step": self.quantisation,
                 "high_frequency_sigma": self.high_frequency, "source": self.source}
 
 
-def fit_noise(segments, high_frequency, quantisation=0.0, source="residual"):
+def fit_noise(segments: Sequence[np.ndarray], high_frequency: float, quantisation: float = 0.0, source: str = "residual") -> NoiseModel:
     """An AR noise model fitted to residual segments, with the innovation level floored by the
     quantisation (q / sqrt(12)) and by what the model-free high-frequency level implies for this
     correlation (a residual cannot hold less noise than the record's own third differences)."""
@@ -131,7 +132,7 @@ def fit_noise(segments, high_frequency, quantisation=0.0, source="residual"):
     return NoiseModel(max(sigma, floor, 1e-300), a, quantisation, high_frequency, source, details)
 
 
-def rounding_dominates(quantisation, high_frequency):
+def rounding_dominates(quantisation: float, high_frequency: float) -> bool:
     """Is a quantised sensor's rounding noise, q / sqrt(12), at least half the record's
     high-frequency noise? Then rounding (deterministic) rules the residual, not white noise."""
     return quantisation > 0 and quantisation / math.sqrt(12.0) >= 0.5 * high_frequency

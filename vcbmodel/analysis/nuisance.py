@@ -20,6 +20,7 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass, field
+from typing import TYPE_CHECKING
 
 import numpy as np
 from scipy.optimize import nnls
@@ -28,6 +29,9 @@ from scipy.special import ellipk
 from ..experiments import experiment_of
 from ..rig.paths import loaded_value
 from ..records.signals import motion_onset, swing_peaks
+
+if TYPE_CHECKING:
+    from ..rig.data import Rig
 
 #: Prior standard deviation of the initial angle around the rig's nominal value (rad) where the
 #: record cannot tell the angle from the sensor offset (cam drop): about a degree.
@@ -59,12 +63,12 @@ class RecordSetup:
     channel_rest: dict = field(default_factory=dict)  # model value at rest of extra travel channels
     contact: dict = field(default_factory=dict)  # contact channel -> (gap in m, indicator width in m)
 
-    def to_json(self):
+    def to_json(self) -> dict:
         return {"window": [float(self.window[0]), float(self.window[1])], "still_start": self.still_start,
                 "hand_start": self.hand_start, "pinned": dict(self.pinned), "notes": list(self.notes)}
 
 
-def initial_angle_field(experiment):
+def initial_angle_field(experiment: str) -> str | None:
     return experiment_of(experiment).initial_angle_field
 
 
@@ -230,7 +234,8 @@ def _swing_centre(t, y, release, sigma):
     return float(np.mean(mids[:m])) if m else float(mids[0])
 
 
-def release_from_model(setup, t, y, model_t, model_y, sigma, span=None):
+def release_from_model(setup: RecordSetup, t: np.ndarray, y: np.ndarray, model_t: np.ndarray, model_y: np.ndarray, sigma: float,
+                       span: float | None = None) -> RecordSetup:
     """Re-estimate the release time when the measured channel does not move at the release (a
     closing's follower waits until the cam's rise reaches the roller): the record's departure
     from rest minus the model's (both where they first leave their rest by 15 sigma)."""
@@ -262,7 +267,7 @@ def _extreme_time(t, y, tk, half_period):
     return float(tk + vertex) if abs(vertex) < w else tk
 
 
-def swing_period_mismatch(rig, t, y, window_start, sigma):
+def swing_period_mismatch(rig: Rig, t: np.ndarray, y: np.ndarray, window_start: float, sigma: float) -> dict | None:
     """The record's swing period against the rig's, model-free: full periods between every other
     extreme of the free swing (each extreme timed by a parabola through its top) against the
     exact pendulum's at the swing's amplitude, T = 4 sqrt(I/(M g L)) K(sin^2(a/2)) (friction

@@ -13,7 +13,7 @@ import time
 log = logging.getLogger("vcbmodel")
 
 
-def progress(message):
+def progress(message: str) -> None:
     """One progress line (INFO on the ``vcbmodel`` logger)."""
     log.info(message)
 
@@ -25,7 +25,7 @@ class Progress:
         self.total, self.label, self.verbose = total, label, verbose
         self.done, self.start = 0, time.monotonic()
 
-    def step(self, note=""):
+    def step(self, note: str = "") -> None:
         self.done += 1
         if not self.verbose:
             return

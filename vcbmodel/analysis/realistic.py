@@ -86,7 +86,7 @@ for _name, (_start, _truth) in CLOSING.items():
     HIDDEN[_name] = ("vcb_closing", _start, _truth)
 
 
-def hidden_answer(case):
+def hidden_answer(case: str) -> list[str] | None:
     """The effects the diagnosis should name, in no particular order (None: an unregistered one)."""
     _, start, truth = HIDDEN[case]
     if "position_dependent_friction" in truth:
@@ -386,7 +386,7 @@ GROUPS = {
 }
 
 
-def draw_cases(group, n, seed, include_unregistered=True):
+def draw_cases(group: str, n: int, seed: int, include_unregistered: bool = True) -> list[tuple[str, int]]:
     """``n`` (case, seed) draws for a complication group: hidden-effect cases of the group's
     experiments, cycled in a seeded random order (the unregistered effect among them)."""
     _, experiments = GROUPS[group]

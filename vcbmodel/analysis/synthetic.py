@@ -32,7 +32,7 @@ def synthetic_measurement(rig, effects, values, *, spring_model=None, sigma=None
                                  f"{truth.spring_model.label}, noise sigma {sigma:g} {record.unit}, seed {seed}",))
 
 
-def write_rig(rig_dict, path):
+def write_rig(rig_dict: dict, path: str | Path) -> None:
     Path(path).write_text(json.dumps(rig_dict, indent=2) + "\n")
 
 
@@ -51,13 +51,13 @@ CASES = {
 }
 
 
-def case_answer(case):
+def case_answer(case: str) -> str | None:
     _, start, truth = CASES[case]
     missing = [e for e in truth if e not in start]
     return missing[0] if missing else None
 
 
-def random_case(case, seed, folder, t_end=None):
+def random_case(case: str, seed: int, folder: str | Path, t_end: float | None = None) -> tuple[Path, Path, dict]:
     """A randomised rig + synthetic measurement with one hidden effect (or none).
 
     Geometry and friction are drawn from ranges around the reference rigs (the ranges of

@@ -14,7 +14,9 @@ import math
 import os
 import signal
 import sys
+from collections.abc import Iterator, Sequence
 from contextlib import contextmanager
+from typing import TYPE_CHECKING
 
 from .. import __version__
 from ..analysis.diagnose import diagnose
@@ -31,9 +33,12 @@ from .outputs import check_output, write_file
 from .templates import TEMPLATES, explain, template
 from .plots import plot_diagnosis, plot_simulation, supported_image_formats
 
+if TYPE_CHECKING:
+    from ..rig.data import Rig
+
 
 @contextmanager
-def results_only_on_stdout():
+def results_only_on_stdout() -> Iterator[None]:
     """While a fit runs, send file descriptor 1 to stderr: a native library's messages (LAPACK's
     "On entry to DLASCL ...") cannot then spoil the JSON or CSV a command prints afterwards."""
     try:
@@ -59,7 +64,7 @@ class _Parser(argparse.ArgumentParser):
         raise SystemExit(2)
 
 
-def build_parser():
+def build_parser() -> argparse.ArgumentParser:
     p = _Parser(prog="vcbmodel", description="Spring-driven cam dynamics of vacuum circuit breakers (Exudyn). "
                 "Docs: docs/cli.md and docs/rig-format.md in the repository.")
     p.add_argument("--version", action="version", version=f"vcbmodel {__version__}")
@@ -127,13 +132,13 @@ def build_parser():
     return p
 
 
-def envelope(rig, unit):
+def envelope(rig: Rig, unit: str) -> dict:
     """What every ``--json`` output carries besides its results."""
     return {"vcbmodel_version": __version__, "experiment": rig.experiment, "rig_name": rig.name,
             "rig": rig.path, "units": unit}
 
 
-def cmd_simulate(args):
+def cmd_simulate(args: argparse.Namespace) -> int:
     rig = load_rig(args.rig)
     record = experiment_of(rig.experiment)
     effects = rig.model.effects
@@ -182,12 +187,12 @@ def cmd_simulate(args):
     return 0
 
 
-def cmd_check(args):
+def cmd_check(args: argparse.Namespace) -> int:
     print("\n".join(explain(load_rig(args.rig))))
     return 0
 
 
-def cmd_init(args):
+def cmd_init(args: argparse.Namespace) -> int:
     check_output(args.output, "-o", force=args.force)
     text = template(args.kind)
     if args.output:
@@ -198,7 +203,7 @@ def cmd_init(args):
     return 0
 
 
-def cmd_identify(args):
+def cmd_identify(args: argparse.Namespace) -> int:
     pairs = [load_pair(m, args.rig) for m in args.measurements]
     for rig, _ in pairs:
         require_experiment(rig, "pendulum", "identify")
@@ -214,7 +219,7 @@ def cmd_identify(args):
     return 0
 
 
-def cmd_diagnose(args):
+def cmd_diagnose(args: argparse.Namespace) -> int:
     rig, meas = load_pair(args.measurement, args.rig)
     check_output(args.plot, "--plot", inputs=(args.measurement, rig.path), force=args.force,
                  formats=supported_image_formats())
@@ -233,7 +238,7 @@ def cmd_diagnose(args):
     return 0
 
 
-def cmd_sweep(args):
+def cmd_sweep(args: argparse.Namespace) -> int:
     if args.resume and not args.output:
         raise InputError("--resume", "output", "needs -o OUT.csv (the file to resume)")
     check_output(args.output, "-o", inputs=(args.rig,), force=args.force, keep=args.resume, resumable=True)
@@ -254,7 +259,7 @@ def _on_sigterm(signum, frame):
     raise Terminated()
 
 
-def main(argv=None):
+def main(argv: Sequence[str] | None = None) -> int:
     parser = build_parser()
     args = parser.parse_args(argv)
     if args.command is None:

@@ -15,6 +15,7 @@ from __future__ import annotations
 import os
 import stat
 import tempfile
+from collections.abc import Iterable
 
 from ..errors import InputError
 
@@ -26,7 +27,7 @@ def _same_file(a, b):
         return os.path.realpath(a) == os.path.realpath(b)
 
 
-def is_regular_or_absent(path):
+def is_regular_or_absent(path: str | os.PathLike) -> bool:
     """True for a regular file or a path that does not exist yet (what ``--force`` protects)."""
     try:
         return stat.S_ISREG(os.stat(path).st_mode)
@@ -34,7 +35,8 @@ def is_regular_or_absent(path):
         return True
 
 
-def check_output(path, argname, *, inputs=(), force=False, keep=False, resumable=False, formats=None):
+def check_output(path: str | os.PathLike | None, argname: str, *, inputs: Iterable[str | os.PathLike] = (), force: bool = False, keep: bool = False,
+                 resumable: bool = False, formats: Iterable[str] | None = None) -> None:
     """Refuse an output path before any work: nothing is written, nothing left behind.
 
     Parameters
@@ -78,7 +80,7 @@ def check_output(path, argname, *, inputs=(), force=False, keep=False, resumable
         raise InputError(path, argname, f"cannot be written here ({e.strerror or 'not writable'})") from None
 
 
-def write_file(path, data):
+def write_file(path: str | os.PathLike, data: str | bytes) -> None:
     """Write ``data`` (str or bytes) to ``path``: a regular file atomically (temporary file, then rename), a device
     directly. An OSError (a full disk) leaves no partial file and propagates."""
     try:

@@ -3,6 +3,7 @@ from __future__ import annotations
 
 import io
 import os
+from typing import TYPE_CHECKING
 
 import matplotlib
 
@@ -13,15 +14,21 @@ from matplotlib.backend_bases import FigureCanvasBase  # noqa: E402
 from ..experiments import experiment_of  # noqa: E402
 from .outputs import write_file  # noqa: E402
 
+if TYPE_CHECKING:
+    import numpy as np
+    from matplotlib.figure import Figure
+
+    from ..model.result import SimulationResult
+
 DPI = 110
 
 
-def supported_image_formats():
+def supported_image_formats() -> tuple[str, ...]:
     """File suffixes matplotlib can write (png, pdf, svg, ...)."""
     return tuple(sorted(FigureCanvasBase.get_supported_filetypes()))
 
 
-def save(fig, path):
+def save(fig: Figure, path: str | os.PathLike) -> None:
     """Save ``fig`` to ``path`` in the format its suffix names; a failed write (a full disk) leaves no
     partial file."""
     fig.tight_layout()
@@ -31,7 +38,7 @@ def save(fig, path):
     write_file(path, buf.getvalue())
 
 
-def plot_simulation(result, channels, path, title):
+def plot_simulation(result: SimulationResult, channels: dict[str, tuple[np.ndarray, str]], path: str | os.PathLike, title: str) -> None:
     """The channels ``simulate`` writes ({name: (values, unit)}) against time, one axis per unit;
     labelled SIMULATED."""
     units = list(dict.fromkeys(unit for _, unit in channels.values()))
@@ -48,7 +55,7 @@ def plot_simulation(result, channels, path, title):
     save(fig, path)
 
 
-def plot_diagnosis(diagnosis, path, measured_label="measurement"):
+def plot_diagnosis(diagnosis, path: str | os.PathLike, measured_label: str = "measurement") -> None:
     """The record and the models before and after, aligned by the fitted nuisance (release time,
     offset, gain); the residuals over the fitted window with the noise band and the window of
     largest disagreement shaded; the part of the record left out (before a hand-driven release)

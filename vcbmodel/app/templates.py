@@ -9,6 +9,7 @@ from __future__ import annotations
 import copy
 import json
 import math
+from typing import TYPE_CHECKING
 
 import numpy as np
 
@@ -20,6 +21,9 @@ from ..model.values import rig_values
 from ..laws.cam_follower import pressure_angle_curve, rest_geometry
 from ..laws.coil import spring_check
 from ..laws.mechanics import cam_pin
+
+if TYPE_CHECKING:
+    from ..rig.data import Rig
 
 #: What each section's numbers mean (units), written into the templates as ``_units``.
 SECTION_UNITS = {
@@ -42,7 +46,7 @@ TEMPLATES = {
 }
 
 
-def template(kind):
+def template(kind: str) -> str:
     """The commented template of an experiment kind, as JSON text."""
     data = TEMPLATES[kind]()
     record = experiment_of(kind)
@@ -56,7 +60,7 @@ def template(kind):
     return json.dumps(out, indent=2) + "\n"
 
 
-def cam_lines(rig):
+def cam_lines(rig: Rig) -> list[str]:
     """The cam as a designer checks it: where its profile comes from, the largest pressure angle over
     the turn from the start (limit 30 deg usual, 45 deg refused) and the roller's clearance."""
     b, cam = rig.breaker, rig.cam
@@ -71,7 +75,7 @@ def cam_lines(rig):
             f"(usual limit 30 deg; above 45 deg a profile is refused)"]
 
 
-def spring_lines(rig):
+def spring_lines(rig: Rig) -> list[str]:
     """The closing spring as a designer checks it: rate, mass and surge frequency (with their source),
     the charged pull and the wire's stress against Shigley's allowable for an extension spring."""
     s = rig.closing_spring
@@ -94,7 +98,7 @@ def spring_lines(rig):
             f"a compression spring with set removed: 0.65 S_ut = {c['allowable_compression_Pa'] / 1e9:.2f} GPa)"]
 
 
-def explain(rig):
+def explain(rig: Rig) -> list[str]:
     """Lines saying what ``simulate`` would run for ``rig``, where each value comes from, and what
     it reports; a value the model needs but the rig lacks raises InputError, as simulate would."""
     record = experiment_of(rig.experiment)

@@ -6,6 +6,7 @@ from __future__ import annotations
 
 import math
 import re
+from collections.abc import Iterable
 from dataclasses import dataclass, replace
 from pathlib import Path
 
@@ -99,11 +100,25 @@ def _header(cells, path, line, units):
     return names
 
 
-def load_measurement(path, channel=None, known=None, units=None) -> Measurement:
+def load_measurement(path: str | Path, channel: str | None = None, known: Iterable[str] | None = None,
+                     units: dict[str, str] | None = None) -> Measurement:
     """Read and check ``NAME.csv``; ``channel``: a column the file must have; ``known``: the
     channel names a file may carry (default: any); ``units``: {channel: unit} to check units
     stated in the header against. Accepted variants (docs/rig-format.md): ``;`` with decimal
-    commas, tabs, quoted values, a trailing delimiter, capitals and units in the header."""
+    commas, tabs, quoted values, a trailing delimiter, capitals and units in the header.
+
+    Parameters
+    ----------
+    path : the measurement file.
+    channel : a column the file must have.
+    known : the channel names a file may carry (default: any).
+    units : {channel: SI unit, e.g. ``rad``, ``m``} to check units stated in the header against.
+
+    Returns
+    -------
+    Measurement
+        ``t`` in s; each channel in its SI unit (rad, m; 0/1 for contact channels).
+    """
     path = str(path)
     comments, rows, header, header_line = [], [], None, 0
     dialect = (",", False)
@@ -157,7 +172,14 @@ def _check_header(header, path, line, known):
 
 
 def write_measurement(measurement: Measurement, path: str | Path) -> None:
-    """Write a measurement file (comments, header, one row per sample)."""
+    """Write a measurement file (comments, header, one row per sample).
+
+    Parameters
+    ----------
+    measurement : ``t`` in s (written with 7 decimals, i.e. to 0.1 us) and channels in SI units
+        (rad, m; 9 significant digits), written as they are: no unit conversion.
+    path : the file to write (``NAME.csv``), replaced if it exists.
+    """
     path = Path(path)
     names = list(measurement.channels)
     lines = [f"# {c}" for c in measurement.comments] + ["t," + ",".join(names)]

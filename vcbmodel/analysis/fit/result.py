@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass, field, replace
+from typing import TYPE_CHECKING
 
 import numpy as np
 
@@ -13,6 +14,9 @@ from ...experiments.simulation import simulation_backend
 from ...rig.spring_model import SpringModel
 from .dataset import AlignedModel
 from .parameters import at_noise_level
+
+if TYPE_CHECKING:
+    from ..noise import NoiseModel
 
 
 @dataclass
@@ -38,40 +42,40 @@ class FitResult:
     label: str = ""
 
     @property
-    def unit(self):
+    def unit(self) -> str:
         return experiment_of(self.simulations[0].experiment).unit if self.simulations else "rad"
 
     @property
-    def spring_model_label(self):
+    def spring_model_label(self) -> str:
         """The spring model with its lumped convention, for reports."""
         return self.spring_model.label
 
     @property
-    def values(self):
+    def values(self) -> dict[str, float]:
         return {p.name: p.value for p in self.parameters.values()}
 
     @property
-    def model_values(self):
+    def model_values(self) -> dict[str, float]:
         """The effects' values only (no nuisance)."""
         return {p.name: p.value for p in self.parameters.values() if p.kind == "model"}
 
     @property
-    def nuisance_values(self):
+    def nuisance_values(self) -> dict[str, float]:
         return {p.name: p.value for p in self.parameters.values() if p.kind != "model"}
 
     @property
-    def n_data(self):
+    def n_data(self) -> int:
         return int(sum(r.size for r in self.residuals))
 
     @property
-    def n_varied(self):
+    def n_varied(self) -> int:
         return sum(p.vary for p in self.parameters.values())
 
     @property
-    def n_model_varied(self):
+    def n_model_varied(self) -> int:
         return sum(p.vary for p in self.parameters.values() if p.kind == "model")
 
-    def chi2_with(self, noise):
+    def chi2_with(self, noise: NoiseModel | None) -> float:
         """chi^2 of the measured channel's residual under ``noise`` (whitened), plus the
         other channels' (already scaled) and the priors'."""
         data = noise.chi2(self.residuals) if noise is not None else float(
@@ -80,38 +84,38 @@ class FitResult:
         return data + extra + self.prior_chi2
 
     @property
-    def chi2(self):
+    def chi2(self) -> float:
         return self.chi2_with(self.noise)
 
     @property
-    def reduced_chi2(self):
+    def reduced_chi2(self) -> float:
         return self.chi2 / max(1, self.n_data - self.n_varied)
 
     @property
-    def rms(self):
+    def rms(self) -> float:
         return float(math.sqrt(sum(np.sum(r**2) for r in self.residuals) / max(1, self.n_data)))
 
     @property
-    def max_error(self):
+    def max_error(self) -> float:
         return float(max(np.max(np.abs(r)) for r in self.residuals))
 
     @property
-    def at_noise_level(self):
+    def at_noise_level(self) -> bool:
         return at_noise_level(float(sum(np.sum(r**2) for r in self.residuals)), self.n_data, self.sigma)
 
     @property
-    def aic(self):
+    def aic(self) -> float:
         return self.chi2 + 2 * self.n_varied
 
     @property
-    def bic(self):
+    def bic(self) -> float:
         return self.chi2 + self.n_varied * math.log(max(2, self.n_data))
 
-    def bic_with(self, noise):
+    def bic_with(self, noise: NoiseModel | None) -> float:
         return self.chi2_with(noise) + self.n_varied * math.log(max(2, self.n_data))
 
     @property
-    def backend(self):
+    def backend(self) -> str:
         """What ran the fit's simulations (the compiled path or Exudyn)."""
         if not self.simulations:
             return ""

@@ -34,7 +34,10 @@ import csv
 import math
 import os
 import time
+from collections.abc import Callable, Iterable, Sequence
 from dataclasses import dataclass, field
+from pathlib import Path
+from typing import Any, TextIO
 
 import pandas as pd
 
@@ -74,11 +77,11 @@ class SweepPlan:
     backend_choice: str = "fast"  # the sweep's backend option: fast | exudyn
 
     @property
-    def paths(self):
+    def paths(self) -> list[str]:
         return list(self.table.columns)
 
     @property
-    def header(self):
+    def header(self) -> list[str]:
         return ["run", *self.paths, *self.columns, "status"]
 
 
@@ -104,10 +107,24 @@ def _design_table(vary, runs, samples, seed, sampling):
     return table.astype(float), "given"
 
 
-def plan(rig, vary=(), *, runs=None, samples=None, seed=None, sampling="lhs", evaluate=None, columns=None,
-         label=None, backend="fast") -> SweepPlan:
+def plan(rig: str | Path | dict | Rig, vary: Iterable[str | tuple[str, str] | Vary] | dict[str, str] = (), *,
+         runs: pd.DataFrame | Sequence[dict[str, float]] | None = None, samples: int | None = None, seed: int | None = None, sampling: str = "lhs",
+         evaluate: Callable | None = None, columns: Sequence[str] | None = None, label: str | None = None, backend: str = "fast") -> SweepPlan:
     """Check a sweep before anything runs (bad input raises InputError naming the rig and the path):
-    paths that are numeric fields of this rig, read by its model, and a nominal model that runs."""
+    paths that are numeric fields of this rig, read by its model, and a nominal model that runs.
+
+    Parameters
+    ----------
+    rig, vary, runs, samples, seed, sampling, evaluate, columns, backend : as for :func:`sweep`
+        (varied values in the unit of their rig field: SI, e.g. m, kg, N/m).
+    label : the sweep's name in progress lines (default ``sweep NAME``).
+
+    Returns
+    -------
+    SweepPlan
+        The rig's JSON object, the parameter sets (one row per run, one column per path, in the
+        paths' units) and the result columns (figures of merit, SI units in their names).
+    """
     data, rig_path = _rig_input(rig)
     nominal = rig_from_data(data, rig_path)
     table, kind = _design_table(vary, runs, samples, seed, sampling)
@@ -137,9 +154,11 @@ def plan(rig, vary=(), *, runs=None, samples=None, seed=None, sampling="lhs", ev
                      backend)
 
 
-def sweep(rig, vary=(), *, runs=None, samples=None, seed=None, sampling="lhs", workers=None, scheduler=None,
-          output=None, stream=None, resume=False, force=False, evaluate=None, columns=None, t_end=None,
-          verbose=True, label=None, backend="fast") -> pd.DataFrame:
+def sweep(rig: str | Path | dict | Rig, vary: Iterable[str | tuple[str, str] | Vary] | dict[str, str] = (), *,
+          runs: pd.DataFrame | Sequence[dict[str, float]] | None = None, samples: int | None = None, seed: int | None = None, sampling: str = "lhs",
+          workers: int | None = None, scheduler: Any = None, output: str | None = None, stream: TextIO | None = None, resume: bool = False,
+          force: bool = False, evaluate: Callable | None = None, columns: Sequence[str] | None = None, t_end: float | None = None,
+          verbose: bool = True, label: str | None = None, backend: str = "fast") -> pd.DataFrame:
     """Run the rig's experiment once per parameter set; return the table (a DataFrame).
 
     Parameters
@@ -163,9 +182,15 @@ def sweep(rig, vary=(), *, runs=None, samples=None, seed=None, sampling="lhs", w
     backend : ``fast`` (the compiled path where it covers the model, else Exudyn; default) or
         ``exudyn`` (every run on the Exudyn model); ``attrs["simulated_with"]`` names what ran.
 
-    Returns the table sorted by run: ``run``, the paths, the figures, ``status`` (``ok``,
-    ``not_closed`` for a breaker that never closed, or ``failed: reason``); ``attrs`` carry the
-    experiment, the design kind, the sampling and seed, and wall-clock numbers. Bad input
+    Returns
+    -------
+    pandas.DataFrame
+        The table sorted by run: ``run``, the paths (in their rig fields' units), the figures
+        (SI units in their column names: ``closing_time_s``, ...), ``status`` (``ok``,
+        ``not_closed`` for a breaker that never closed, or ``failed: reason``); ``attrs`` carry the
+        experiment, the design kind, the sampling and seed, and wall-clock numbers (s).
+
+    Bad input
     (unknown path, a path the model does not read, bad spec, a rig whose model lacks a value, an
     existing output without ``force``, a table another sweep is writing) raises
     :class:`~vcbmodel.errors.InputError` before anything runs or is written.

@@ -5,6 +5,7 @@ from __future__ import annotations
 
 import itertools
 import math
+from collections.abc import Iterable
 from dataclasses import dataclass
 
 import numpy as np
@@ -36,19 +37,19 @@ class Vary:
     n: int = 0
 
     @property
-    def is_grid(self):
+    def is_grid(self) -> bool:
         return self.kind == "grid"
 
-    def grid(self):
+    def grid(self) -> np.ndarray:
         return np.linspace(self.a, self.b, self.n)
 
-    def from_unit(self, u):
+    def from_unit(self, u: np.ndarray) -> np.ndarray:
         """Values at probabilities ``u`` in (0, 1) (the inverse CDF)."""
         u = np.clip(np.asarray(u, float), 1e-12, 1 - 1e-12)
         return norm.ppf(u, self.a, self.b) if self.kind == "normal" else self.a + u * (self.b - self.a)
 
     @property
-    def spec(self):
+    def spec(self) -> str:
         if self.is_grid:
             return f"{self.a:g}:{self.b:g}:{self.n}"
         return f"{self.kind}:{self.a:g}:{self.b:g}"
@@ -104,7 +105,7 @@ def parse_vary(item, source="--vary") -> Vary:
     return Vary(path, "grid", lo, hi, int(n))
 
 
-def parse_varies(items, source="--vary"):
+def parse_varies(items: Iterable[str | tuple[str, str] | Vary] | dict[str, str], source: str = "--vary") -> list[Vary]:
     varies = [parse_vary(x, source) for x in (items.items() if isinstance(items, dict) else items)]
     seen = set()
     for v in varies:
@@ -118,12 +119,28 @@ def _rounded(values):
     return np.array([float(f"{v:.{DIGITS}g}") for v in values])
 
 
-def design(varies, samples=None, seed=None, sampling="lhs") -> pd.DataFrame:
+def design(varies: Iterable[str | tuple[str, str] | Vary] | dict[str, str], samples: int | None = None, seed: int | None = None,
+           sampling: str = "lhs") -> pd.DataFrame:
     """The parameter sets, one row per run, one column per varied path (in order).
 
     Grids: the full product, the last path varying fastest. Distributions: ``samples``
     draws, Latin hypercube (``sampling="lhs"``) or plain Monte Carlo (``"mc"``), seeded by
     ``seed`` (default :data:`DEFAULT_SEED`). Grids and distributions are not mixed.
+
+    Parameters
+    ----------
+    varies : ``PATH=SPEC`` texts, ``(path, spec)`` pairs, :class:`Vary` objects or a dict {path: spec};
+        SPEC is ``LO:HI:N`` (a grid), ``normal:MEAN:SD`` or ``uniform:LO:HI``, in the unit of the
+        path's rig field (SI: m, kg, N/m, ...).
+    samples : number of draws of distributions.
+    seed : random seed of the draws.
+    sampling : ``lhs`` or ``mc``.
+
+    Returns
+    -------
+    pandas.DataFrame
+        One row per run, one column per path, values in the path's unit (rounded to :data:`DIGITS`
+        significant digits).
     """
     varies = parse_varies(varies)
     if not varies:

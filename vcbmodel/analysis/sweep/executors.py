@@ -10,6 +10,7 @@ import socket
 import threading
 import time
 from concurrent.futures import FIRST_COMPLETED, ProcessPoolExecutor, wait
+from typing import Any
 
 from ...builders.core import exudyn_modules
 from ...errors import InputError
@@ -75,7 +76,7 @@ def _local_pool(jobs, call, workers):
             pool.shutdown(wait=True, cancel_futures=True)
 
 
-def connect(scheduler, timeout=10):
+def connect(scheduler: Any, timeout: float = 10) -> tuple[Any, bool]:
     """A Dask ``distributed.Client`` for ``scheduler`` (an address or a Client) with at least one
     worker. Bad input, in a few seconds and one line: an address that is not one, a host that
     does not answer, a web server (the dashboard's port, 8787, instead of the scheduler's),
@@ -161,7 +162,7 @@ def _dask(jobs, call, client):
             client.cancel(list(futures))
 
 
-def default_workers():
+def default_workers() -> int:
     try:
         return len(os.sched_getaffinity(0))
     except AttributeError:  # not Linux

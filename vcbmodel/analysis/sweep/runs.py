@@ -4,6 +4,8 @@ from __future__ import annotations
 
 import threading
 import time
+from collections.abc import Callable, Iterable, Sequence
+from typing import TYPE_CHECKING
 
 from ...errors import InputError, SimulationError
 from ...experiments import experiment_of
@@ -12,8 +14,11 @@ from ...experiments.simulation import simulate
 from ...model.effects import effect_reading
 from ...rig.paths import get_path, path_keys, with_overrides
 
+if TYPE_CHECKING:
+    from ...rig.data import Rig
 
-def check_paths(data, paths, rig_path, experiment):
+
+def check_paths(data: dict, paths: Iterable[str], rig_path: str, experiment: str) -> None:
     """Refuse a path that is not a numeric field of this experiment's rigs (InputError naming
     the rig file and the path). A field the rig does not give but the format knows is allowed:
     the loader is the judge (it refuses unknown keys)."""
@@ -42,7 +47,7 @@ def check_paths(data, paths, rig_path, experiment):
         if isinstance(value, bool) or not isinstance(value, (int, float)):
             raise InputError(rig_path, path, f"is not a number ({type(value).__name__}): only numeric fields can be varied")
 
-def check_used(paths, effects, rig_path, experiment):
+def check_used(paths: Iterable[str], effects: Sequence[str], rig_path: str, experiment: str) -> None:
     """Refuse a path that the model does not read (a field of an effect the model leaves out:
     ``friction.mu_s`` without ``stribeck``, ``closing_spring.mass`` on a massless spring): every
     run would give the same row."""
@@ -54,7 +59,7 @@ def check_used(paths, effects, rig_path, experiment):
                              f"add {owner!r} to model.effects (or set the spring model) to sweep it")
 
 
-def figures_of_merit(rig, t_end=None, backend="fast"):
+def figures_of_merit(rig: Rig, t_end: float | None = None, backend: str = "fast") -> dict:
     """The default evaluation of a run: simulate the rig's model (``backend``: ``fast``, compiled
     where the compiled path covers it, else Exudyn; or ``exudyn``) and return the experiment's
     figures of merit (the record's ``figure_columns``)."""
@@ -69,12 +74,13 @@ def figures_of_merit(rig, t_end=None, backend="fast"):
 _SOLVE_LOCK = threading.Lock()
 
 
-def one_line(text, limit=300):
+def one_line(text: str, limit: int = 300) -> str:
     text = " ".join(str(text).split())
     return text if len(text) <= limit else text[:limit - 3] + "..."
 
 
-def run_one(data, overrides, rig_path, evaluate=None, t_end=None, backend="fast"):
+def run_one(data: dict, overrides: dict[str, float], rig_path: str, evaluate: Callable | None = None, t_end: float | None = None,
+            backend: str = "fast") -> tuple[dict, str, float]:
     """One run, in whichever process: edit the JSON, load the rig, simulate, evaluate.
 
     Never raises for a bad run: returns ``(values, status, seconds)`` with status ``ok`` or

@@ -8,16 +8,21 @@ import fcntl
 import io
 import math
 import os
+from collections.abc import Iterator, Sequence
 from contextlib import contextmanager
 from pathlib import Path
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
 from ...errors import InputError
 
+if TYPE_CHECKING:
+    import pandas as pd
+
 
 @contextmanager
-def table_lock(output):
+def table_lock(output: str | None) -> Iterator[None]:
     """Hold an exclusive lock on ``output`` while a sweep writes it: a second sweep of the same file
     (or a ``--resume`` of it) is refused at once. The lock is the OS's (``flock`` on a hidden file
     beside the table), so a killed sweep never leaves a stale one."""
@@ -43,7 +48,7 @@ def table_lock(output):
         os.close(fd)
 
 
-def cell_text(v):
+def cell_text(v: Any) -> str:
     if v is None:
         return ""
     if isinstance(v, (bool, np.bool_)):
@@ -54,11 +59,11 @@ def cell_text(v):
     return "" if not math.isfinite(v) else f"{v:.9g}"
 
 
-def value_text(v):
+def value_text(v: float) -> str:
     return repr(float(v))
 
 
-def read_finished(output, header, table):
+def read_finished(output: str, header: list[str], table: pd.DataFrame) -> dict[int, dict[str, str]]:
     """Rows already in ``output`` (a resumed sweep): {run: row dict}. A last line cut short by
     an interrupt is dropped (the file is truncated to its last complete row); rows must match
     this sweep's header and design."""
@@ -103,7 +108,7 @@ def read_finished(output, header, table):
     return finished
 
 
-def typed_row(row, paths, columns):
+def typed_row(row: dict, paths: list[str], columns: Sequence[str]) -> dict:
     out = {"run": int(row["run"])}
     for k in paths + list(columns):
         v = row.get(k, "")
@@ -112,7 +117,7 @@ def typed_row(row, paths, columns):
     return out
 
 
-def rewrite_in_order(output):
+def rewrite_in_order(output: str | Path) -> None:
     """Rewrite a complete sweep's file in run order (atomically: a temporary file, then rename)."""
     text = Path(output).read_text()
     comments = [line for line in text.splitlines(keepends=True) if line.startswith("#")]
