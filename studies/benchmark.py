@@ -74,8 +74,9 @@ def speed_targets(prig, crig, brig, law, h, repeats):
     massless = ("coulomb_friction", "stribeck")
     m = interleaved({uf: (lambda uf=uf: simulate(crig, massless, spring_model="massless", t_end=0.035, user_function=uf))
                      for uf in ("auto", "python", "symbolic")}, repeats)
+    # auto runs the Python user function itself: the ratio is 1 but for timing noise (5 % allowed)
     rows["cam_drop_35ms_massless_simulate_auto_over_python_uf"] = {"seconds": m, "now": m["auto"] / m["python"],
-                                                                  "target": 1.0, "unit": "ratio"}
+                                                                  "target": 1.05, "unit": "ratio"}
     eff = tuple(e for e in brig.model.effects if e != "spring_mass") + ("spring_mass",)
     closing = interleaved({"exudyn": lambda: simulate(brig, eff, spring_model="lumped-2"),
                            "compiled": lambda: simulate(brig, eff, spring_model="lumped-2", backend="compiled")},

@@ -165,7 +165,7 @@ def main():
     md = ["# Tolerance study of the closing (reference breaker)\n",
           f"{len(df)} closings ({summary['sampling']}){'; **quick mode: too few for the fractions to mean much**' if args.quick else ''}. "
           f"{summary['failed_runs']} runs failed, {summary['not_closed_runs']} never closed "
-          "(both counted out of limits). Model: {', '.join(rig.model.effects)}; spring "
+          f"(both counted out of limits). Model: {', '.join(rig.model.effects)}; spring "
           f"{rig.model.spring_model.label}. Each tolerance is an **assumption** (the paper gives none):\n",
           markdown_table(["parameter", "draw"], [[s.split("=")[0], s.split("=")[1]] for s in specs]),
           "\n" + markdown_table(["factor", "why this tolerance"], [[f.label, f.basis] for f in factors]),

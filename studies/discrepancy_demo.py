@@ -64,7 +64,9 @@ def main():
                   f"(gap shrinks {d.baseline.rms / d.final.rms:.1f}x; noise {1e3 * d.noise:.2f} mrad).\n\n"
                   f"{d.evidence}\n\n```\n{d.report()}\n```\n")
     write_json(out / "discrepancy_demo.json", summary)
-    (out / "discrepancy_demo.md").write_text("\n".join(md))
+    # the records' paths relative to the output folder's parent (results/synthetic/..., wherever it runs)
+    text = "\n".join(md).replace(str(out.resolve().parent) + "/", "").replace(str(out.parent) + "/", "")
+    (out / "discrepancy_demo.md").write_text(text)
     print("\n".join(md))
 
 
