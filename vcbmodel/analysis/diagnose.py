@@ -38,12 +38,11 @@ from ..experiments import experiment_of
 from ..model.effects import EFFECTS, parameter_specs
 from ..model.values import rig_values
 from ..records.analyser import channel_setup, figures_of_merit
-from ..records.signals import (disagreement_window, dominant_frequency, lag1_autocorrelation, noise_estimate_floored,
-                               quantisation_step, swing_peaks)
+from ..records.signals import disagreement_window, dominant_frequency, lag1_autocorrelation, noise_estimate_floored, quantisation_step, swing_peaks
+from ..rig.paths import loaded_value
 from . import fit as fitting
 from .fit import Dataset, FitAborted, FitResult, Parameter, SimulationPool, make_parameters
 from .noise import STRUCTURE_TOLERANCE, NoiseModel, consistency, fit_noise, rounding_dominates
-from ..rig.paths import loaded_value
 from .nuisance import record_setup, release_from_model, swing_period_mismatch
 from .progress import progress
 

@@ -165,6 +165,26 @@ def zone_speed(t: np.ndarray, z: np.ndarray, gap: float, zone: tuple[float, floa
     return (zone[0] - zone[1]) / (end - start)
 
 
+
+def pole_touch(t: np.ndarray, z: np.ndarray, zd: np.ndarray, gap: float) -> tuple:
+    """One pole's (touch time s, speed at touch m/s, separations after the first touch, first touch
+    to the last re-closing s) from its travel z (m) and speed zd (m/s); (None, None, 0, 0.0) if it
+    never touches."""
+    closed = z > gap
+    if not closed.any():
+        return None, None, 0, 0.0
+    k = int(np.argmax(closed))
+    frac = (gap - z[k - 1]) / (z[k] - z[k - 1]) if k > 0 else 0.0
+    touch = float(t[k - 1] + frac * (t[k] - t[k - 1])) if k > 0 else float(t[0])
+    speed = float(zd[k - 1] + frac * (zd[k] - zd[k - 1])) if k > 0 else float(zd[0])
+    opens = np.nonzero(closed[k:-1] & ~closed[k + 1:])[0]  # separations after the first touch
+    if not opens.size:
+        return touch, speed, 0, 0.0
+    recloses = np.nonzero(~closed[k:-1] & closed[k + 1:])[0]
+    settled = float(t[k + recloses[-1] + 1] - touch) if recloses.size else float(t[-1] - touch)
+    return touch, speed, int(opens.size), settled
+
+
 def figures_of_merit(result: SimulationResult, rig: Rig) -> dict:
     """Closing figures of merit from a result (SI units; times from the latch release).
 
@@ -176,27 +196,8 @@ def figures_of_merit(result: SimulationResult, rig: Rig) -> dict:
     ch, t = result.channels, result.t
     b = rig.breaker
     gaps = pole_gaps(b.poles)
-    touches, speeds, bounces, bounce_times = [], [], [], []
-    for i, gap in enumerate(gaps):
-        z, zd = ch[f"pole_{i + 1}_travel"], ch[f"pole_{i + 1}_velocity"]
-        closed = z > gap
-        if not closed.any():
-            touches.append(None)
-            speeds.append(None)
-            bounces.append(0)
-            bounce_times.append(0.0)
-            continue
-        k = int(np.argmax(closed))
-        frac = (gap - z[k - 1]) / (z[k] - z[k - 1]) if k > 0 else 0.0
-        touches.append(float(t[k - 1] + frac * (t[k] - t[k - 1])) if k > 0 else float(t[0]))
-        speeds.append(float(zd[k - 1] + frac * (zd[k] - zd[k - 1])) if k > 0 else float(zd[0]))
-        opens = np.nonzero(closed[k:-1] & ~closed[k + 1:])[0]  # separations after the first touch
-        bounces.append(int(opens.size))
-        if opens.size:
-            recloses = np.nonzero(~closed[k:-1] & closed[k + 1:])[0]
-            bounce_times.append(float(t[k + recloses[-1] + 1] - touches[-1]) if recloses.size else float(t[-1] - touches[-1]))
-        else:
-            bounce_times.append(0.0)
+    poles = [pole_touch(t, ch[f"pole_{i + 1}_travel"], ch[f"pole_{i + 1}_velocity"], gap) for i, gap in enumerate(gaps)]
+    touches, speeds, bounces, bounce_times = (list(column) for column in zip(*poles))
     travel = ch["follower_displacement"]
     zone_speeds = [zone_speed(t, ch[f"pole_{i + 1}_travel"], gap, b.speed_zone) for i, gap in enumerate(gaps)]
     done = [x for x in touches if x is not None]

@@ -117,13 +117,9 @@ def simulate(rig: Rig, effects: Sequence[str] | None = None, values: dict[str, f
         backend = "compiled" if compiled_covers(record, spec.spring_model) else "exudyn"
     if backend in ("exudyn", "compiled"):
         step, period = _step_and_period(rig, record, spec, ancf, step, sample_times)
-        law = spec.friction_law(rig.shaft_radius, step)
-        if backend == "compiled":
-            data, info = _solve_compiled(rig, record, spec, law, chain, t_end, step, period)
-        else:
-            model = record.build(rig, spec, law, chain, user_function, ancf)
-            data = model.solve(t_end, step, period)
-            info = {"backend": "exudyn", "step": step, "initial": getattr(model, "initial", None)}
+        solve = _solve_compiled if backend == "compiled" else _solve_exudyn
+        data, info = solve(rig, record, spec, spec.friction_law(rig.shaft_radius, step), chain, t_end, step, period,
+                           user_function, ancf)
     elif backend == "reference":
         law = spec.friction_law(rig.shaft_radius, step if method == "rk4" else 0.0)
         if record.reference is None:
@@ -170,7 +166,14 @@ def _step_and_period(rig, record, spec, ancf, step, sample_times):
     return step, period
 
 
-def _solve_compiled(rig, record, spec, law, chain, t_end, step, period):
+def _solve_exudyn(rig, record, spec, law, chain, t_end, step, period, user_function, ancf):
+    """The Exudyn model the experiment's record builds, solved with RK4 at ``step``."""
+    model = record.build(rig, spec, law, chain, user_function, ancf)
+    data = model.solve(t_end, step, period)
+    return data, {"backend": "exudyn", "step": step, "initial": getattr(model, "initial", None)}
+
+
+def _solve_compiled(rig, record, spec, law, chain, t_end, step, period, user_function=None, ancf=None):
     if record.ode_model is None or spec.spring_model.kind == "ancf":
         raise ValueError(f"the compiled backend covers the pendulum, the cam drop and the closing with a massless "
                          f"or lumped spring, not {record.name} with a {spec.spring_model.kind} spring: use backend='exudyn'")

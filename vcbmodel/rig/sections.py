@@ -217,7 +217,30 @@ def read_breaker(rd, data, cam) -> Breaker:
                             length=rd.number(os_, "length", p, positive=True))
     if opening.preload / opening.stiffness >= opening.length:
         rd.fail(p + "preload", "stretches the spring beyond twice its length: free length would be <= 0")
-    co, p = part("contact")
+    contact, roller_law = read_contact(rd, *part("contact"))
+    latch, p = part("latch", optional=True)
+    release = rd.number(latch, "release_time", p, nonnegative=True, default=0.0)
+    latch_point = LatchPoint(rd.number(latch, "arm", p, positive=True) if "arm" in latch else None,
+                             rd.number(latch, "angle", p, default=0.0))
+    breaker = Breaker(profile, roller_radius, follower, poles, opening,
+                      contact, release, roller_law, latch_point,
+                      read_speed_zone(rd, b, poles))
+    try:
+        rest_geometry(breaker, cam.pivot)
+    except ValueError as e:
+        rd.fail("breaker.follower.pivot", str(e))
+    # a profile from points may ripple by micrometres between them (its spline): 10 um is still "on"
+    on_base = 1e-5 if profile.table else 1e-9
+    if pitch_radius(cam.initial_angle, profile, breaker.roller_radius)[0] > profile.base_radius + breaker.roller_radius + on_base:
+        rd.fail("cam.initial_angle", "the roller is not on the cam's base circle at the start (breaker open)")
+    if profile.table:
+        check_pressure_angle(rd, breaker, cam)
+    return breaker
+
+
+def read_contact(rd, co: dict, p: str) -> tuple[ContactLaw, CamRollerLaw]:
+    """``breaker.contact``: the contact law (stiffnesses, exponent, restitution, impact-speed floor)
+    and the cam-roller contact's law (point or line, Lankarani-Nikravesh or Hunt-Crossley damping)."""
     contact = ContactLaw(cam_roller_stiffness=rd.number(co, "cam_roller_stiffness", p, positive=True),
                          pole_stiffness=rd.number(co, "pole_stiffness", p, positive=True),
                          exponent=rd.number(co, "exponent", p, positive=True, default=1.5),
@@ -233,24 +256,7 @@ def read_breaker(rd, data, cam) -> Breaker:
     width = rd.number(co, "roller_width", p, positive=True) if "roller_width" in co or law == "line" else None
     factor = (rd.number(co, "cam_roller_damping_factor", p, nonnegative=True)
               if "cam_roller_damping_factor" in co or damping == "hunt_crossley" else 0.0)
-    latch, p = part("latch", optional=True)
-    release = rd.number(latch, "release_time", p, nonnegative=True, default=0.0)
-    latch_point = LatchPoint(rd.number(latch, "arm", p, positive=True) if "arm" in latch else None,
-                             rd.number(latch, "angle", p, default=0.0))
-    breaker = Breaker(profile, roller_radius, follower, poles, opening,
-                      contact, release, CamRollerLaw(law, width, damping, factor), latch_point,
-                      read_speed_zone(rd, b, poles))
-    try:
-        rest_geometry(breaker, cam.pivot)
-    except ValueError as e:
-        rd.fail("breaker.follower.pivot", str(e))
-    # a profile from points may ripple by micrometres between them (its spline): 10 um is still "on"
-    on_base = 1e-5 if profile.table else 1e-9
-    if pitch_radius(cam.initial_angle, profile, breaker.roller_radius)[0] > profile.base_radius + breaker.roller_radius + on_base:
-        rd.fail("cam.initial_angle", "the roller is not on the cam's base circle at the start (breaker open)")
-    if profile.table:
-        check_pressure_angle(rd, breaker, cam)
-    return breaker
+    return contact, CamRollerLaw(law, width, damping, factor)
 
 
 #: The closing speed's default zone (m before each pole's touch): the last 4 mm, where a vacuum gap
