@@ -1,0 +1,137 @@
+"""The diagnosis' report: the residual's signature, the record's nuisance and the evidence in
+words, from a finished search (:mod:`.diagnose` holds the search; this room only describes it).
+Units: times s, frequencies Hz, the measured channel's unit (rad or m) for residuals.
+"""
+from __future__ import annotations
+
+import numpy as np
+
+from ..records.analyser import figures_of_merit
+from ..records.signals import dominant_frequency, lag1_autocorrelation
+
+
+def nuisance_report(ctx, final, period) -> dict:
+    """The record's nuisance as the diagnosis estimated it: values, standard errors, what was pinned,
+    the fit window, the pre-trigger (s), notes, the rig values taken as uncertain, units."""
+    s = ctx.setup
+    vals = {}
+    stderr = {}
+    for p in final.parameters.values():
+        if p.kind == "model":
+            continue
+        key = {"release_time_0": "release_time", "sensor_offset_0": "sensor_offset", "sensor_gain_0": "sensor_gain",
+               "initial_angle_0": "initial_angle"}.get(p.name, p.name)
+        vals[key] = p.value
+        if p.vary:
+            stderr[key] = p.stderr
+    out = {"values": vals, "stderr": stderr, "estimated": list(stderr),
+           "pinned": dict(s.pinned), "window": list(s.window), "hand_start": s.hand_start,
+           "pre_trigger_s": max(0.0, vals.get("release_time", s.release) - float(ctx.measurement.t[0]))
+           if not s.hand_start else None, "notes": list(s.notes),
+           "uncertain": dict(ctx.uncertain), "implied_uncertain": dict(ctx.implied),
+           "units": {"release_time": "s", "initial_angle": "rad", "sensor_offset": ctx.record.unit,
+                     "sensor_gain": "-"}}
+    if period:
+        out["period_mismatch"] = period
+    return out
+
+
+def describe_signature(ctx, baseline, final=None) -> dict:
+    """Features of the residual (and, by the experiment's record, of the measurement) that
+    point at an effect; for the final model's residual too when given."""
+    def feats(fit):
+        t = fit.times[0]
+        r = fit.residuals[0]
+        half = t.size // 2
+        return {"residual_rms_over_noise": fit.rms / ctx.noise.marginal_sd,
+                "residual_growth": float(np.sqrt(np.mean(r[half:] ** 2)) / max(np.sqrt(np.mean(r[:half] ** 2)), 1e-300)),
+                "residual_dominant_frequency_hz": dominant_frequency(t, r),
+                "lag1_autocorrelation": lag1_autocorrelation(r)}
+
+    sig = feats(baseline)
+    m = ctx.dataset.mask()
+    meas = ctx.measurement.window(ctx.setup.window[0], ctx.setup.window[1])
+    model = baseline.simulations[0].measured[m]
+    sig.update(ctx.record.signature(ctx.rig, meas, model, baseline.residuals[0], ctx.noise.marginal_sd))
+    if final is not None and final is not baseline:
+        sig["final"] = feats(final)
+    if any(ch.endswith("_contact") for ch in ctx.dataset.fitted_channels):
+        sig["figures_of_merit"] = closing_figures(ctx, final or baseline)
+    if ctx.record.natural_frequency is not None:
+        sig["swing_frequency_hz"] = ctx.record.natural_frequency(ctx.rig)
+    return sig
+
+
+def closing_figures(ctx, fit) -> dict:
+    """A closing's figures of merit as a breaker analyser computes them
+    (:mod:`vcbmodel.records.analyser`), from the record (times from the fitted release) and from
+    the fitted model on the same time axis."""
+    t = ctx.measurement.t
+    release = fit.values.get("release_time_0", ctx.setup.release)
+    chans = sorted((c for c in ctx.dataset.fitted_channels if c.endswith("_contact")),
+                   key=lambda c: int(c.split("_")[1]))
+    measured = figures_of_merit(t, [ctx.measurement.channel(c) for c in chans],
+                                ctx.measurement.channel(ctx.record.measured_channel), release)
+    model = fit.simulations[0]
+    modelled = figures_of_merit(t, [(np.nan_to_num(model.channels[c]) > 0.5).astype(float) for c in chans],
+                                np.nan_to_num(model.measured), release)
+    return {"record": measured, "model": modelled}
+
+
+def evidence_text(ctx, baseline, final, missing, window, signature, verdict, period, backward=(), margin=10.0) -> str:
+    """The diagnosis' evidence in words: the starting residual, what the record's signature shows,
+    what forward selection kept (each lowering the whitened BIC by more than ``margin``), ties,
+    spring-model refinement and the verdict with its tests."""
+    unit = ctx.record.unit
+    sigma = ctx.noise.marginal_sd
+    text = (f"The starting model leaves an rms residual of {baseline.rms:.3g} {unit}, "
+            f"{baseline.rms / sigma:.2f}x the noise {sigma:.3g} {unit} (lag-1 correlation of the noise "
+            f"{ctx.noise.lag1:.2f}), largest in t = [{window[0]:.4g}, {window[1]:.4g}] s.")
+    if "amplitude_decay" in signature and signature["amplitude_decay"].get("shape") != "unknown":
+        d = signature["amplitude_decay"]
+        text += (f" The measured swing amplitude decays {d['shape']}ly over {d['peaks']} peaks and stops at "
+                 f"{signature['measured_stop_time_s']:.2f} s (model: {signature['model_stop_time_s']:.2f} s).")
+    if "spring_surge_frequency_hz" in signature:
+        text += (f" Residual grows {signature['residual_growth']:.1f}x from the first to the second half; "
+                 f"its dominant frequency is {signature['residual_dominant_frequency_hz']:.0f} Hz "
+                 f"(spring surge {signature['spring_surge_frequency_hz']:.0f} Hz).")
+    if period and period["significant"]:
+        text += (f" The record's swing period differs from the model's by {100 * period['relative']:+.2f} % "
+                 f"(+-{100 * period['stderr']:.2f} %): the rig's I/(M g L) is about {200 * period['relative']:+.1f} % "
+                 f"off or the record's time base {100 * period['relative']:+.2f} %; "
+                 + ("the period was fitted as a nuisance (pendulum inertia)." if ctx.implied else
+                    "the rig marks the period's fields uncertain, so they were fitted."))
+    if missing:
+        text += (f" Forward selection keeps {', '.join(missing)} (each lowering the whitened BIC by more than "
+                 f"{margin:g}); the rms goes {baseline.rms:.3g} -> {final.rms:.3g} {unit} "
+                 f"({final.rms / sigma:.2f}x the noise).")
+    else:
+        text += f" No candidate lowers the whitened BIC by more than {margin:g}."
+    for b in backward:
+        if b["dropped"]:
+            text += (f" {b['effect']} was kept on the way but dropped at the end: with the others in, it earns only "
+                     f"{b['delta_bic_without']:.1f} in BIC.")
+    for tie in verdict.get("ambiguous", ()):
+        a, b = tie["between"]
+        w = tie["separate_by"]["window"]
+        text += (f" AMBIGUOUS between {a} and {b}: {a} was kept, but {b} explains the record almost as well "
+                 f"(BIC {tie['delta_bic_between']:.1f} apart, under the margin {margin:g}); the two models differ "
+                 f"most in t = [{w[0]:.4g}, {w[1]:.4g}] s (by {tie['separate_by']['largest_model_difference']:.3g} "
+                 f"{unit} in {tie['separate_by']['channel']}): a record of that part with less noise, or a second "
+                 "test, would separate them.")
+    refined = verdict.get("spring_model_refined")
+    if refined:
+        text += (f" The spring model {refined['from']} was too coarse for this record: with {refined['to']} the "
+                 f"whitened BIC drops by {refined['delta_bic']:.0f} (a model fidelity issue, not a missing effect).")
+    if verdict["explained"]:
+        text += " The final residual is consistent with the noise (white once whitened, at the record's level): explained."
+    else:
+        left = verdict.get("left", {})
+        tests = verdict["tests"]
+        text += (f" NOT explained: the final model leaves {final.rms:.3g} {unit} ({final.rms / sigma:.1f}x the noise),"
+                 f" largest in t = [{left.get('window', [0, 0])[0]:.4g}, {left.get('window', [0, 0])[1]:.4g}] s, dominant "
+                 f"frequency {left.get('dominant_frequency_hz', float('nan')):.3g} Hz; whitened residual not white "
+                 f"(Ljung-Box p {tests.get('ljung_box_p', float('nan')):.2g}, periodogram p "
+                 f"{tests.get('periodogram_p', float('nan')):.2g}). Something no registered effect describes is "
+                 "missing, or the rig or record is not what its files say.")
+    return text
