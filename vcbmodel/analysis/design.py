@@ -65,8 +65,10 @@ def free_length_for(rig: Rig, pull: float, stiffness: float | None = None) -> fl
 # --- evaluations ---------------------------------------------------------------------------------
 
 #: Columns of :func:`closing_design`: the closing's figures of merit, the springs' charged pull
-#: and stored energy, and their smallest static pull during the run.
-DESIGN_COLUMNS = experiment_of("vcb_closing").figure_columns + ("preload_N", "stored_energy_J", "min_spring_force_N")
+#: and stored energy, their smallest static pull during the run and the energy they give up to the
+#: first touch.
+DESIGN_COLUMNS = experiment_of("vcb_closing").figure_columns + ("preload_N", "stored_energy_J", "min_spring_force_N",
+                                                                  "released_to_touch_J")
 
 
 def closing_design(rig: Rig, t_end: float | None = None) -> dict:
@@ -80,8 +82,22 @@ def closing_design(rig: Rig, t_end: float | None = None) -> dict:
     s = rig.closing_spring
     lengths = spring_length(rig, result.channels["cam_angle"])
     out.update(preload_N=preload(rig), stored_energy_J=stored_energy(rig),
-               min_spring_force_N=float(s.stiffness * (np.min(lengths) - s.free_length)))
+               min_spring_force_N=float(s.stiffness * (np.min(lengths) - s.free_length)),
+               released_to_touch_J=released_to_touch(rig, result, fom.get("first_touch_s")))
     return out
+
+
+def released_to_touch(rig: Rig, result, first_touch: float | None) -> float | None:
+    """Energy (J) all closing springs give up from the charged state to the first pole's touch:
+    count (F0^2 - F_touch^2) / (2 k0), F_touch their pull at the cam angle of the touch; None if no
+    pole touches. What a design spends to close, where the stored energy also counts the pull the
+    springs keep."""
+    if first_touch is None:
+        return None
+    s = rig.closing_spring
+    theta = float(np.interp(first_touch, result.t, result.channels["cam_angle"]))
+    pull = s.stiffness * (spring_length(rig, theta) - s.free_length)
+    return float(s.count * (preload(rig) ** 2 - pull**2) / (2 * s.stiffness))
 
 
 #: Columns of :func:`conclusion_effects`.
