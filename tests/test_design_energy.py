@@ -20,3 +20,21 @@ def test_released_to_touch_is_the_springs_energy_drop_to_the_touch_angle(tmp_pat
     assert s.free_length + pull_at_touch / s.stiffness == pytest.approx(
         float(spring_length(rig, rig.cam.initial_angle)) - (r["preload_N"] - pull_at_touch) / s.stiffness, rel=1e-9)
     assert pull_at_touch > r["min_spring_force_N"] - 1e-6  # the pull keeps falling after the touch
+
+
+def test_energy_split_accounts_for_what_the_springs_gave_up(tmp_path):
+    from vcbmodel.experiments.closing_evaluation import SPLIT_TERMS, energy_split, figures_of_merit
+    from vcbmodel.experiments.simulation import simulate
+
+    rig = load_rig(write_rig(tmp_path, P.REFERENCE_BREAKER, "breaker"))
+    r = simulate(rig, backend="fast")
+    touch = figures_of_merit(r, rig)["first_touch_s"]
+    for at in (touch, float(r.t[-1])):
+        sp = energy_split(r, rig, at)
+        assert sp["released"] > 100.0
+        # the terms add up to what the springs gave up (plus the latch's work) within the balance's residual
+        assert abs(sp["unaccounted"]) < 1e-3 * sp["released"]
+        assert sum(sp[k] for k, _ in SPLIT_TERMS) == pytest.approx(sp["released"] + sp["latch_work"] - sp["unaccounted"])
+    # the reference breaker's cam is a flywheel: at the touch it holds most of the released energy
+    at_touch = energy_split(r, rig, touch)
+    assert at_touch["kinetic_cam"] > 0.8 * at_touch["released"]

@@ -19,7 +19,7 @@ EXPECTED = {
     "diagnosis_realism.py": ["diagnosis_realism.json", "diagnosis_realism.md", "diagnosis_realism.png"],
     "benchmark.py": ["benchmark.json", "benchmark.md"],
     "spring_reading.py": ["spring_reading.json", "spring_reading.md"],
-    "vcb_closing.py": ["vcb_closing_fig12.png", "vcb_closing_detail.png", "vcb_closing.json", "vcb_closing.md",
+    "vcb_closing.py": ["vcb_closing_fig12.png", "vcb_closing_detail.png", "vcb_closing_energy_split.png", "vcb_closing.json", "vcb_closing.md",
                        "synthetic/vcb_closing.csv"],
     "design_sensitivity.py": ["design_sensitivity_tornado.png", "design_sensitivity_sobol.png",
                               "design_sensitivity.json", "design_sensitivity.md"],

@@ -79,70 +79,127 @@ def latched_impact_speeds(penetration: np.ndarray, rate: np.ndarray) -> np.ndarr
     return np.where(last_open >= 0, np.maximum(rate[np.maximum(last_open, 0)], 0.0), 0.0)
 
 
-def energy_balance(result: SimulationResult, rig: Rig) -> dict:
-    """Energy bookkeeping of a closing (J), from the recorded states (massless or lumped spring).
-
-    The closing springs' chain follows from the result's spring model (ANCF: not covered); a
-    chain's ``pin_mass`` rides on B with the cam (kinetic energy 0.5 count m_pin (omega l_AB)^2;
-    with ``closing_spring.weight`` the spring and pin masses' weight is potential energy).
-    Returns a dict of time series: ``kinetic``, ``potential`` (closing springs, cam weight,
-    opening spring, push rods and wipe springs, contacts, pole loads), ``dissipated`` (shaft
-    friction, contact damping, rod damping), ``latch_work`` and ``residual`` =
-    E(t) + dissipated - latch_work - E(0), which is zero for an exact solution.
-    """
+def energy_parts(result: SimulationResult, rig: Rig) -> dict:
+    """Every term of a closing's energy (J) as a time series, by where it sits: kinetic energy of
+    the cam (with the springs' pin mass), the closing springs' chain, the follower and the poles;
+    potential energy of the closing springs, the cam's weight, the springs' weight, the opening
+    spring, the push rods and wipe springs, the contacts and the poles' loads (bellows minus
+    weight); dissipated (cumulative) in the shaft friction, the contacts' damping and the rods'
+    damping; and the latch's work. Massless or lumped springs (ANCF: not covered)."""
     ch, t = result.channels, result.t
     laws = BreakerLaws.of_rig(rig, result.spec)
     chain = chain_for(rig.closing_spring, result.spec.spring_model)
-    b, cam, spring, g = rig.breaker, rig.cam, rig.closing_spring, rig.gravity
-    n, c = b.poles.count, spring.count
-    th, w, phi, phid = ch["cam_angle"], ch["shaft_velocity"], ch["follower_angle"], ch["follower_velocity"]
-    kinetic = 0.5 * cam.inertia_pivot * w**2 + 0.5 * b.follower.inertia * phid**2
+    b, cam = rig.breaker, rig.cam
+    th, w, phid = ch["cam_angle"], ch["shaft_velocity"], ch["follower_velocity"]
+    parts = {"kinetic_cam": 0.5 * cam.inertia_pivot * w**2, "kinetic_follower": 0.5 * b.follower.inertia * phid**2}
+    parts.update(_spring_parts(ch, rig, chain))
+    parts["cam_weight"] = cam.mass * rig.gravity * cam.com_distance * np.sin(th - cam.com_angle)
+    parts["opening_spring"] = np.array([0.5 * b.opening_spring.stiffness * (laws.opening(p)[0] / b.opening_spring.stiffness)
+                                        ** 2 for p in ch["follower_angle"]])
+    parts.update(_pole_parts(ch, laws, b))
+    friction = -ch["friction_torque"] * w if "friction_torque" in ch else np.zeros_like(th)
+    parts["dissipated_friction"] = cumulative_trapezoid(friction, t, initial=0.0)
+    holding = result.info["initial"].holding_torque
+    parts["latch_work"] = cumulative_trapezoid(np.array([laws.latch(tt, holding) for tt in t]) * w, t, initial=0.0)
+    return parts
+
+
+def _spring_parts(ch, rig, chain):
+    """The closing springs' elastic energy, the chain's kinetic energy (the pin's share rides on the
+    cam) and, with ``closing_spring.weight``, their weight's potential energy (J)."""
+    cam, spring, g = rig.cam, rig.closing_spring, rig.gravity
+    c, th, w = spring.count, ch["cam_angle"], ch["shaft_velocity"]
     bx, by = cam.pivot[0] + cam.arm_length * np.cos(th), cam.pivot[1] + cam.arm_length * np.sin(th)
-    weights = np.zeros_like(th)  # spring and pin masses' weight (closing_spring.weight)
+    zero = np.zeros_like(th)
     if chain is None:
         length = np.hypot(bx - spring.anchor[0], by - spring.anchor[1])
-        springs = 0.5 * c * spring.stiffness * (length - spring.free_length) ** 2
-    else:
-        pin_mass = getattr(chain, "pin_mass", 0.0)
-        kinetic = kinetic + 0.5 * c * pin_mass * (w * cam.arm_length) ** 2
+        return {"closing_springs": 0.5 * c * spring.stiffness * (length - spring.free_length) ** 2,
+                "kinetic_spring": zero, "pin_on_cam": zero, "spring_weight": zero}
+    pin_mass = getattr(chain, "pin_mass", 0.0)
+    pin_kinetic = 0.5 * c * pin_mass * (w * cam.arm_length) ** 2
+    weights = c * pin_mass * g * by if spring.weight else zero
+    kinetic = zero
+    pts = [np.stack([np.full_like(th, spring.anchor[0]), np.full_like(th, spring.anchor[1])])]
+    for k, m in enumerate(chain.masses, start=1):
+        pts.append(np.stack([ch[f"spring_mass_{k}_x"], ch[f"spring_mass_{k}_y"]]))
+        kinetic = kinetic + 0.5 * c * m * (ch[f"spring_velocity_{k}_x"] ** 2 + ch[f"spring_velocity_{k}_y"] ** 2)
         if spring.weight:
-            weights = weights + c * pin_mass * g * by
-        pts = [np.stack([np.full_like(th, spring.anchor[0]), np.full_like(th, spring.anchor[1])])]
-        for k, m in enumerate(chain.masses, start=1):
-            pts.append(np.stack([ch[f"spring_mass_{k}_x"], ch[f"spring_mass_{k}_y"]]))
-            kinetic = kinetic + 0.5 * c * m * (ch[f"spring_velocity_{k}_x"] ** 2 + ch[f"spring_velocity_{k}_y"] ** 2)
-            if spring.weight:
-                weights = weights + c * m * g * ch[f"spring_mass_{k}_y"]
-        pts.append(np.stack([bx, by]))
-        springs = sum(0.5 * c * k * (np.hypot(*(p1 - p0)) - l0) ** 2
-                      for p0, p1, k, l0 in zip(pts[:-1], pts[1:], chain.stiffnesses, chain.free_lengths))
-    cam_weight = cam.mass * g * cam.com_distance * np.sin(th - cam.com_angle)
-    opening = np.array([0.5 * b.opening_spring.stiffness * (laws.opening(p)[0] / b.opening_spring.stiffness) ** 2
-                        for p in phi])
+            weights = weights + c * m * g * ch[f"spring_mass_{k}_y"]
+    pts.append(np.stack([bx, by]))
+    springs = sum(0.5 * c * k * (np.hypot(*(p1 - p0)) - l0) ** 2
+                  for p0, p1, k, l0 in zip(pts[:-1], pts[1:], chain.stiffnesses, chain.free_lengths))
+    return {"closing_springs": springs, "kinetic_spring": kinetic, "pin_on_cam": pin_kinetic, "spring_weight": weights}
+
+
+def _pole_parts(ch, laws, b):
+    """The poles' kinetic energy, the rods' and wipe springs', the contacts' and the pole loads'
+    potential energy, and the contacts' and rods' damping dissipated (J)."""
+    t = ch["cam_angle"] * 0.0
+    kinetic, rods, poles = t.copy(), t.copy(), t.copy()
     contacts = np.array([laws.roller_energy(p) for p in ch["cam_roller_penetration"]])
-    rods = np.zeros_like(th)
-    poles = np.zeros_like(th)
-    dissipation = np.zeros_like(th)
-    if "friction_torque" in ch:  # the channel is the friction's torque on the cam (opposes w)
-        dissipation -= ch["friction_torque"] * w
-    dissipation += ch["cam_roller_damping_force"] * ch["cam_roller_penetration_rate"]
-    for i in range(n):
+    contact_damping = ch["cam_roller_damping_force"] * ch["cam_roller_penetration_rate"]
+    rod_damping = t.copy()
+    for i in range(b.poles.count):
         z, zd = ch[f"pole_{i + 1}_travel"], ch[f"pole_{i + 1}_velocity"]
-        kinetic = kinetic + 0.5 * b.poles.moving_mass * zd**2
+        kinetic += 0.5 * b.poles.moving_mass * zd**2
         rods += np.array([push_rod_energy(s, b.poles) for s in ch[f"pole_{i + 1}_rod_compression"]])
         contacts += np.array([laws.pole_energy(zz - laws.gaps[i]) for zz in z])
         poles -= laws.pole_load * z
-        dissipation += ch[f"pole_{i + 1}_contact_damping_force"] * zd
-        dissipation += b.poles.rod_damping * ch[f"pole_{i + 1}_rod_rate"] ** 2
-    holding = result.info["initial"].holding_torque
-    latch_work = cumulative_trapezoid(np.array([laws.latch(tt, holding) for tt in t]) * w, t, initial=0.0)
-    potential = springs + cam_weight + weights + opening + rods + contacts + poles
-    dissipated = cumulative_trapezoid(dissipation, t, initial=0.0)
+        contact_damping = contact_damping + ch[f"pole_{i + 1}_contact_damping_force"] * zd
+        rod_damping = rod_damping + b.poles.rod_damping * ch[f"pole_{i + 1}_rod_rate"] ** 2
+    return {"kinetic_poles": kinetic, "wipe_and_rods": rods, "contacts": contacts, "pole_loads": poles,
+            "contact_damping_rate": contact_damping, "rod_damping_rate": rod_damping}
+
+
+KINETIC = ("kinetic_cam", "pin_on_cam", "kinetic_spring", "kinetic_follower", "kinetic_poles")
+POTENTIAL = ("closing_springs", "cam_weight", "spring_weight", "opening_spring", "wipe_and_rods", "contacts", "pole_loads")
+
+
+def energy_balance(result: SimulationResult, rig: Rig) -> dict:
+    """Energy bookkeeping of a closing (J), from the recorded states (massless or lumped spring;
+    the terms: :func:`energy_parts`). Returns time series: ``kinetic``, ``potential``,
+    ``closing_springs``, ``opening_spring``, ``wipe_and_rods``, ``contacts``, ``dissipated``
+    (shaft friction, contact damping, rod damping), ``latch_work``, ``spring_energy_released`` and
+    ``residual`` = E(t) + dissipated - latch_work - E(0), which is zero for an exact solution."""
+    p = energy_parts(result, rig)
+    t = result.t
+    kinetic = sum(p[k] for k in KINETIC)
+    potential = sum(p[k] for k in POTENTIAL)
+    damping = cumulative_trapezoid(p["contact_damping_rate"] + p["rod_damping_rate"], t, initial=0.0)
+    dissipated = p["dissipated_friction"] + damping
     total = kinetic + potential
-    return {"t": t, "kinetic": kinetic, "potential": potential, "closing_springs": springs, "opening_spring": opening,
-            "wipe_and_rods": rods, "contacts": contacts, "dissipated": dissipated, "latch_work": latch_work,
-            "residual": total + dissipated - latch_work - total[0],
-            "spring_energy_released": springs[0] - springs}
+    return {"t": t, "kinetic": kinetic, "potential": potential, "closing_springs": p["closing_springs"],
+            "opening_spring": p["opening_spring"], "wipe_and_rods": p["wipe_and_rods"], "contacts": p["contacts"],
+            "dissipated": dissipated, "latch_work": p["latch_work"],
+            "residual": total + dissipated - p["latch_work"] - total[0],
+            "spring_energy_released": p["closing_springs"][0] - p["closing_springs"]}
+
+
+#: Where the springs' energy can go, in order, with readable names
+SPLIT_TERMS = (("kinetic_cam", "cam (kinetic)"), ("pin_on_cam", "springs' pin mass on the cam (kinetic)"),
+               ("kinetic_spring", "spring coils (kinetic)"), ("kinetic_follower", "follower (kinetic)"),
+               ("kinetic_poles", "poles (kinetic)"), ("opening_spring", "opening spring (charged)"),
+               ("wipe_and_rods", "wipe springs and push rods"), ("contacts", "contacts (elastic)"),
+               ("cam_weight", "cam's weight (raised)"), ("spring_weight", "springs' weight (raised)"),
+               ("pole_loads", "bellows and pole weights"), ("dissipated_friction", "shaft friction (dissipated)"),
+               ("dissipated_damping", "contact and rod damping (dissipated)"))
+
+
+def energy_split(result: SimulationResult, rig: Rig, at: float) -> dict:
+    """Where the energy the closing springs gave up by time ``at`` (s) has gone (J): each term of
+    :func:`energy_parts` as its change since the release (kinetic energies, the charge of the
+    opening and wipe springs, the contacts, raised weights, dissipation), with ``released`` (the
+    springs' energy drop), ``latch_work`` and ``unaccounted`` (the balance's residual)."""
+    p = energy_parts(result, rig)
+    t = result.t
+    k = int(min(np.searchsorted(t, at), t.size - 1))
+    p["dissipated_damping"] = cumulative_trapezoid(p["contact_damping_rate"] + p["rod_damping_rate"], t, initial=0.0)
+    out = {name: float(p[name][k] - p[name][0]) for name, _ in SPLIT_TERMS}
+    out["released"] = float(p["closing_springs"][0] - p["closing_springs"][k])
+    out["latch_work"] = float(p["latch_work"][k])
+    out["unaccounted"] = out["released"] + out["latch_work"] - sum(out[name] for name, _ in SPLIT_TERMS)
+    out["t_s"] = float(t[k])
+    return out
 
 
 def crossing_time(t: np.ndarray, z: np.ndarray, level: float) -> float | None:
