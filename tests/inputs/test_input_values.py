@@ -14,7 +14,7 @@ from vcbmodel.experiments.loading import load_pair
 from vcbmodel.records.measurement import load_measurement
 from vcbmodel.rig.reader import read_json
 
-ROOT = Path(__file__).resolve().parents[1]
+ROOT = Path(__file__).resolve().parents[2]
 SYNTHETIC = ROOT / "results" / "synthetic"
 CAM_RIG = SYNTHETIC / "cam_drop_m0_0.336kg.rig.json"
 PENDULUM_RIG = SYNTHETIC / "demo_pendulum.rig.json"

@@ -9,7 +9,7 @@ from vcbmodel.app.cli import main
 from vcbmodel.experiments.loading import load_rig
 from vcbmodel.records.measurement import load_measurement
 
-BAD = Path(__file__).resolve().parent / "bad_rigs"
+BAD = Path(__file__).resolve().parents[1] / "bad_rigs"
 GOOD_CAM = BAD / "good_cam.rig.json"
 GOOD_PENDULUM = BAD / "good_pendulum.rig.json"
 

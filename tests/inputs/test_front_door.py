@@ -34,7 +34,7 @@ from vcbmodel.records.measurement import load_measurement as _load_measurement
 def load_measurement(path, experiment):
     return _load_measurement(path, experiment_of(experiment).measured_channel)
 
-HERE = Path(__file__).resolve().parent
+HERE = Path(__file__).resolve().parents[1]  # tests/
 FD = HERE / "front_door"
 BAD = HERE / "bad_rigs"
 GOOD_CAM = BAD / "good_cam.rig.json"

@@ -6,7 +6,7 @@ from pathlib import Path
 
 import pytest
 
-STUDIES = Path(__file__).resolve().parents[1] / "studies"
+STUDIES = Path(__file__).resolve().parents[2] / "studies"
 
 EXPECTED = {
     "friction_identification.py": ["friction_identification.png", "friction_identification.json",

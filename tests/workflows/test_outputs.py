@@ -23,7 +23,7 @@ from vcbmodel.app.cli import main
 from vcbmodel.errors import InputError
 from vcbmodel.experiments import experiment_of
 
-HERE = Path(__file__).resolve().parent
+HERE = Path(__file__).resolve().parents[1]  # tests/
 GOOD_CAM = HERE / "bad_rigs" / "good_cam.rig.json"
 GOOD_PENDULUM = HERE / "bad_rigs" / "good_pendulum.rig.json"
 

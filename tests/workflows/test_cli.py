@@ -13,7 +13,7 @@ from vcbmodel.app.cli import main
 from vcbmodel.errors import SimulationError
 from vcbmodel.records.measurement import load_measurement, write_measurement
 
-GOOD_CAM = Path(__file__).resolve().parent / "bad_rigs" / "good_cam.rig.json"
+GOOD_CAM = Path(__file__).resolve().parents[1] / "bad_rigs" / "good_cam.rig.json"
 
 
 def test_simulate_writes_a_measurement_file(tmp_path, capsys):
