@@ -16,6 +16,7 @@ import numpy as np
 
 from ..experiments import experiment_of
 from ..experiments.simulation import simulate
+from ..laws.friction import ArrayOps
 from ..laws.mechanics import cam_pin
 
 if TYPE_CHECKING:
@@ -29,13 +30,9 @@ FRICTION_EFFECTS = ("coulomb_friction", "stribeck", "viscous_friction")
 
 def spring_length(rig: Rig, theta: float | np.ndarray) -> float | np.ndarray:
     """Pin-to-anchor length (m) of a closing spring at cam angle(s) ``theta`` (rad)."""
-    theta = np.asarray(theta, float)
-    if theta.ndim == 0:
-        bx, by = cam_pin(float(theta), rig.cam)
-    else:  # the pin B = A + l_AB (cos, sin), as laws.mechanics.cam_pin, on arrays
-        bx = rig.cam.pivot[0] + rig.cam.arm_length * np.cos(theta)
-        by = rig.cam.pivot[1] + rig.cam.arm_length * np.sin(theta)
-    return np.hypot(bx - rig.closing_spring.anchor[0], by - rig.closing_spring.anchor[1])
+    bx, by = cam_pin(np.asarray(theta, float), rig.cam, ArrayOps)
+    length = np.hypot(bx - rig.closing_spring.anchor[0], by - rig.closing_spring.anchor[1])
+    return float(length) if length.ndim == 0 else length
 
 
 def charged_length(rig: Rig) -> float:

@@ -11,6 +11,7 @@ from scipy.integrate import cumulative_trapezoid
 
 from ..laws.breaker import BreakerLaws, cam_roller_contact, follower_displacement, pole_gaps, push_rod_energy
 from ..laws.friction import ArrayOps
+from ..laws.mechanics import cam_pin
 from ..laws.springs import chain_for
 
 if TYPE_CHECKING:
@@ -109,7 +110,7 @@ def _spring_parts(ch, rig, chain):
     cam) and, with ``closing_spring.weight``, their weight's potential energy (J)."""
     cam, spring, g = rig.cam, rig.closing_spring, rig.gravity
     c, th, w = spring.count, ch["cam_angle"], ch["shaft_velocity"]
-    bx, by = cam.pivot[0] + cam.arm_length * np.cos(th), cam.pivot[1] + cam.arm_length * np.sin(th)
+    bx, by = cam_pin(th, cam, ArrayOps)
     zero = np.zeros_like(th)
     if chain is None:
         length = np.hypot(bx - spring.anchor[0], by - spring.anchor[1])
