@@ -168,3 +168,21 @@ def test_replayed_impact_speeds_match_the_stepwise_latch():
     for j in range(400):
         update_impact_speeds(impact, [(pen[j], rate[j])])
         assert latched[j] == impact[0]
+
+
+def test_without_a_compiler_compiled_is_one_line_and_fast_falls_back(tmp_path):
+    """A machine without a C compiler: `--backend compiled` fails with one line (status 1), `fast`
+    runs on Exudyn and says so in the file's first line."""
+    import os
+    import subprocess
+    import sys
+
+    rig = write_rig(tmp_path, P.REFERENCE_CAM | {"friction": dict(VALUES)}, "cam")
+    env = dict(os.environ, CC=str(tmp_path / "no-such-cc"), VCBMODEL_CACHE=str(tmp_path / "cache"))
+    base = [sys.executable, "-m", "vcbmodel", "simulate", str(rig), "-o", str(tmp_path / "out.csv"), "--force"]
+    p = subprocess.run(base + ["--backend", "compiled"], env=env, capture_output=True, text=True, timeout=300)
+    assert p.returncode == 1 and "Traceback" not in p.stderr and "C compiler" in p.stderr
+    assert not (tmp_path / "out.csv").exists()
+    p = subprocess.run(base + ["--backend", "fast"], env=env, capture_output=True, text=True, timeout=300)
+    assert p.returncode == 0, p.stderr[-800:]
+    assert "solved by exudyn" in (tmp_path / "out.csv").read_text().splitlines()[0]

@@ -31,8 +31,9 @@ log = logging.getLogger("vcbmodel")
 BACKEND_NAME = "compiled (laws traced to C, cffi, fixed-step RK4)"
 
 
-class CompilerUnavailable(RuntimeError):
-    """No working C compiler or cffi: the compiled backend cannot run here."""
+class CompilerUnavailable(SimulationError):
+    """No working C compiler or cffi: the compiled backend cannot run here (a solver failure to the
+    command line: one line, status 1; ``backend="fast"`` falls back to Exudyn instead)."""
 
 
 @dataclass
@@ -77,7 +78,8 @@ def _compile(source, digest):
         try:
             built = ffi.compile(tmpdir=str(work), verbose=False)
         except Exception as e:  # compiler missing or failing: the caller falls back or reports
-            raise CompilerUnavailable(f"C compilation failed: {str(e).strip().splitlines()[-1][:200]}") from None
+            raise CompilerUnavailable(f"the compiled backend needs a working C compiler: {str(e).strip().splitlines()[-1][:200]}"
+                                  " (use --backend exudyn or fast)") from None
         os.replace(built, target)  # atomic: a parallel process sees the whole file or none
         if work != folder:
             shutil.rmtree(work, ignore_errors=True)
