@@ -216,8 +216,9 @@ def sweep(rig: str | Path | dict | Rig, vary: Iterable[str | tuple[str, str] | V
 
 def _announce(p, finished, todo, where, output, verbose):
     if verbose:
-        progress(f"{p.name}: {len(p.table)} runs ({p.draw}), {len(finished)} already in {output}; {len(todo)} to run "
-                 f"on {where}" if finished else f"{p.name}: {len(p.table)} runs ({p.draw}) on {where}")
+        progress((f"{p.name}: {len(p.table)} runs ({p.draw}), {len(finished)} already in {output}; {len(todo)} to run "
+                  f"on {where}" if finished else f"{p.name}: {len(p.table)} runs ({p.draw}) on {where}")
+                 + f"; simulated with {p.backend}")
 
 
 def _open_outputs(p, finished, output, stream):
