@@ -113,7 +113,7 @@ def build_parser() -> argparse.ArgumentParser:
                        "per run: run, each varied PATH, the experiment's figures of merit, status. Grids LO:HI:N make the "
                        f"full product; distributions give --samples draws by {SAMPLING['lhs']}, seeded (default seed "
                        f"{DEFAULT_SEED}). Rows are written as runs finish; --resume skips runs already in -o. Runs go "
-                       "to local processes, or with --scheduler to a Dask cluster (README: how to start one).")
+                       "to local processes, or with --scheduler to a Dask cluster (docs/cli.md: how to start one).")
     w.add_argument("rig", help="rig file NAME.rig.json")
     w.add_argument("--vary", action="append", required=True, metavar="PATH=SPEC",
                    help="dotted rig field (friction.mu_k, breaker.poles.gap_offsets.1, ...) = LO:HI:N (grid), "
@@ -158,12 +158,13 @@ def cmd_simulate(args: argparse.Namespace) -> int:
     check_output(args.plot, "--plot", inputs=(args.rig,), force=args.force, formats=supported_image_formats())
     t_end = args.t_end or record.default_duration
     model_spec(rig, effects, spring_model=spring_model)  # a value the model needs but the rig lacks: bad input, first
-    log.info("simulate %s: %s, %g s of %s", rig.name, spring_model.label, t_end, rig.experiment)
     if args.backend == "compiled" and (record.ode_model is None or spring_model.kind == "ancf"):
-        raise InputError("--backend", "backend", f"the compiled path does not cover the {spring_model.label} spring "
-                         "(massless and lumped springs only): use --backend exudyn or fast")
-    result = simulate(rig, effects, spring_model=spring_model, sample_times=output_times(rig, t_end),
-                      backend=args.backend)
+        raise InputError("--backend compiled", "--spring-model", f"the compiled path does not cover the "
+                         f"{spring_model.label} spring (massless and lumped springs only): use --backend exudyn or fast")
+    log.info("simulate %s: %s, %g s of %s", rig.name, spring_model.label, t_end, rig.experiment)
+    # the figures of merit from every step (as sweeps and studies compute them); the file at the sensor's rate
+    full = simulate(rig, effects, spring_model=spring_model, t_end=t_end, backend=args.backend)
+    result = full.resample(output_times(rig, t_end))
     channels = record.record_channels(result, rig)
     spec = result.spec
     buf = io.StringIO()
@@ -175,7 +176,7 @@ def cmd_simulate(args: argparse.Namespace) -> int:
     columns = [values for values, _ in channels.values()]
     for k, t in enumerate(result.t):
         buf.write(f"{t:.7f}," + ",".join(f"{c[k]:.9g}" for c in columns) + "\n")
-    summary = f"{rig.name}: {rig.experiment}, {spec.spring_model.label}\n" + format_summary(record.summary(result, rig))
+    summary = f"{rig.name}: {rig.experiment}, {spec.spring_model.label}\n" + format_summary(record.summary(full, rig))
     if args.output:
         write_file(args.output, buf.getvalue())
         print(summary)  # the file holds the data: the summary is the command's result on stdout

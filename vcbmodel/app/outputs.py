@@ -89,6 +89,12 @@ def write_file(path: str | os.PathLike, data: str | bytes) -> None:
         raise OSError(e.errno, e.strerror, str(path)) from None
 
 
+def _umask() -> int:
+    mask = os.umask(0)
+    os.umask(mask)
+    return mask
+
+
 def _write(path, data):
     if not is_regular_or_absent(path):
         with open(path, "wb" if isinstance(data, bytes) else "w") as f:
@@ -99,6 +105,7 @@ def _write(path, data):
     try:
         with os.fdopen(fd, "wb" if isinstance(data, bytes) else "w") as f:
             f.write(data)
+        os.chmod(tmp, 0o666 & ~_umask())  # mkstemp makes 0600: give the file the mode a plain open() would
         os.replace(tmp, path)
     except BaseException:
         if os.path.exists(tmp):

@@ -72,7 +72,9 @@ def cam_lines(rig: Rig) -> list[str]:
     return [f"  cam profile: {source}; lift {1e3 * b.profile.lift:.2f} mm, base circle {1e3 * b.profile.base_radius:.1f} mm, "
             f"roller {1e3 * b.roller_radius:g} mm",
             f"    largest pressure angle {np.degrees(pressure[k]):.1f} deg at cam angle {np.degrees(thetas[k]):.1f} deg "
-            f"(usual limit 30 deg; above 45 deg a profile is refused)"]
+            f"(usual limit 30 deg; above 45 deg a profile is refused)",
+            f"  closing speed: mean pole speed from {1e3 * b.speed_zone[0]:g} to {1e3 * b.speed_zone[1]:g} mm before each "
+            "pole's touch (breaker.speed_zone)"]
 
 
 def spring_lines(rig: Rig) -> list[str]:
@@ -95,7 +97,9 @@ def spring_lines(rig: Rig) -> list[str]:
             f"{s.mass:.4g} kg ({source('mass')}), surge frequency {c['surge_frequency_hz']:.1f} Hz",
             f"    charged pull {pull:.0f} N each; {coil}: shear stress {c['shear_stress_Pa'] / 1e9:.2f} GPa, {verdict} "
             f"0.45 S_ut = {c['allowable_Pa'] / 1e9:.2f} GPa of Cr-Si wire (Shigley Table 10-7, extension spring body; "
-            f"a compression spring with set removed: 0.65 S_ut = {c['allowable_compression_Pa'] / 1e9:.2f} GPa)"]
+            f"a compression spring with set removed: 0.65 S_ut = {c['allowable_compression_Pa'] / 1e9:.2f} GPa)"] + ([
+            "    (the rig's coil fields size the stress check and an ANCF spring only: with stiffness and mass given, "
+            "they do not change k0 or the mass)"] if c["coil_given"] and not s.from_datasheet else [])
 
 
 def explain(rig: Rig) -> list[str]:

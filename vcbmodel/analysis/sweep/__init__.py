@@ -52,7 +52,7 @@ from ...rig.reader import read_json
 from ..progress import Progress, progress
 from .design import DEFAULT_SEED, DIGITS, DISTRIBUTIONS, MAX_RUNS, SAMPLING, Vary, design, parse_vary, parse_varies
 from .executors import _dask, _local_pool, _serial, connect, default_workers
-from .runs import check_paths, check_used, figures_of_merit, one_line, run_one
+from .runs import check_datasheet_used, check_paths, check_used, figures_of_merit, one_line, run_one
 from .table import cell_text, read_finished, rewrite_in_order, table_lock, typed_row, value_text
 
 __all__ = ["sweep", "design", "parse_vary", "parse_varies", "Vary", "figures_of_merit", "run_one", "connect",
@@ -146,6 +146,7 @@ def plan(rig: str | Path | dict | Rig, vary: Iterable[str | tuple[str, str] | Va
                 absent[p] = float(given.iloc[0])
     spec = model_spec(rig_from_data(with_overrides(data, absent), rig_path) if absent else nominal)
     check_used(table.columns, spec.effects, rig_path, nominal.experiment)
+    check_datasheet_used(table.columns, nominal, spec.spring_model.kind, rig_path)
     draw = (f"{SAMPLING[sampling]}, seed {DEFAULT_SEED if seed is None else seed}" if kind == "random"
             else "grid" if kind == "grid" else "given parameter sets")
     return SweepPlan(data, rig_path, nominal.experiment, label or f"sweep {nominal.name}", table, kind,

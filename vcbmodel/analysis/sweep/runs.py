@@ -59,6 +59,25 @@ def check_used(paths: Iterable[str], effects: Sequence[str], rig_path: str, expe
                              f"add {owner!r} to model.effects (or set the spring model) to sweep it")
 
 
+#: A closing spring's datasheet fields (rig-format.md 3.5)
+DATASHEET_FIELDS = ("wire_diameter", "coil_diameter", "active_coils", "shear_modulus", "density")
+
+
+def check_datasheet_used(paths, rig, spring_kind: str, rig_path: str) -> None:
+    """Refuse sweeping a closing spring's datasheet field that changes nothing: when the rig gives
+    both k0 and the mass, the datasheet only sizes the ANCF spring's coil (and ``check``'s stress)."""
+    spring = getattr(rig, "closing_spring", None)
+    if spring is None or spring.from_datasheet or spring_kind == "ancf":
+        return
+    for path in paths:
+        head, _, name = path.partition(".")
+        if head == "closing_spring" and name in DATASHEET_FIELDS:
+            raise InputError(rig_path, path, "is not used by this rig's model: the rig gives stiffness and mass, so the "
+                             "datasheet fields only size an ANCF spring's coil; every run would give the same row. "
+                             "Leave stiffness and mass out to derive them from the datasheet (rig-format.md 3.5), or "
+                             "sweep closing_spring.stiffness")
+
+
 def figures_of_merit(rig: Rig, t_end: float | None = None, backend: str = "fast") -> dict:
     """The default evaluation of a run: simulate the rig's model (``backend``: ``fast``, compiled
     where the compiled path covers it, else Exudyn; or ``exudyn``) and return the experiment's
