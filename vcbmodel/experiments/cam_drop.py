@@ -82,7 +82,8 @@ CAM_DROP = Experiment(
     build=build, channels=channels, step=default_step, figures_of_merit=figures_of_merit,
     has_closing_spring=True, signature=spring_signature, initial_angle_field="cam.initial_angle",
     figure_units=(("cam_angle_end_rad", "rad"), ("peak_shaft_velocity_rad_s", "rad/s")), summary=cam_drop_summary,
-    # Python friction function for fits: a 35 ms massless drop takes 0.15 s with it, 0.6-1.1 s compiled (the
+    # fits run the compiled path (ode_model) where a C compiler works; on Exudyn (no compiler) they use the Python
+    # friction function: a 35 ms massless drop takes 0.15 s with it, 0.6-1.1 s with Exudyn's symbolic one (the
     # symbolic expression of the spring's pull does not share subexpressions)
     fit_step=fit_step, fit_user_function="python",
     ode_model=OdeModel("cam_drop", prepare_cam_drop, cam_drop_equations), reference=reference_cam_drop,

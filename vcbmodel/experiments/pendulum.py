@@ -112,7 +112,8 @@ PENDULUM = Experiment(
     start_guesses=start_guesses, swinging_part=swinging_part, signature=signature,
     initial_angle_field="pendulum.initial_angle", period_fields=("pendulum.inertia", "pendulum.com_distance"),
     figure_units=(("first_peak_rad", "rad"), ("stop_time_s", "s")), summary=pendulum_summary,
-    # fits use Exudyn's compiled (symbolic) friction function: 6x faster than the Python one here
+    # fits run the compiled path (ode_model) where a C compiler works; on Exudyn (no compiler) they use its
+    # symbolic friction function, 6x faster than the Python one here
     fit_user_function="symbolic", staged_fit=True, natural_frequency=swing_frequency,
     # a swing starts within tens of ms of where it is first seen to move (a hand release is slower)
     free_swing=True, release_span=0.06,
