@@ -26,7 +26,7 @@ from ..errors import InputError, SimulationError
 from ..experiments import experiment_of
 from ..experiments.base import format_summary
 from ..experiments.loading import load_pair, load_rig, require_experiment
-from ..experiments.simulation import model_spec, output_times, simulate
+from ..experiments.simulation import compiled_path_has, model_spec, output_times, simulate
 from ..model.choice import parse_effects_option
 from ..rig.spring_model import SpringModel
 from .outputs import check_output, write_file
@@ -158,7 +158,7 @@ def cmd_simulate(args: argparse.Namespace) -> int:
     check_output(args.plot, "--plot", inputs=(args.rig,), force=args.force, formats=supported_image_formats())
     t_end = args.t_end or record.default_duration
     model_spec(rig, effects, spring_model=spring_model)  # a value the model needs but the rig lacks: bad input, first
-    if args.backend == "compiled" and (record.ode_model is None or spring_model.kind == "ancf"):
+    if args.backend == "compiled" and not compiled_path_has(record, spring_model):
         raise InputError("--backend compiled", "--spring-model", f"the compiled path does not cover the "
                          f"{spring_model.label} spring (massless and lumped springs only): use --backend exudyn or fast")
     log.info("simulate %s: %s, %g s of %s", rig.name, spring_model.label, t_end, rig.experiment)

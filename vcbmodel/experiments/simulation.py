@@ -134,12 +134,16 @@ def simulate(rig: Rig, effects: Sequence[str] | None = None, values: dict[str, f
     return result
 
 
+def compiled_path_has(record: Experiment, spring_model: SpringModel) -> bool:
+    """Whether the compiled path has this model's equations: the experiment states them, and the
+    spring is massless or lumped (the ANCF spring stays on Exudyn)."""
+    return record.ode_model is not None and spring_model.kind != "ancf"
+
+
 def compiled_covers(record: Experiment, spring_model: SpringModel) -> bool:
-    """Whether the compiled path covers this model (the experiment states its equations; not
-    the ANCF spring) and runs here (a C compiler: checked once, by compiling)."""
-    if record.ode_model is None or spring_model.kind == "ancf":
-        return False
-    return compiler_works()
+    """Whether the compiled path has this model (:func:`compiled_path_has`) and runs here (a C
+    compiler: checked once, by compiling)."""
+    return compiled_path_has(record, spring_model) and compiler_works()
 
 
 def simulation_backend(record: Experiment, spring_model: SpringModel, backend: str = "fast") -> str:
@@ -174,7 +178,7 @@ def _solve_exudyn(rig, record, spec, law, chain, t_end, step, period, user_funct
 
 
 def _solve_compiled(rig, record, spec, law, chain, t_end, step, period, user_function=None, ancf=None):
-    if record.ode_model is None or spec.spring_model.kind == "ancf":
+    if not compiled_path_has(record, spec.spring_model):
         raise ValueError(f"the compiled backend covers the pendulum, the cam drop and the closing with a massless "
                          f"or lumped spring, not {record.name} with a {spec.spring_model.kind} spring: use backend='exudyn'")
     data, extra = solve_ode_model(record.ode_model, rig, spec, law, chain, t_end, step, period)
