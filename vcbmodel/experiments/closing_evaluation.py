@@ -100,6 +100,8 @@ def energy_parts(result: SimulationResult, rig: Rig) -> dict:
     parts.update(_pole_parts(ch, laws, b))
     friction = -ch["friction_torque"] * w if "friction_torque" in ch else np.zeros_like(th)
     parts["dissipated_friction"] = cumulative_trapezoid(friction, t, initial=0.0)
+    damping = parts.pop("contact_damping_rate") + parts.pop("rod_damping_rate")
+    parts["dissipated_damping"] = cumulative_trapezoid(damping, t, initial=0.0)
     holding = result.info["initial"].holding_torque
     parts["latch_work"] = cumulative_trapezoid(np.array([laws.latch(tt, holding) for tt in t]) * w, t, initial=0.0)
     return parts
@@ -134,7 +136,7 @@ def _spring_parts(ch, rig, chain):
 
 def _pole_parts(ch, laws, b):
     """The poles' kinetic energy, the rods' and wipe springs', the contacts' and the pole loads'
-    potential energy, and the contacts' and rods' damping dissipated (J)."""
+    potential energy (J), and the power the contacts' and rods' damping dissipate (W)."""
     t = ch["cam_angle"] * 0.0
     kinetic, rods, poles = t.copy(), t.copy(), t.copy()
     contacts = np.array([laws.roller_energy(p) for p in ch["cam_roller_penetration"]])
@@ -166,8 +168,7 @@ def energy_balance(result: SimulationResult, rig: Rig) -> dict:
     t = result.t
     kinetic = sum(p[k] for k in KINETIC)
     potential = sum(p[k] for k in POTENTIAL)
-    damping = cumulative_trapezoid(p["contact_damping_rate"] + p["rod_damping_rate"], t, initial=0.0)
-    dissipated = p["dissipated_friction"] + damping
+    dissipated = p["dissipated_friction"] + p["dissipated_damping"]
     total = kinetic + potential
     return {"t": t, "kinetic": kinetic, "potential": potential, "closing_springs": p["closing_springs"],
             "opening_spring": p["opening_spring"], "wipe_and_rods": p["wipe_and_rods"], "contacts": p["contacts"],
@@ -194,7 +195,6 @@ def energy_split(result: SimulationResult, rig: Rig, at: float) -> dict:
     p = energy_parts(result, rig)
     t = result.t
     k = int(min(np.searchsorted(t, at), t.size - 1))
-    p["dissipated_damping"] = cumulative_trapezoid(p["contact_damping_rate"] + p["rod_damping_rate"], t, initial=0.0)
     out = {name: float(p[name][k] - p[name][0]) for name, _ in SPLIT_TERMS}
     out["released"] = float(p["closing_springs"][0] - p["closing_springs"][k])
     out["latch_work"] = float(p["latch_work"][k])
