@@ -34,7 +34,7 @@ from typing import TYPE_CHECKING
 
 import numpy as np
 
-from ..laws.breaker import BreakerLaws, massless_pull, push_rod_force
+from ..laws.breaker import BreakerLaws, massless_pull, pin_weight_torque, push_rod_force
 from .cam_drop import build_cam_drop
 from .core import ExudynModel, exudyn_modules
 
@@ -61,7 +61,9 @@ def build_vcb_closing(rig: Rig, spec: ModelSpec, law: FrictionLaw, chain: Lumped
     laws = BreakerLaws.of_rig(rig, spec)
     # every spring model starts from the massless springs' pull (a lumped chain starts stretched
     # along O-B in its static equilibrium, which pulls the same)
-    initial = laws.initial_state(massless_pull(rig.cam, rig.closing_spring), pin_weight_torque(rig, chain))
+    pin_mass = chain.pin_mass if chain is not None else 0.0
+    initial = laws.initial_state(massless_pull(rig.cam, rig.closing_spring),
+                                 pin_weight_torque(rig.cam, rig.closing_spring, pin_mass, rig.gravity))
     impact = np.zeros(rig.breaker.poles.count + 1)  # [cam-roller, pole 1..n] impact speeds (m/s)
     follower_state = {}  # the follower's node and system, known once built (the cam's friction reads them)
 
@@ -82,16 +84,6 @@ def build_vcb_closing(rig: Rig, spec: ModelSpec, law: FrictionLaw, chain: Lumped
     add_impact_latching(model, laws, cam_node, follower.node, pole_nodes, impact)
     model.laws, model.initial = laws, initial
     return model
-
-
-def pin_weight_torque(rig: Rig, chain: LumpedChain | None) -> float:
-    """Torque (N m) about A of the weight of the springs' pin mass (``chain.pin_mass``, riding on
-    B) at the start, when the springs carry weight; 0 otherwise."""
-    pin_mass = getattr(chain, "pin_mass", 0.0) if chain is not None else 0.0
-    if not (pin_mass and rig.closing_spring.weight):
-        return 0.0
-    cam = rig.cam
-    return -rig.closing_spring.count * pin_mass * rig.gravity * cam.arm_length * math.cos(cam.initial_angle)
 
 
 def node_state_reader(mbs, node) -> Callable[[], tuple]:

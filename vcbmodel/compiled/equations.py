@@ -16,10 +16,9 @@ friction connector reports).
 """
 from __future__ import annotations
 
-import math
 from collections.abc import Sequence
 
-from ..laws.breaker import BreakerLaws, massless_pull
+from ..laws.breaker import BreakerLaws, massless_pull, pin_weight_torque
 from ..laws.friction import shaft_friction
 from ..laws.mechanics import cam_inertia, cam_loads, cam_pin, link_pull, massless_spring_force, pendulum_loads
 from ..laws.types import Ops, Scalar
@@ -114,11 +113,9 @@ def prepare_closing(rig, spec, law, chain=None) -> OdeSetup:
     torque) and its static rest held by the latch (:meth:`BreakerLaws.initial_state`), as the
     Exudyn builder computes them; memory: the contacts' impact speeds (m/s), from zero."""
     laws = BreakerLaws.of_rig(rig, spec)
-    pin_weight = 0.0
-    if chain is not None and chain.pin_mass and rig.closing_spring.weight:
-        cam = rig.cam
-        pin_weight = -rig.closing_spring.count * chain.pin_mass * rig.gravity * cam.arm_length * math.cos(cam.initial_angle)
-    initial = laws.initial_state(massless_pull(rig.cam, rig.closing_spring), pin_weight)
+    pin_mass = chain.pin_mass if chain is not None else 0.0
+    initial = laws.initial_state(massless_pull(rig.cam, rig.closing_spring),
+                                 pin_weight_torque(rig.cam, rig.closing_spring, pin_mass, rig.gravity))
     setup = prepare_cam_drop(rig, spec, law, chain)
     setup.inputs.update({"laws": vars(laws), "holding": initial.holding_torque})
     n = rig.breaker.poles.count

@@ -346,6 +346,14 @@ class BreakerLaws:
         return t_cam + t_latch, fx + lx, fy + ly
 
 
+def pin_weight_torque(cam, spring, pin_mass: float, gravity: float) -> float:
+    """Torque (N m) about A at the start of the weight of the springs' pin mass (``pin_mass`` kg per
+    spring, riding on B), when the springs carry weight (``spring.weight``); 0 otherwise."""
+    if not (pin_mass and spring.weight):
+        return 0.0
+    return -spring.count * pin_mass * gravity * cam.arm_length * math.cos(cam.initial_angle)
+
+
 def massless_pull(cam, spring) -> tuple[float, float]:
     """Pull (N, N) of massless closing springs on pin B at the cam's initial angle."""
     return massless_spring_force(*cam_pin(cam.initial_angle, cam), spring)
