@@ -27,6 +27,10 @@ Complications (each drawn at random within the stated range, or chosen):
 ``quantised``       an encoder: readings rounded to 0.09 deg, no other noise
 ``time_base``       the record's clock runs 0.1-0.3 % fast, with 20 us jitter
 ``period``          the rig's nominal inertia is off: the period differs by 2-4 %
+``mains``           mains pickup on the sensor's lead: a 50 or 60 Hz line of 0.2-0.5 mrad (0.2-0.5 of
+                    the camera's noise for a cam drop), steady through the record (in true time)
+``logger_12bit``    a 12-bit data logger reads the (noisy) potentiometer: readings rounded to the
+                    logger's step, :data:`LOGGER_STEP` (the sensor's noise stays)
 ==================  ===========================================================================
 
 Hidden effects: none, one (``coulomb_friction``, ``viscous_friction``, ``stribeck``,
@@ -53,7 +57,7 @@ from ..records.measurement import Measurement, write_measurement
 from ..reference.truths import position_dependent_pendulum
 
 COMPLICATIONS = ("pre_trigger", "initial_angle", "offset", "gain", "correlated", "hand_start", "quantised",
-                 "time_base", "period")
+                 "time_base", "period", "mains", "logger_12bit")
 #: Hidden-effect cases: name -> (experiment, starting effects, truth effects).
 HIDDEN = {
     "pend_none": ("pendulum", ("coulomb_friction", "viscous_friction"), ("coulomb_friction", "viscous_friction")),
@@ -70,6 +74,9 @@ HIDDEN = {
     "cam_two": ("cam_drop", (), ("coulomb_friction", "spring_mass")),
 }
 QUANTUM = math.radians(0.09)  # encoder step (4000 counts per revolution)
+#: A 12-bit logger's step on a single-turn potentiometer: the pot's 340 deg electrical span over
+#: the logger's full scale of 4096 counts (1.45 mrad, about three times a pendulum pot's noise).
+LOGGER_STEP = math.radians(340.0) / 4096
 #: Whole-breaker closings recorded as a breaker analyser gives them: the follower's travel (a
 #: camera, 0.05 mm) and one 0/1 contact channel per pole (optionally each pole's travel, 0.02 mm).
 #: Start effects, truth effects; the rig gives every value but the hidden effects'. Truth
@@ -118,6 +125,12 @@ def _draw_complications(record, rng, complications):
             c[name] = float(rng.uniform(0.001, 0.003))
         elif name == "period":
             c[name] = float(rng.uniform(0.02, 0.04) * rng.choice([-1, 1]))
+        elif name == "mains":
+            scale = record.noise_sigma / 5e-4  # 0.2-0.5 of the sensor's noise level
+            c[name] = {"frequency_hz": float(rng.choice([50.0, 60.0])), "amplitude": float(rng.uniform(2e-4, 5e-4) * scale),
+                       "phase": float(rng.uniform(0.0, 2 * math.pi))}
+        elif name == "logger_12bit":
+            c[name] = LOGGER_STEP
         else:
             raise ValueError(f"unknown complication {name!r} (known: {', '.join(COMPLICATIONS)})")
     return c
@@ -273,7 +286,7 @@ def realistic_record(case: str, seed: int, folder: str | Path, complications: Se
     y = np.interp(np.clip(tau, 0.0, None), tau_grid, theta)
     if drawn.get("hand_start"):
         _hand_start(y, tau, drawn["hand_start"], truth_rig["pendulum"]["initial_angle"])
-    y, sigma_used = _sensor(rng, y, drawn, rec.noise_sigma)
+    y, sigma_used = _sensor(rng, y, drawn, rec.noise_sigma, tau + lead)
     rig_path, meas_path = _write_record(folder, rig, t_rec, {rec.measured_channel: y},
                                         f"SYNTHETIC (realistic): case {case}, seed {seed}, complications "
                                         f"{json.dumps(drawn, default=float)}")
@@ -361,14 +374,24 @@ def _hand_start(y: np.ndarray, tau: np.ndarray, hand: Mapping[str, float], th0: 
     y[before] += 2e-4 * np.sin(2 * math.pi * 7.0 * tau[before])  # hand tremor
 
 
-def _sensor(rng: np.random.Generator, y: np.ndarray, drawn: Mapping[str, Any], sigma: float):
+def _sensor(rng: np.random.Generator, y: np.ndarray, drawn: Mapping[str, Any], sigma: float,
+            t_true: np.ndarray | None = None):
     """(reading, its noise sigma): gain and offset, then an encoder's rounding or (correlated)
-    noise of ``sigma``."""
+    noise of ``sigma``; mains pickup (a line in true time ``t_true``, s) on the sensor's lead, and
+    a logger's rounding of the noisy reading."""
     y = drawn.get("gain", 1.0) * y + drawn.get("offset", 0.0)
     if "quantised" in drawn:
         y = np.round(y / drawn["quantised"]) * drawn["quantised"]
         return y, drawn["quantised"] / math.sqrt(12)
-    return y + _noise(rng, len(y), sigma, drawn.get("correlated", 0.0)), sigma
+    y = y + _noise(rng, len(y), sigma, drawn.get("correlated", 0.0))
+    mains = drawn.get("mains")
+    if mains:
+        t = np.arange(len(y)) if t_true is None else t_true
+        y = y + mains["amplitude"] * np.sin(2 * math.pi * mains["frequency_hz"] * t + mains["phase"])
+    if "logger_12bit" in drawn:
+        y = np.round(y / drawn["logger_12bit"]) * drawn["logger_12bit"]
+        sigma = math.sqrt(sigma**2 + drawn["logger_12bit"] ** 2 / 12)
+    return y, sigma
 
 
 #: Complication groups of the realism study: name -> (complications, experiments it applies to).

@@ -166,7 +166,8 @@ class Rig:
     sections: dict = field(default_factory=dict)
     data: dict = field(default_factory=dict, repr=False, compare=False)
     #: facts about the record the diagnosis would otherwise estimate (section ``record``):
-    #: ``release_time`` (s), ``initial_angle`` (rad), ``sensor_offset`` (rad or m), ``sensor_gain`` (-)
+    #: ``release_time`` (s), ``initial_angle`` (rad), ``sensor_offset`` (rad or m), ``sensor_gain`` (-),
+    #: ``sensor_noise`` (rad or m: the sensor's noise level, standard deviation; never defaulted)
     record: dict = field(default_factory=dict)
     #: rig values known only approximately (section ``uncertain``): dotted path -> relative sd
     uncertain: dict = field(default_factory=dict)

@@ -50,16 +50,20 @@ def read_friction(rd: Reader, data: dict) -> dict[str, float]:
     return friction
 
 
-RECORD_KEYS = ("release_time", "initial_angle", "sensor_offset", "sensor_gain")
+RECORD_KEYS = ("release_time", "initial_angle", "sensor_offset", "sensor_gain", "sensor_noise")
+#: Record values that may be marked uncertain without a rig field of their own: the sensor's gain
+#: and the record's time base (relative sd of its clock).
+UNCERTAIN_RECORD = ("record.sensor_gain", "record.time_base")
 
 
 def read_record(rd: Reader, data: dict) -> dict[str, float]:
     """The optional ``record`` section: facts about the measurement that the diagnosis would
-    otherwise estimate (release time in the record, initial angle, sensor offset and gain)."""
+    otherwise estimate (release time in the record, initial angle, sensor offset and gain), and
+    the sensor's noise level (``sensor_noise``, the record's unit: a witness of the verdict)."""
     r = without_comments(rd.optional_section(data, "record", known=RECORD_KEYS))
     out = {}
     for key in r:
-        out[key] = rd.number(r, key, "record.", positive=key == "sensor_gain")
+        out[key] = rd.number(r, key, "record.", positive=key in ("sensor_gain", "sensor_noise"))
     return out
 
 
@@ -72,7 +76,7 @@ def read_uncertain(rd: Reader, data: dict) -> dict[str, float]:
         value = rd.number(u, path, "uncertain.", positive=True)
         if value >= 1.0:
             rd.fail(f"uncertain.{path}", f"a relative standard deviation below 1 (0.05 for +-5 %), got {value:g}")
-        if path == "record.sensor_gain":  # the gain of the sensor: estimated with this uncertainty
+        if path in UNCERTAIN_RECORD:  # the sensor's gain, the record's clock: estimated with this uncertainty
             out[path] = value
             continue
         nominal = numeric_at(data, path)

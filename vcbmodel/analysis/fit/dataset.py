@@ -129,6 +129,23 @@ def offset_name(i: int, ch: str) -> str:
     return f"sensor_offset_{i}" if ch in MAIN_CHANNELS else f"offset_{ch}_{i}"
 
 
+def time_scale_name(i: int) -> str:
+    """Name of the time-scale parameter of dataset ``i``: seconds that passed per second of the
+    record's time stamps (1: the record's clock is right; 1.004: 0.4 % more time passed than the
+    stamps say, e.g. a camera whose true frame rate is 0.4 % below the nominal one)."""
+    return f"time_scale_{i}"
+
+
+#: Largest relative error of a record's clock the time-scale nuisance may take (bounds of
+#: ``time_scale_i``): a camera's frame rate or a logger's clock a fraction of a percent off.
+TIME_SCALE_SPAN = 0.01
+
+
+def model_time(t: np.ndarray, release: float, time_scale: float = 1.0) -> np.ndarray:
+    """Model time (s from the release) of record times ``t`` (s): (t - release) * time_scale."""
+    return (np.asarray(t, float) - release) * time_scale
+
+
 def gain_name(i: int, ch: str) -> str:
     """Name of the sensor gain parameter of channel ``ch`` of dataset ``i``."""
     return f"sensor_gain_{i}" if ch in MAIN_CHANNELS else f"gain_{ch}_{i}"

@@ -10,7 +10,8 @@ import numpy as np
 from scipy.interpolate import CubicSpline
 
 from ...rig.paths import loaded_with
-from .dataset import as_recorded, as_recorded_derivative, gain_name, has_gain, has_offset, model_channel, offset_name
+from .dataset import (TIME_SCALE_SPAN, as_recorded, as_recorded_derivative, gain_name, has_gain, has_offset,
+                      model_channel, model_time, offset_name, time_scale_name)
 from .options import FitAborted
 from .parameters import DIFF_STEP, FAILED
 from .pool import SimJob, fit_step, run_job, user_function_for
@@ -32,15 +33,16 @@ class Curves:
         return s
 
 
-def simulation_horizon(dataset) -> tuple | None:
+def simulation_horizon(dataset, time_scaled: bool = False) -> tuple | None:
     """(dt, n) of the uniform grid a dataset with a setup is simulated on: the record's sample
     interval (s), long enough from the earliest release to the window's end (None: no setup, the
-    record's own times)."""
+    record's own times); ``time_scaled``: long enough for the largest time scale too."""
     if dataset.setup is None:
         return None
     dt = float(np.median(np.diff(dataset.t)))
     lo = dataset.setup.release_bounds[0]
-    n = int(math.ceil((dataset.setup.window[1] - lo) / dt)) + 2
+    stretch = 1.0 + TIME_SCALE_SPAN if time_scaled else 1.0
+    n = int(math.ceil((dataset.setup.window[1] - lo) * stretch / dt)) + 2
     return (dt, n)
 
 
@@ -77,7 +79,7 @@ class Objective:
         self.best = (math.inf, None)  # (chi^2, x) of the best point evaluated
         self.cache = {}
         self.masks = [d.mask() for d in self.datasets]
-        self.horizon = [simulation_horizon(d) for d in self.datasets]
+        self.horizon = [simulation_horizon(d, time_scale_name(i) in params) for i, d in enumerate(self.datasets)]
 
     # -- values ---------------------------------------------------------------------------------
     def values(self, x) -> dict:
@@ -171,7 +173,7 @@ class Objective:
                 out[ch] = (t, as_recorded(d, ch, np.asarray(y), curves))
                 continue
             tr = vals.get(f"release_time_{i}", d.setup.release)
-            tau = np.clip(t - tr, 0.0, curves.t[-1])
+            tau = np.clip(model_time(t, tr, vals.get(time_scale_name(i), 1.0)), 0.0, curves.t[-1])
             y = curves.spline(mch)(tau)
             y = as_recorded(d, ch, y, curves)
             g = vals.get(gain_name(i, ch), 1.0) if has_gain(d, ch) else 1.0
@@ -265,7 +267,7 @@ class Objective:
                 J[:, k] = (np.concatenate(self.residual_parts(vals_k, cur)) - r0) / steps[k]
 
     def alignment_column(self, vals, curves_list, p) -> np.ndarray:
-        """Analytic column of alignment parameter ``p`` (release time, offset, gain) in the
+        """Analytic column of alignment parameter ``p`` (release time, offset, gain, time scale) in the
         Jacobian of the scaled residuals (zero prior rows)."""
         cols = []
         for i, d in enumerate(self.datasets):
@@ -288,7 +290,8 @@ class Objective:
         n = int(m.sum())
         t = d.t[m]
         tr = vals.get(f"release_time_{i}", d.setup.release)
-        tau = t - tr
+        k = vals.get(time_scale_name(i), 1.0)
+        tau = model_time(t, tr, k)
         inside = (tau > 0) & (tau < cur.t[-1])
         tau_c = np.clip(tau, 0.0, cur.t[-1])
         mch = model_channel(d, ch)
@@ -299,7 +302,10 @@ class Objective:
             return as_recorded(d, ch, cur.spline(mch)(tau_c)) if p.name == gain_name(i, ch) else np.zeros(n)
         if p.kind == "release":
             dy = as_recorded_derivative(d, ch, cur.spline(mch), tau_c)
-            return -g * dy * inside
+            return -g * k * dy * inside
+        if p.kind == "time_scale" and p.name == time_scale_name(i):
+            dy = as_recorded_derivative(d, ch, cur.spline(mch), tau_c)
+            return g * (t - tr) * dy * inside
         return np.zeros(n)
 
     def diff_step(self, k, xk) -> float:

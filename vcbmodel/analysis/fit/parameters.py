@@ -33,7 +33,7 @@ class Parameter:
     log: bool = False
     stderr: float | None = None
     tied_to: str | None = None  # value follows this parameter (lmfit's expr, for the simplest case)
-    kind: str = "model"  # model | state | rig | release | offset | gain
+    kind: str = "model"  # model | state | rig | release | offset | gain | time_scale
     dataset: int | None = None  # the record a nuisance belongs to (None: shared)
     path: str | None = None  # rig field of a "state" or "rig" parameter
     prior: tuple | None = None  # (mean, sd)
