@@ -177,3 +177,29 @@ BREAKER_T_END = 0.045
 #: at 20 kN, about 1.7 kHz) then gets 60 steps per period. Step refinement is tested; against
 #: the independent solve (vcbmodel/reference/breaker.py) the touch times agree to 10 ns.
 BREAKER_STEP = 1e-5
+
+# --- friction truths outside the fitted family (vcbmodel/reference/truth_friction.py) -----------
+#: The realism study's records may take their shaft friction from laws the diagnosis does not fit
+#: (issue 20). Their mu_s, mu_k, Stribeck (Tustin: decay) velocity and viscous coefficient are
+#: drawn as for the hybrid truth (analysis/realistic.py); the numbers below are what those laws add.
+#: LuGre bristle stiffness per unit normal force sigma0 (1/m): a steady bristle deflection of
+#: mu/sigma0 = 1.5-2.7 um for mu 0.09-0.16, the 1-5 um pre-sliding displacements of steel
+#: junctions in Armstrong-Helouvry et al.'s survey (Automatica 30, 1994); Canudas de Wit et al.'s
+#: example (IEEE TAC 40, 1995: 1e5 N/m for 1 N of Coulomb friction) gives 10 um.
+LUGRE_SIGMA0 = 6e4
+#: LuGre bristle damping per unit normal force sigma1 (s/m): Canudas de Wit et al.'s example takes
+#: sigma1 = sqrt(sigma0) for a unit mass (316 N s/m on 9.81 N, i.e. 32 s/m per unit normal force at
+#: sigma0 1e4 /m); scaled as sqrt(sigma0) to ours: 32 sqrt(6) ~ 80 s/m. It fades with speed as
+#: exp(-(w/w_s)^2) (Olsson et al., Eur. J. Control 4, 1998), so it damps pre-sliding only.
+LUGRE_SIGMA1 = 80.0
+#: Dahl rest stiffness per unit normal force sigma0 (1/m), exponent 1: a softer junction than
+#: LuGre's, 3-5 um of pre-sliding at mu_k 0.09-0.16 (Dahl 1968 fits ball bearings with
+#: micrometre-scale rest slopes).
+DAHL_SIGMA0 = 3e4
+#: A cogging or defect torque a sin(k theta + p) on the shaft: amplitude a as a fraction of the
+#: kinetic friction torque at the rig's static load (pendulum M g; cam drop the springs' initial
+#: pull), drawn in this range: a defect felt but not dominant (the friction still decides the
+#: decay). Wavenumber k in 1/rad (integer: a defect repeats each revolution), 20-40: 9-18 deg
+#: between bumps, one to two bumps per swing of a 10-15 deg pendulum.
+POSITION_TORQUE_FRACTION = (0.2, 0.4)
+POSITION_TORQUE_WAVENUMBER = (20, 40)

@@ -1,6 +1,10 @@
 """Truth models outside the model's families, for synthetic records whose cause no registered
 effect describes (the diagnosis' "not explained" checks): independent solves, like the others in
 this folder, sharing no law with the model.
+
+Here: the position-dependent journal friction, and :func:`friction_truth_angle`, which runs a
+rig file's pendulum or cam drop under one of :mod:`.truth_friction`'s laws (Tustin, LuGre, Dahl,
+a position-dependent torque).
 """
 from __future__ import annotations
 
@@ -9,6 +13,36 @@ from typing import Mapping
 
 import numpy as np
 from scipy.integrate import solve_ivp
+
+from .truth_friction import KINDS as FRICTION_TRUTHS
+from .truth_friction import truth_cam_drop, truth_pendulum
+
+__all__ = ["FRICTION_TRUTHS", "friction_truth_angle", "static_load", "position_dependent_pendulum"]
+
+
+def static_load(rig: Mapping) -> float:
+    """The journal's load at the start (N) of a rig file's (JSON) pendulum (its weight M g) or
+    cam drop (the closing springs' initial pull, count k (|B0 - O| - l0))."""
+    if rig["experiment"] == "pendulum":
+        return float(rig["pendulum"]["mass"] * rig["gravity"])
+    cam, spring = rig["cam"], rig["closing_spring"]
+    bx = cam["pivot"][0] + cam["arm_length"] * math.cos(cam["initial_angle"]) - spring["anchor"][0]
+    by = cam["pivot"][1] + cam["arm_length"] * math.sin(cam["initial_angle"]) - spring["anchor"][1]
+    return float(spring["count"] * spring["stiffness"] * (math.hypot(bx, by) - spring["free_length"]))
+
+
+def friction_truth_angle(kind: str, rig: Mapping, values: Mapping[str, float], t_eval: np.ndarray) -> np.ndarray:
+    """The shaft angle (rad) over ``t_eval`` (s) of a rig file's (JSON) pendulum or cam drop
+    (massless springs) under friction truth ``kind`` (:data:`FRICTION_TRUTHS`) with ``values``
+    (:data:`.truth_friction.NEEDS`)."""
+    if rig["experiment"] == "pendulum":
+        out = truth_pendulum(kind, rig["pendulum"], rig["gravity"], rig["shaft"]["radius"], values, t_eval)
+    elif rig["experiment"] == "cam_drop":
+        out = truth_cam_drop(kind, rig["cam"], rig["closing_spring"], rig["gravity"], rig["shaft"]["radius"],
+                             values, t_eval)
+    else:
+        raise ValueError(f"no {kind} friction truth for a {rig['experiment']} rig (pendulum and cam_drop only)")
+    return out["theta"]
 
 
 def position_dependent_pendulum(p: Mapping[str, float], gravity: float, radius: float, friction: Mapping[str, float], amplitude: float,
