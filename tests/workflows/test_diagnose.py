@@ -93,7 +93,7 @@ def test_registering_an_effect_makes_it_a_candidate(monkeypatch, tmp_path):
         def off(self, spec, values, rig):
             pass
     registry = dict(effects_module.EFFECTS, shaft_backlash=Backlash())
-    monkeypatch.setattr("vcbmodel.analysis.diagnose.EFFECTS", registry)
+    monkeypatch.setattr("vcbmodel.analysis.diagnosis.candidates.EFFECTS", registry)
     rig_path, meas_path, _ = random_case("cam_none", 3, tmp_path)
     rig = load_rig(rig_path)
 

@@ -1,0 +1,343 @@
+"""The diagnosis' steps one by one (vcbmodel/analysis/diagnosis): the pipeline's order, each step
+on a small case, and each heuristic of the search with the one-line reason its docstring gives.
+Most tests feed hand-made fits (real FitResult objects with chosen residuals, no simulation), so a
+wrong rule fails here without a whole diagnosis; the align and start steps run on a synthetic cam
+drop."""
+import math
+from types import SimpleNamespace
+
+import numpy as np
+import pytest
+
+from vcbmodel.analysis.diagnosis import discover as discover_step
+from vcbmodel.analysis.diagnosis import judge as judge_step
+from vcbmodel.analysis.diagnosis import refine as refine_step
+from vcbmodel.analysis.diagnosis import springs as springs_step
+from vcbmodel.analysis.diagnosis.align import align, fitted_channels
+from vcbmodel.analysis.diagnosis.candidates import NULL_VALUES, nested, pair_jobs
+from vcbmodel.analysis.diagnosis.context import Budget, Context
+from vcbmodel.analysis.diagnosis.period import period_mismatch, needs_period
+from vcbmodel.analysis.diagnosis.pipeline import STEPS, Step, run_steps
+from vcbmodel.analysis.diagnosis.report import timing, window
+from vcbmodel.analysis.diagnosis.scores import (BIC_MARGIN, consistent, earns_margin, excess_share_left,
+                                                noise_separable)
+from vcbmodel.analysis.diagnosis.select import pair_reason
+from vcbmodel.analysis.diagnosis.side_by_side import pruned
+from vcbmodel.analysis.diagnosis.start import fit_start
+from vcbmodel.analysis.diagnosis.state import Candidate, State
+from vcbmodel.analysis.fit import FitResult, Parameter, SimulationPool
+from vcbmodel.analysis.noise import NoiseModel
+from vcbmodel.analysis.synthetic import random_case
+from vcbmodel.experiments.loading import load_record, load_rig
+from vcbmodel.rig.spring_model import SpringModel
+
+SIGMA = 1e-3
+N = 4000
+T = np.arange(N) * 1e-3
+
+
+def noise(seed=1, n=N):
+    return np.random.default_rng(seed).normal(0.0, SIGMA, n)
+
+
+def fit_of(residual, effects=(), varied=(), spring=None, nuisance=()):
+    """A FitResult with the given residual (rad) and parameters ``varied`` (name -> value)."""
+    params = {name: Parameter(name, value) for name, value in dict(varied).items()}
+    params.update({name: Parameter(name, value, kind="offset") for name, value in dict(nuisance).items()})
+    return FitResult(tuple(effects), spring or SpringModel(), params, [np.asarray(residual, float)], [], SIGMA,
+                     times=[T[: len(residual)]])
+
+
+def ctx_of(**kw):
+    out = SimpleNamespace(sigma_hf=SIGMA, quantisation=0.0, noise=NoiseModel.white(SIGMA), over=lambda f=0.8: False,
+                          skipped=[], say=lambda m: None, fits=0, record=SimpleNamespace(period_fields=(),
+                                                                                        measured_channel="angle"),
+                          stop=SimpleNamespace(is_set=lambda: False), spring_final=None,
+                          dataset=SimpleNamespace(t=T), rig=SimpleNamespace(experiment="cam_drop"))
+    out.__dict__.update(kw)
+    return out
+
+
+def bump(centre=2.0, width=0.2, size=5e-3):
+    return size * np.exp(-((T - centre) / width) ** 2)
+
+
+# --- the pipeline ---------------------------------------------------------------------------------
+
+def test_the_pipeline_is_the_named_steps_in_order_each_its_own_module():
+    assert [s.name for s in STEPS] == ["align the record", "fit the starting model", "select effects",
+                                       "refine the selection", "judge the residual", "discover", "report"]
+    assert len({s.run.__module__ for s in STEPS}) == len(STEPS)
+
+
+def test_run_steps_runs_every_step_once_in_order_on_one_state():
+    seen = []
+    steps = tuple(Step(name, lambda ctx, state, name=name: seen.append((name, id(state)))) for name in "abc")
+    state = State()
+    assert run_steps(None, state, steps) is state
+    assert seen == [(name, id(state)) for name in "abc"]
+
+
+# --- scores -------------------------------------------------------------------------------------
+
+def test_consistent_accepts_noise_and_refuses_a_slow_model_error():
+    ctx = ctx_of()
+    assert consistent(ctx, fit_of(noise()))
+    assert not consistent(ctx, fit_of(noise() + bump()))
+
+
+def test_an_effect_must_earn_the_margin_and_remove_enough_variance():
+    ctx = ctx_of()
+    before, after = fit_of(noise() + bump()), fit_of(noise())
+    assert earns_margin(ctx, before, after, BIC_MARGIN + 1)
+    assert not earns_margin(ctx, before, after, BIC_MARGIN)  # the margin is strict
+    # a BIC gain with next to no variance removed (a tiny systematic difference) is not enough
+    almost = fit_of(noise() + bump() * 0.999)
+    assert not earns_margin(ctx, before, almost, 1e3)
+
+
+def test_excess_share_left_and_separable_noise():
+    ctx = ctx_of()
+    before = fit_of(noise() + bump())
+    assert excess_share_left(ctx, before, fit_of(noise())) < 0.05
+    assert excess_share_left(ctx, before, fit_of(noise() + 0.9 * bump())) > 0.5
+    assert noise_separable(ctx, NoiseModel.white(1.5 * SIGMA))
+    assert not noise_separable(ctx, NoiseModel.white(3 * SIGMA))
+
+
+# --- select effects: when pairs are tried ---------------------------------------------------------
+
+def correlated_noise(phi=0.97, seed=1):
+    e = np.random.default_rng(seed).normal(0.0, SIGMA, N)
+    r = np.zeros(N)
+    for i in range(1, N):
+        r[i] = phi * r[i - 1] + e[i]
+    return r
+
+
+def test_pair_reason_names_each_of_its_three_reasons():
+    ctx = ctx_of()
+    current = fit_of(noise() + bump())
+    assert pair_reason(ctx, current, Candidate("a", fit_of(noise()), 5.0)) == "no single effect earns the evidence"
+    assert pair_reason(ctx, current, Candidate("a", fit_of(noise() + 0.9 * bump()), 50.0)) == \
+        "the best single effect leaves most of the gap"
+    big = fit_of(noise(2) + 10 * bump())
+    assert pair_reason(ctx, big, Candidate("a", fit_of(correlated_noise()), 1e4)) == \
+        "the best single effect passes for noise only as strongly correlated noise"
+    assert pair_reason(ctx, current, Candidate("a", fit_of(noise()), 1e3)) is None
+
+
+def test_pair_jobs_are_every_pair_of_the_singles_with_the_spring_variants(cam_rig):
+    singles = [("coulomb_friction", ((), (), {}), 1), ("viscous_friction", ((), (), {}), 1),
+               ("spring_mass", ((), ("lumped-1",), {}), 0)]
+    jobs = pair_jobs(cam_rig, fit_of(noise()), singles)
+    names = [name for name, _, _ in jobs]
+    assert names == ["coulomb_friction+viscous_friction", "coulomb_friction+spring_mass",
+                     "viscous_friction+spring_mass"]
+    variants = {name: v for name, (_, v, _), _ in jobs}
+    assert variants["coulomb_friction+spring_mass"] == ("lumped-1",)
+    assert variants["coulomb_friction+viscous_friction"] == ()
+
+
+def test_occam_prunes_candidates_no_simpler_than_one_that_reached_the_noise():
+    assert pruned(2, [1]) and pruned(1, [1])
+    assert not pruned(0, [1]) and not pruned(3, [])
+
+
+def test_a_candidate_is_never_worse_than_its_nested_model():
+    ctx = ctx_of()
+    current = fit_of(noise(), effects=("coulomb_friction",), varied={"mu_k": 0.1})
+    worse = fit_of(noise() + bump(), effects=("coulomb_friction", "viscous_friction"),
+                   varied={"mu_k": 0.12, "viscous": 0.3})
+    out = nested(ctx, current, worse.effects, worse)
+    assert out.values == {"mu_k": 0.1, "viscous": NULL_VALUES["viscous"]}
+    assert out.chi2 == current.chi2 and out.effects == worse.effects
+    better = fit_of(0.5 * noise(), effects=worse.effects, varied={"mu_k": 0.1, "viscous": 0.3})
+    assert nested(ctx, current, better.effects, better) is better
+
+
+# --- refine the selection -------------------------------------------------------------------------
+
+def step(effect, round_no, fit, before=None):
+    return {"effect": effect, "round": round_no, "with": None, "_fit": fit, "_before": before}
+
+
+def test_refinements_run_in_their_documented_order():
+    names = [f.__name__ for f in refine_step.REFINEMENTS]
+    assert names == ["backward_elimination", "swap_effects", "final_spring", "finer_spring", "search_harder"]
+    doc = refine_step.__doc__
+    assert [doc.index(name) for name in names] == sorted(doc.index(name) for name in names)
+
+
+def test_backward_elimination_drops_an_effect_the_others_make_up_for(monkeypatch):
+    current = fit_of(noise(), effects=("coulomb_friction", "viscous_friction"), varied={"mu_k": 0.1, "viscous": 0.2})
+    refits = []
+
+    def refit(ctx, effects, spring, previous, label):
+        refits.append(effects)
+        worse = "coulomb_friction" not in effects  # without coulomb: the bump comes back
+        return fit_of(noise() + (bump() if worse else 0), effects=effects)
+
+    monkeypatch.setattr(refine_step, "refit", refit)
+    state = State(current=current, all_fits=[current],
+                  path=[step("viscous_friction", 1, current), step("coulomb_friction", 2, current)])
+    refine_step.backward_elimination(ctx_of(), state)
+    # the second removal is tried on the model the first one left
+    assert refits == [("coulomb_friction",), ()]
+    assert [s["effect"] for s in state.path] == ["coulomb_friction"]
+    assert state.current.effects == ("coulomb_friction",) and state.path[0]["_fit"] is state.current
+    assert [b["dropped"] for b in state.backward] == [True, False]
+
+
+def test_backward_elimination_leaves_a_single_round_alone(monkeypatch):
+    monkeypatch.setattr(refine_step, "refit", lambda *a: pytest.fail("refitted"))
+    current = fit_of(noise(), effects=("coulomb_friction", "viscous_friction"))
+    state = State(current=current, path=[step("coulomb_friction", 1, current), step("viscous_friction", 1, current)])
+    refine_step.backward_elimination(ctx_of(), state)
+    assert state.current is current and len(state.path) == 2
+
+
+def test_swap_replaces_a_kept_effect_by_one_that_explains_the_record(monkeypatch):
+    current = fit_of(noise() + bump(), effects=("viscous_friction",), varied={"viscous": 0.5})
+
+    def refit(ctx, effects, spring, previous, label):
+        return fit_of(noise() + (0 if "coulomb_friction" in effects else bump()), effects=effects)
+
+    monkeypatch.setattr(refine_step, "refit", refit)
+    state = State(current=current, all_fits=[current], path=[step("viscous_friction", 1, current)])
+    refine_step.swap_effects(ctx_of(), state)
+    assert state.current.effects == ("coulomb_friction",)
+    assert state.path[0]["effect"] == "coulomb_friction" and state.path[0]["swapped_from"] == "viscous_friction"
+    assert {b["swap_for"] for b in state.backward} == {"coulomb_friction", "stribeck"}
+
+
+def test_swap_and_search_harder_leave_a_model_at_the_noise_alone(monkeypatch):
+    monkeypatch.setattr(refine_step, "refit", lambda *a: pytest.fail("refitted"))
+    monkeypatch.setattr(refine_step, "_wider_fit", lambda *a: pytest.fail("searched"))
+    current = fit_of(noise(), effects=("viscous_friction",))
+    state = State(current=current, path=[step("viscous_friction", 1, current)])
+    ctx = ctx_of(record=SimpleNamespace(period_fields=("pendulum.inertia",), measured_channel="angle"))
+    refine_step.swap_effects(ctx, state)
+    refine_step.search_harder(ctx, state)
+    assert state.current is current
+
+
+def test_search_harder_only_for_a_free_swing(monkeypatch):
+    monkeypatch.setattr(refine_step, "_wider_fit", lambda *a: pytest.fail("searched"))
+    current = fit_of(noise() + bump(), effects=("viscous_friction",))
+    state = State(current=current, path=[step("viscous_friction", 1, current)])
+    refine_step.search_harder(ctx_of(), state)  # a cam drop: no period fields
+    assert state.current is current
+
+
+def test_spring_refinements_need_the_springs_mass():
+    current = fit_of(noise() + bump(), effects=("coulomb_friction",))
+    state = State(current=current)
+    springs_step.final_spring(ctx_of(spring_final=SpringModel()), state)
+    springs_step.finer_spring(ctx_of(), state)
+    assert state.current is current and state.coarse_spring is None
+
+
+def test_adopt_moves_only_the_steps_that_ended_in_the_old_fit():
+    old, other, new = fit_of(noise()), fit_of(noise()), fit_of(noise())
+    path = [step("a", 1, old), step("b", 2, other)]
+    springs_step.adopt(path, old, new)
+    assert path[0]["_fit"] is new and path[1]["_fit"] is other
+
+
+# --- judge the residual ----------------------------------------------------------------------------
+
+def test_the_verdict_explains_noise_and_locates_what_is_left():
+    ctx = ctx_of()
+    assert judge_step.verdict(ctx, fit_of(noise()))["explained"]
+    out = judge_step.verdict(ctx, fit_of(noise() + bump(centre=3.0)))
+    assert not out["explained"]
+    t0, t1 = out["left"]["window"]
+    assert t0 <= 3.0 <= t1 and out["left"]["excess"] > SIGMA
+
+
+def test_a_pair_kept_together_is_no_tie():
+    kept = Candidate("a+b", fit_of(noise()), 40.0)
+    rival = Candidate("c", fit_of(noise() + bump()), 38.0)
+    path = [{"effect": "a", "round": 1, "with": "a+b"}, {"effect": "b", "round": 1, "with": "a+b"}]
+    assert judge_step.ties(ctx_of(), path, [kept, rival]) == []
+
+
+def test_the_starting_model_is_refitted_on_the_final_alignment(monkeypatch):
+    baseline = fit_of(noise() + bump(), varied={"mu_k": 0.1}, nuisance={"sensor_offset_0": 0.01})
+    final = fit_of(noise(), varied={"mu_k": 0.1}, nuisance={"sensor_offset_0": 0.03})
+    seen = {}
+
+    def fit_record(ctx, effects, spring, params, label):
+        seen.update(params)
+        return fit_of(noise() + 1.5 * bump())
+
+    monkeypatch.setattr(judge_step, "parameters", lambda ctx, effects, values: {
+        k: Parameter(k, v, kind=baseline.parameters[k].kind) for k, v in values.items()})
+    monkeypatch.setattr(judge_step, "fit_record", fit_record)
+    aligned = judge_step.on_final_alignment(ctx_of(), baseline, final)
+    assert seen["sensor_offset_0"].value == 0.03 and not seen["sensor_offset_0"].vary
+    assert seen["mu_k"].vary and aligned.rms > baseline.rms
+    # a refit that ends better than the starting model's own fit stopped short: not kept
+    monkeypatch.setattr(judge_step, "fit_record", lambda *a: fit_of(noise()))
+    assert judge_step.on_final_alignment(ctx_of(), baseline, final) is baseline
+
+
+# --- discover, report ---------------------------------------------------------------------------
+
+def test_discover_is_a_slot_that_changes_no_fit():
+    current = fit_of(noise() + bump())
+    state = State(current=current, final=current)
+    discover_step.discover(ctx_of(), state)
+    assert state.discovery == discover_step.NO_DISCOVERY and not state.discovery["attempted"]
+    assert state.final is current
+
+
+def test_report_window_and_timing():
+    ctx = ctx_of(pool=SimpleNamespace(simulations=7, cpu_seconds=lambda: 0.0), fits=2)
+    ctx.budget = Budget(ctx.pool, 1, 10.0)
+    t0, t1 = window(ctx, fit_of(noise() + bump(centre=1.0)))
+    assert t0 <= 1.0 <= t1
+    spent = timing(ctx)
+    assert spent["simulations"] == 7 and spent["fits"] == 2 and not spent["budget_reached"]
+    ctx.budget.skipped.append("swap a -> b")
+    assert timing(ctx)["budget_reached"]
+
+
+# --- the period of a free swing ---------------------------------------------------------------------
+
+def test_a_period_mismatch_is_found_from_the_drift_of_the_extremes():
+    t = np.arange(0, 10, 1e-3)
+    record = 0.3 * np.cos(2 * np.pi * t / 1.01) * np.exp(-0.4 * t)  # 1 % longer period, dies out
+    model = 0.3 * np.cos(2 * np.pi * t) * np.exp(-0.4 * t)
+    ctx = SimpleNamespace(record=SimpleNamespace(period_fields=("pendulum.inertia",)), sigma_hf=SIGMA,
+                          dataset=SimpleNamespace(t=t, y=record, mask=lambda: np.ones(t.size, bool)),
+                          uncertain={}, implied={})
+    fit = SimpleNamespace(simulations=[SimpleNamespace(measured=model)])
+    out = period_mismatch(ctx, fit)
+    assert out["relative"] == pytest.approx(0.01, abs=0.002) and out["significant"]
+    assert needs_period(ctx, out)
+    ctx.uncertain["pendulum.inertia"] = 0.05  # the rig allows for it already
+    assert not needs_period(ctx, out)
+    assert period_mismatch(ctx, SimpleNamespace(simulations=[SimpleNamespace(measured=record)]))["significant"] is False
+
+
+# --- align the record, fit the starting model (a synthetic cam drop) -------------------------------
+
+def test_align_then_start_on_a_synthetic_cam_drop(tmp_path):
+    rig_path, meas_path, _ = random_case("cam_none", 5, tmp_path)
+    rig = load_rig(rig_path)
+    measurement = load_record(meas_path, rig)
+    with SimulationPool(1) as pool:
+        ctx = Context(rig, measurement, pool, Budget(pool, 1, 50.0), verbose=False, processes=1)
+        state = State()
+        align(ctx, state)
+        assert ctx.sigma_hf == pytest.approx(2e-3, rel=0.15)  # the camera's noise (synthetic.py)
+        assert fitted_channels(rig, measurement) == (ctx.record.measured_channel,)
+        assert ctx.dataset is not None and ctx.guesses and ctx.fits == 0
+        assert state.period is None  # a cam drop has no period
+        fit_start(ctx, state)
+    assert state.baseline is state.current and state.all_fits == [state.baseline]
+    assert state.baseline.effects == tuple(rig.model.effects) and ctx.fits == 1
+    assert state.baseline.rms < 1.2 * ctx.sigma_hf  # the starting model is the truth's family
+    assert math.isfinite(ctx.noise.marginal_sd)

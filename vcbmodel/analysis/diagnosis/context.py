@@ -1,0 +1,108 @@
+"""What the steps of one diagnosis share: the record as aligned, the simulation pool, the
+current noise model, the time budget, and a progress voice. It holds no logic of the search:
+:mod:`.align` fills it, the steps read it (and update ``noise``, ``fits``, ``implied`` and
+``spring_final``)."""
+from __future__ import annotations
+
+import math
+import threading
+import time
+from collections.abc import Iterator
+from contextlib import contextmanager
+from dataclasses import dataclass, field
+
+from ..progress import progress
+
+#: Time budget of one diagnosis (s on its processes: processor seconds of this process and the
+#: simulation workers divided by their number, so that a machine shared with other work does
+#: not cut the search short). Past 80 % of it no new fit starts; at the budget the running fits
+#: stop and the diagnosis reports what it has (``timing.budget_reached``). Four times the budget
+#: in wall time stops it in any case.
+TIME_BUDGET = 50.0
+WALL_FACTOR = 4.0
+
+
+class Budget:
+    """The time budget of one diagnosis (see :data:`TIME_BUDGET`): what is used, whether a new
+    fit may start, and the event that stops the running ones."""
+
+    def __init__(self, pool: object, processes: int, seconds: float = TIME_BUDGET, started: float | None = None):
+        self.pool, self.processes, self.seconds = pool, processes, seconds
+        self.started = time.monotonic() if started is None else started
+        self.cpu0 = pool.cpu_seconds()
+        self.stop = threading.Event()
+        self.skipped = []  # fits not started for the time budget
+
+    def used(self) -> float:
+        """Time used against the budget: processor seconds per process (see TIME_BUDGET)."""
+        return (self.pool.cpu_seconds() - self.cpu0) / max(1, self.processes)
+
+    def over(self, fraction: float = 0.8) -> bool:
+        """Past ``fraction`` of the time budget (no new fit should start)?"""
+        return (self.stop.is_set() or self.used() > fraction * self.seconds
+                or time.monotonic() - self.started > WALL_FACTOR * fraction * self.seconds)
+
+    @contextmanager
+    def watched(self) -> Iterator[Budget]:
+        """While inside, a watcher sets ``stop`` once the whole budget is used."""
+        done = threading.Event()
+
+        def watch():
+            while not done.wait(0.5):
+                if self.over(1.0):
+                    self.stop.set()
+                    return
+
+        threading.Thread(target=watch, daemon=True).start()
+        try:
+            yield self
+        finally:
+            done.set()
+
+
+@dataclass
+class Context:
+    """One diagnosis' shared state. The record's fields (``record`` .. ``coarse_step``) are set by
+    :func:`.align.align`; see there for what each is."""
+
+    rig: object
+    measurement: object
+    pool: object
+    budget: Budget
+    verbose: bool = True
+    processes: int = 1
+    record: object = None  # the experiment's record kind (vcbmodel.experiments)
+    quantisation: float = 0.0
+    sigma_hf: float = math.nan  # the measured channel's high-frequency noise (record's unit)
+    noise: object = None  # the current noise model (NoiseModel)
+    setup: object = None  # the record's nuisance setup (nuisance.RecordSetup)
+    channel_sigma: dict = field(default_factory=dict)
+    dataset: object = None
+    guesses: list = field(default_factory=list)
+    uncertain: dict = field(default_factory=dict)
+    implied: dict = field(default_factory=dict)  # uncertain values the diagnosis added itself
+    coarse_step: float | None = None
+    spring_final: object = None  # the spring model the final model is refined with (ANCF)
+    fits: int = 0
+
+    @property
+    def stop(self) -> threading.Event:
+        return self.budget.stop
+
+    @property
+    def skipped(self) -> list:
+        return self.budget.skipped
+
+    def over(self, fraction: float = 0.8) -> bool:
+        """Past ``fraction`` of the time budget?"""
+        return self.budget.over(fraction)
+
+    def scales(self) -> dict:
+        """Weights of the residual channels: each channel's high-frequency noise level (the
+        weights set only how priors weigh against the data and how channels weigh against each
+        other; the evidence is scored with the whitened residual)."""
+        return {(0, ch): s for ch, s in self.channel_sigma.items()}
+
+    def say(self, message: str) -> None:
+        if self.verbose:
+            progress(f"diagnose: {message}")

@@ -1,0 +1,60 @@
+"""The diagnosis as a pipeline of named steps: where do model and record disagree, and what is
+missing? Each step is a function ``(ctx, state)`` in its own module; :data:`STEPS` runs them in
+order on one record (the README's description of the workflow lists the same steps):
+
+1. align the record (:mod:`.align`)
+2. fit the starting model (:mod:`.start`)
+3. select effects (:mod:`.select`)
+4. refine the selection (:mod:`.refine`)
+5. judge the residual (:mod:`.judge`)
+6. discover (:mod:`.discover`)
+7. report (:mod:`.report`)
+
+``ctx`` (:class:`.context.Context`) is what the steps share (the aligned record, the pool, the
+noise model, the time budget); ``state`` (:class:`.state.State`) is what they hand on.
+"""
+from __future__ import annotations
+
+import time
+from typing import Callable, NamedTuple
+
+from ..fit import SimulationPool
+from .align import align
+from .context import TIME_BUDGET, Budget, Context
+from .discover import discover
+from .judge import judge
+from .refine import refine_selection
+from .report import report
+from .result import Diagnosis
+from .select import select_effects
+from .start import fit_start
+from .state import State
+
+
+class Step(NamedTuple):
+    name: str
+    run: Callable
+
+
+#: The diagnosis' steps, in order.
+STEPS = (Step("align the record", align), Step("fit the starting model", fit_start),
+         Step("select effects", select_effects), Step("refine the selection", refine_selection),
+         Step("judge the residual", judge), Step("discover", discover), Step("report", report))
+
+
+def run_steps(ctx: Context, state: State, steps: tuple = STEPS) -> State:
+    """Run ``steps`` in order on one record."""
+    for step in steps:
+        step.run(ctx, state)
+    return state
+
+
+def diagnose(rig: object, measurement: object, processes: int = 2, verbose: bool = True,
+             time_budget: float = TIME_BUDGET) -> Diagnosis:
+    """Run the pipeline on one record (within ``time_budget`` s of the processes' time)."""
+    started = time.monotonic()
+    with SimulationPool(processes) as pool:
+        budget = Budget(pool, processes, time_budget, started)
+        ctx = Context(rig, measurement, pool, budget, verbose, processes)
+        with budget.watched():
+            return run_steps(ctx, State()).diagnosis

@@ -1,0 +1,44 @@
+"""Step 7, report: the diagnosis as the user reads it (:class:`.result.Diagnosis`): the window
+where model and record disagree most, the residual's signature, the record's nuisance, the
+evidence in words (:mod:`..diagnosis_report`) and the time spent."""
+from __future__ import annotations
+
+import time
+
+from ...records.signals import disagreement_window
+from ..diagnosis_report import describe_signature, evidence_text, nuisance_report
+from .result import Diagnosis
+from .scores import BIC_MARGIN
+
+
+def window(ctx, fit: object) -> tuple:
+    """Where ``fit``'s residual stands out most from the noise (record time, s)."""
+    t0, t1, _ = disagreement_window(fit.times[0], fit.residuals[0], ctx.noise.marginal_sd)
+    return (t0, t1)
+
+
+def timing(ctx) -> dict:
+    """Time and work spent, and whether the budget cut the search short."""
+    b = ctx.budget
+    return {"seconds": time.monotonic() - b.started, "budget_used_s": b.used(),
+            "simulations": ctx.pool.simulations, "fits": ctx.fits,
+            "budget_s": b.seconds, "budget_reached": bool(b.skipped or b.stop.is_set()),
+            "skipped": list(b.skipped)}
+
+
+def report(ctx, state) -> None:
+    """Sets ``state.diagnosis``."""
+    baseline, final = state.baseline, state.final
+    stopped = sorted(state.stopped - {c.effect for c in state.candidates})
+    where = window(ctx, baseline)
+    signature = describe_signature(ctx, baseline, final)
+    nuisance = nuisance_report(ctx, final, state.period)
+    evidence = evidence_text(ctx, baseline, final, state.missing, where, signature, state.verdict, state.period,
+                             state.backward, BIC_MARGIN)
+    spent = timing(ctx)
+    ctx.say(f"missing effects: {', '.join(state.missing) or 'none'}; rms {baseline.rms:.3g} -> {final.rms:.3g} "
+            f"{ctx.record.unit}; explained: {state.verdict['explained']}; {spent['seconds']:.0f} s, "
+            f"{spent['simulations']} simulations")
+    state.diagnosis = Diagnosis(ctx.rig, ctx.measurement, ctx.noise, baseline, state.candidates, state.missing, final,
+                                where, signature, evidence, stopped, state.verdict, nuisance, spent, state.selection,
+                                state.own_alignment)
