@@ -4,6 +4,8 @@ Most tests feed hand-made fits (real FitResult objects with chosen residuals, no
 wrong rule fails here without a whole diagnosis; the align and start steps run on a synthetic cam
 drop."""
 import math
+import re
+from pathlib import Path
 from types import SimpleNamespace
 
 import numpy as np
@@ -25,6 +27,7 @@ from vcbmodel.analysis.diagnosis.select import pair_reason
 from vcbmodel.analysis.diagnosis.side_by_side import pruned
 from vcbmodel.analysis.diagnosis.start import fit_start
 from vcbmodel.analysis.diagnosis.state import Candidate, State
+from vcbmodel.analysis.diagnosis_report import evidence_text
 from vcbmodel.analysis.fit import FitResult, Parameter, SimulationPool
 from vcbmodel.analysis.noise import NoiseModel
 from vcbmodel.analysis.synthetic import random_case
@@ -68,6 +71,27 @@ def test_the_pipeline_is_the_named_steps_in_order_each_its_own_module():
     assert [s.name for s in STEPS] == ["align the record", "fit the starting model", "select effects",
                                        "refine the selection", "judge the residual", "discover", "report"]
     assert len({s.run.__module__ for s in STEPS}) == len(STEPS)
+
+
+ROOT = Path(__file__).resolve().parents[2]
+
+
+def listed_steps(text):
+    """(number, name) of the numbered bold items ``1. **name**`` in ``text`` (whitespace folded)."""
+    return re.findall(r"(\d+)\. \*\*([^*]+)\*\*", " ".join(text.split()))
+
+
+def test_readme_and_findings_list_the_pipelines_steps_one_to_one():
+    names = [s.name for s in STEPS]
+    readme = (ROOT / "README.md").read_text(encoding="utf-8")
+    bullet = readme.split("- `diagnose` fits", 1)[1].split("\n- `", 1)[0]
+    assert listed_steps(bullet) == [(str(i + 1), name) for i, name in enumerate(names)]
+    findings = (ROOT / "docs" / "findings.md").read_text(encoding="utf-8")
+    section = findings.split("## The diagnosis", 1)[1].split("\n## ", 1)[0]
+    listed = listed_steps(section)
+    assert [(n, name.lower()) for n, name in listed] == [(str(i + 1), name) for i, name in enumerate(names)]
+    modules = re.findall(r"\d+\. \*\*[^*]+\*\* \(`(\w+)\.py`", " ".join(section.split()))
+    assert modules == [s.run.__module__.rsplit(".", 1)[1] for s in STEPS]
 
 
 def test_run_steps_runs_every_step_once_in_order_on_one_state():
@@ -209,6 +233,12 @@ def test_swap_replaces_a_kept_effect_by_one_that_explains_the_record(monkeypatch
     assert state.current.effects == ("coulomb_friction",)
     assert state.path[0]["effect"] == "coulomb_friction" and state.path[0]["swapped_from"] == "viscous_friction"
     assert {b["swap_for"] for b in state.backward} == {"coulomb_friction", "stribeck"}
+    # the record of the swap taken (not merely the last one tried) says so, and the evidence words it
+    assert [b["swap_for"] for b in state.backward if b["dropped"]] == ["coulomb_friction"]
+    ctx = ctx_of(record=SimpleNamespace(unit="rad"), implied={})
+    text = evidence_text(ctx, current, state.current, ["coulomb_friction"], (0.0, 1.0), {}, {"explained": True},
+                         None, state.backward)
+    assert "viscous_friction was kept on the way but replaced by coulomb_friction" in text
 
 
 def test_swap_and_search_harder_leave_a_model_at_the_noise_alone(monkeypatch):

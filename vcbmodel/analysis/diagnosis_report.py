@@ -108,7 +108,10 @@ def evidence_text(ctx, baseline, final, missing, window, signature, verdict, per
     else:
         text += f" No candidate lowers the whitened BIC by more than {margin:g}."
     for b in backward:
-        if b["dropped"]:
+        if b["dropped"] and b.get("swap_for"):
+            text += (f" {b['effect']} was kept on the way but replaced by {b['swap_for']} at the end (whitened BIC "
+                     f"lower by {b['delta_bic']:.1f}).")
+        elif b["dropped"]:
             text += (f" {b['effect']} was kept on the way but dropped at the end: with the others in, it earns only "
                      f"{b['delta_bic_without']:.1f} in BIC.")
     for tie in verdict.get("ambiguous", ()):

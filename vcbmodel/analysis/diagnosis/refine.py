@@ -78,7 +78,8 @@ def _swap_pairs(ctx, state):
 
 
 def _try_swap(ctx, state, old, new):
-    """The current model with ``old`` replaced by ``new``, refitted: (BIC gain, fit) or None."""
+    """The current model with ``old`` replaced by ``new``, refitted: its record (appended to
+    ``state.backward``: ``delta_bic`` the whitened BIC gain, ``_with`` the fit) or None."""
     current = state.current
     effects = tuple(e for e in EFFECTS if (e in current.effects and e != old) or e == new)
     ctx.say(f"swap: {old} -> {new}")
@@ -89,9 +90,10 @@ def _try_swap(ctx, state, old, new):
     state.all_fits.append(f)
     noise = noise_of_best(ctx, state.all_fits)
     gain = current.bic_with(noise) - f.bic_with(noise)
-    state.backward.append({"effect": old, "swap_for": new, "delta_bic": gain, "rms": f.rms, "_without": current,
-                           "_with": f, "dropped": False, "backward": False})
-    return gain, f
+    record = {"effect": old, "swap_for": new, "delta_bic": gain, "rms": f.rms, "_without": current,
+              "_with": f, "dropped": False, "backward": False}
+    state.backward.append(record)
+    return record
 
 
 def swap_effects(ctx, state) -> None:
@@ -107,17 +109,18 @@ def swap_effects(ctx, state) -> None:
             ctx.skipped.append(f"swap {old} -> {new}")
             continue
         tried = _try_swap(ctx, state, old, new)
-        if tried is not None and tried[0] > BIC_MARGIN and (best is None or tried[0] > best[0]):
-            best = (tried[0], old, new, tried[1])
+        if tried is not None and tried["delta_bic"] > BIC_MARGIN and (best is None or
+                                                                     tried["delta_bic"] > best["delta_bic"]):
+            best = tried
     if best is None:
         return
-    gain, old, new, f = best
-    ctx.say(f"swap: {old} replaced by {new} (whitened BIC lower by {gain:.0f})")
+    old, new, f = best["effect"], best["swap_for"], best["_with"]
+    ctx.say(f"swap: {old} replaced by {new} (whitened BIC lower by {best['delta_bic']:.0f})")
     for step in state.path:
         if step["effect"] == old:
             step["effect"], step["swapped_from"] = new, old
         step["_fit"] = f
-    state.backward[-1]["dropped"] = True
+    best["dropped"] = True  # the swap taken (``old`` left the model)
     state.current = f
 
 
