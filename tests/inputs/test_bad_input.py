@@ -27,7 +27,9 @@ RIGS = [  # file, the field the message must name
     ("unknown_experiment", "experiment"), ("pendulum_with_spring_model", "model."),
     ("fractional_count", "closing_spring.count"), ("malformed_trailing_comma", "line"),
     ("malformed_truncated", "line"), ("nan_value", "JSON"), ("infinity_value", "JSON"),
-    ("not_an_object", "top level"),
+    ("not_an_object", "top level"), ("end_stop_without_damping", "breaker.end_stop.damping"),
+    ("hold_latch_negative_stiffness", "breaker.hold_latch.stiffness"),
+    ("hold_latch_beyond_end_stop", "breaker.hold_latch.angle"), ("end_stop_before_start", "breaker.end_stop.angle"),
 ]
 CSVS = [
     ("no_header", "header"), ("first_column_not_t", "line 1"), ("unknown_channel", "cam_angel"),

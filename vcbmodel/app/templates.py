@@ -74,7 +74,24 @@ def cam_lines(rig: Rig) -> list[str]:
             f"    largest pressure angle {np.degrees(pressure[k]):.1f} deg at cam angle {np.degrees(thetas[k]):.1f} deg "
             f"(usual limit 30 deg; above 45 deg a profile is refused)",
             f"  closing speed: mean pole speed from {1e3 * b.speed_zone[0]:g} to {1e3 * b.speed_zone[1]:g} mm before each "
-            "pole's touch (breaker.speed_zone)"]
+            "pole's touch (breaker.speed_zone)"] + stop_lines(b)
+
+
+def stop_lines(b) -> list[str]:
+    """What stops the cam after the closing: the end stop and the holding latch, or that the rig
+    leaves them out (then nothing stops the cam, and overtravel and rebound are not dynamics)."""
+    lines = []
+    for part, key, what in ((b.end_stop, "end_stop", "end stop"), (b.hold_latch, "hold_latch", "holding latch")):
+        if part is None:
+            lines.append(f"  {what}: not modelled (no breaker.{key} section): "
+                         + ("nothing stops the cam after the closing; it turns on until the springs turn it back"
+                            if key == "end_stop" else "nothing holds the cam from turning back"))
+        else:
+            lines.append(f"  {what}: at cam angle {part.angle:g} rad ({math.degrees(part.angle):.1f} deg), arm "
+                         f"{1e3 * part.arm:g} mm, {part.stiffness:.4g} N/m, {part.damping:.4g} N s/m (breaker.{key})"
+                         + ("; it engages once the cam passes that angle and then stops it turning back"
+                            if key == "hold_latch" else ""))
+    return lines
 
 
 def spring_lines(rig: Rig) -> list[str]:

@@ -13,12 +13,17 @@ joint is the coordinate itself). The parts, each a function below, wrap the pure
   contact, Lankarani-Nikravesh or Hunt-Crossley damping);
 - :func:`add_latch` (``LoadCoordinate`` on the cam with a time user function) and
   :func:`add_opening_spring` (a plain ``ObjectConnectorSpringDamper``);
+- :func:`add_stops`: the closing end stop and the holding latch (optional rig sections
+  ``breaker.end_stop``, ``breaker.hold_latch``), a coordinate connector on the cam angle;
 - :func:`add_poles`: push rods with wipe springs (``ObjectConnectorSpringDamper`` F -> pole
   pin), pole contacts (``ObjectConnectorCoordinateSpringDamper`` ground -> pole travel),
   bellows force minus weight (constant ``LoadCoordinate``);
 - :func:`add_impact_latching`: each contact's impact speed (the damping's reference speed) is
   latched by a pre-step function from the state at the start of the step in which the
-  contact begins.
+  contact begins; so is the holding latch's engagement (rig section ``breaker.hold_latch``).
+
+The end stop's and the holding latch's forces also load the journal (they enter the shaft
+friction's reaction with the roller's and the latch's, :meth:`BreakerLaws.cam_loads`).
 
 The shaft friction also sees the roller force and the latch force (they load the journal): the
 latch holds the cam with a force at its latch point (:meth:`BreakerLaws.latch_loads`), not with
@@ -65,12 +70,13 @@ def build_vcb_closing(rig: Rig, spec: ModelSpec, law: FrictionLaw, chain: Lumped
     initial = laws.initial_state(massless_pull(rig.cam, rig.closing_spring),
                                  pin_weight_torque(rig.cam, rig.closing_spring, pin_mass, rig.gravity))
     impact = np.zeros(rig.breaker.poles.count + 1)  # [cam-roller, pole 1..n] impact speeds (m/s)
+    engaged = [0.0]  # the holding latch's memory (1: engaged), when the rig has one
     follower_state = {}  # the follower's node and system, known once built (the cam's friction reads them)
 
     def extra_loads(t, theta, omega):
         # the roller and the latch load the cam: torque about A and force (both enter the shaft reaction)
         phi, phi_dot = follower_state["read"]()
-        return laws.cam_loads(t, theta, omega, phi, phi_dot, initial.holding_torque, impact[0])
+        return laws.cam_loads(t, theta, omega, phi, phi_dot, initial.holding_torque, impact[0], engaged[0])
 
     uf = "python" if user_function in ("auto", "symbolic") else user_function
     model = build_cam_drop(rig, law, spec.spring_model, chain, uf, extra_loads=extra_loads, ancf_elements=ancf_elements)
@@ -79,9 +85,11 @@ def build_vcb_closing(rig: Rig, spec: ModelSpec, law: FrictionLaw, chain: Lumped
     cam_node = model.cam_body.shaft.node
     add_cam_roller_contact(model, laws, cam_node, follower.node, impact)
     add_latch(model, laws, initial.holding_torque)
+    if laws.has_stops:
+        add_stops(model, laws, engaged)
     add_opening_spring(model, laws, follower)
     pole_nodes = add_poles(model, laws, follower, initial.pole_travel, impact)
-    add_impact_latching(model, laws, cam_node, follower.node, pole_nodes, impact)
+    add_impact_latching(model, laws, cam_node, follower.node, pole_nodes, impact, engaged)
     model.laws, model.initial = laws, initial
     return model
 
@@ -125,6 +133,22 @@ def add_latch(model: ExudynModel, laws: BreakerLaws, holding_torque: float) -> N
     _, it = exudyn_modules()
     model.mbs.AddLoad(it.LoadCoordinate(markerNumber=model.cam_body.shaft.mShaftCoordinate, load=0.0,
                                         loadUserFunction=lambda mbs, t, load: laws.latch(t, holding_torque)))
+
+
+def add_stops(model: ExudynModel, laws: BreakerLaws, engaged: list) -> None:
+    """The closing end stop's and the holding latch's torque on the cam
+    (:meth:`BreakerLaws.stop_loads`; ``engaged``: the holding latch's memory, set by the
+    pre-step function), as a coordinate connector ground -> cam angle."""
+    _, it = exudyn_modules()
+    shaft = model.cam_body.shaft
+
+    def stops_uf(mbs, t, itemNumber, deltaL, deltaL_t, stiffness, damping, offset):
+        # deltaL = cam angle, deltaL_t = its speed; the connector's force acts on the cam negated
+        return -laws.stop_loads(deltaL, deltaL_t, engaged[0])[0]
+
+    model.mbs.AddObject(it.ObjectConnectorCoordinateSpringDamper(
+        markerNumbers=[shaft.mGroundCoordinate, shaft.mShaftCoordinate], stiffness=0.0, damping=0.0,
+        springForceUserFunction=stops_uf, visualization=it.VObjectConnectorCoordinateSpringDamper(show=False)))
 
 
 def add_opening_spring(model, laws, follower: Follower):
@@ -175,17 +199,23 @@ def add_poles(model, laws, follower: Follower, travel0, impact):
     return nodes
 
 
-def add_impact_latching(model: ExudynModel, laws: BreakerLaws, cam_node, follower_node, pole_nodes, impact: list) -> None:
+def add_impact_latching(model: ExudynModel, laws: BreakerLaws, cam_node, follower_node, pole_nodes, impact: list,
+                        engaged: list) -> None:
     """A pre-step function that latches each contact's impact speed (see
-    :meth:`BreakerLaws.latch_impact_speeds`) from the state at the start of the step."""
+    :meth:`BreakerLaws.latch_impact_speeds`) and the holding latch's engagement
+    (:meth:`BreakerLaws.engage`, when the rig has a holding latch) from the state at the start of
+    the step."""
     cam = node_state_reader(model.mbs, cam_node)
     follower = node_state_reader(model.mbs, follower_node)
     poles = [node_state_reader(model.mbs, n) for n in pole_nodes]
+    hold_latch = laws.b.hold_latch is not None
 
     def latch_impact_speeds(mbs, t):
         (theta, omega), (phi, phi_dot) = cam(), follower()
         states = [p() for p in poles]
         laws.latch_impact_speeds(impact, theta, omega, phi, phi_dot, [z for z, _ in states], [zd for _, zd in states])
+        if hold_latch:
+            engaged[0] = laws.engage(engaged[0], theta)
         return True
 
     model.mbs.SetPreStepUserFunction(latch_impact_speeds)

@@ -111,7 +111,8 @@ def _chain_accelerations(q, bx, by, spring, chain, g, ops):
 def prepare_closing(rig, spec, law, chain=None) -> OdeSetup:
     """The breaker's inputs (its laws, with the derived geometry, and the latch's holding
     torque) and its static rest held by the latch (:meth:`BreakerLaws.initial_state`), as the
-    Exudyn builder computes them; memory: the contacts' impact speeds (m/s), from zero."""
+    Exudyn builder computes them; memory: the contacts' impact speeds (m/s), from zero, and with
+    a holding latch (``breaker.hold_latch``) its engagement (0 not yet, 1 engaged) after them."""
     laws = BreakerLaws.of_rig(rig, spec)
     pin_mass = chain.pin_mass if chain is not None else 0.0
     initial = laws.initial_state(massless_pull(rig.cam, rig.closing_spring),
@@ -123,7 +124,7 @@ def prepare_closing(rig, spec, law, chain=None) -> OdeSetup:
     setup.v0 += [0.0] * (1 + n)
     setup.layout += [("follower_angle", "follower_velocity", 1)]
     setup.layout += [(f"pole_{i + 1}_travel", f"pole_{i + 1}_travel_velocity", 1) for i in range(n)]
-    setup.memory = [0.0] * (n + 1)
+    setup.memory = [0.0] * (n + 1) + ([0.0] if rig.breaker.hold_latch is not None else [])
     setup.info = {"initial": initial}
     return setup
 
@@ -140,14 +141,16 @@ def closing_equations(t: Scalar, q: Sequence[Scalar], v: Sequence[Scalar], memor
     by the roller and the latch; the follower (roller contact, opening spring, push rods); each
     pole (push rod, fixed contact, bellows force minus weight)."""
     laws = _breaker_laws(inputs)
-    n_poles = len(memory) - 1
+    n_poles = laws.b.poles.count
     phi_index = len(q) - 1 - n_poles
     phi, phi_dot = q[phi_index], v[phi_index]
     z, z_dot = q[phi_index + 1:], v[phi_index + 1:]
     theta, omega = q[0], v[0]
     t_fol, (t_cam, fx, fy) = laws.follower_torque(theta, omega, phi, phi_dot, z, z_dot, memory[0], ops)
     t_latch, lx, ly = laws.latch_loads(t, theta, inputs["holding"], ops)
-    cam_chain, Tf = _cam_and_chain(t, q[:phi_index], v[:phi_index], inputs, ops, (t_cam + t_latch, fx + lx, fy + ly))
+    engaged = memory[n_poles + 1] if len(memory) > n_poles + 1 else 0.0
+    loads = laws.with_stops((t_cam + t_latch, fx + lx, fy + ly), theta, omega, engaged, ops)
+    cam_chain, Tf = _cam_and_chain(t, q[:phi_index], v[:phi_index], inputs, ops, loads)
     poles = []
     for i in range(n_poles):
         rod_force = laws.rod_loads(phi, phi_dot, z[i], z_dot[i], ops)[0]
@@ -158,10 +161,13 @@ def closing_equations(t: Scalar, q: Sequence[Scalar], v: Sequence[Scalar], memor
 
 def closing_prestep(t: Scalar, q: Sequence[Scalar], v: Sequence[Scalar], memory: list, inputs: dict, ops: Ops) -> list[Scalar]:
     """The contacts' impact speeds latched from the state at the step's start
-    (:meth:`BreakerLaws.latch_impact_speeds`)."""
+    (:meth:`BreakerLaws.latch_impact_speeds`), and the holding latch's engagement
+    (:meth:`BreakerLaws.engage`) when the rig has one."""
     laws = _breaker_laws(inputs)
-    n_poles = len(memory) - 1
+    n_poles = laws.b.poles.count
     phi_index = len(q) - 1 - n_poles
-    impact = list(memory)
+    impact = list(memory[:n_poles + 1])
     laws.latch_impact_speeds(impact, q[0], v[0], q[phi_index], v[phi_index], q[phi_index + 1:], v[phi_index + 1:], ops)
+    if len(memory) > n_poles + 1:
+        impact.append(laws.engage(memory[n_poles + 1], q[0], ops))
     return impact

@@ -30,6 +30,7 @@ import math
 from collections.abc import Iterable
 from dataclasses import dataclass
 
+import numpy as np
 from scipy.optimize import brentq
 
 from ..errors import SimulationError
@@ -78,6 +79,67 @@ class LatchPoint:
 
     arm: float | None = None
     angle: float = 0.0
+
+
+@dataclass(frozen=True)
+class EndStop:
+    """The closing end stop (rig section ``breaker.end_stop``): a buffer on the frame (a stop
+    with a shock absorber) that a stop lever of the cam meets at cam angle ``angle`` (rad, the
+    cam angle A->B from +x, counted on from the start and not wrapped: 5.0 rad is 286 deg of the
+    first turn). The lever's contact point is at ``arm`` (m) from A along A->B; the buffer pushes
+    it back perpendicular to A->B with ``stiffness`` (N/m) times its penetration plus ``damping``
+    (N s/m) times the penetration's rate, only while in contact and never pulling
+    (:func:`end_stop_force`). Absent (None): not modelled, the cam turns on."""
+
+    angle: float  # rad
+    arm: float  # m
+    stiffness: float  # N/m
+    damping: float  # N s/m
+
+
+@dataclass(frozen=True)
+class HoldLatch:
+    """The holding (closing) latch (rig section ``breaker.hold_latch``): a pawl that drops behind
+    the cam's latch face once the cam has passed ``angle`` (rad, as :class:`EndStop`'s) going
+    forward, and from then on stops it turning back: a one-way stop at ``angle``, acting at
+    ``arm`` (m) from A along A->B, with ``stiffness`` (N/m) and ``damping`` (N s/m) like the end
+    stop's (:func:`hold_latch_force`). Whether it has engaged is memory kept from step to step
+    (:func:`hold_latch_engagement`), as the contacts' impact speeds are. Absent (None): not
+    modelled."""
+
+    angle: float  # rad
+    arm: float  # m
+    stiffness: float  # N/m
+    damping: float  # N s/m
+
+
+def end_stop_force(theta: Scalar, omega: Scalar, stop: EndStop, ops: Ops = NumericOps) -> Scalar:
+    """Force (N, >= 0) of the end stop on the cam's stop lever at cam angle ``theta`` (rad) and
+    speed ``omega`` (rad/s): penetration d = arm (theta - angle) (m), rate arm omega (m/s);
+    k d + c d' while d > 0, clipped at zero (the buffer never pulls the lever back)."""
+    d = stop.arm * (theta - stop.angle)
+    return ops.where(d <= 0.0, 0.0, ops.max(0.0, stop.stiffness * d + stop.damping * stop.arm * omega))
+
+
+def hold_latch_force(theta: Scalar, omega: Scalar, engaged: Scalar, latch: HoldLatch, ops: Ops = NumericOps) -> Scalar:
+    """Force (N, >= 0) of the engaged holding latch on the cam's latch face: penetration
+    d = arm (angle - theta) (m) once the cam turns back below ``angle``, rate -arm omega (m/s);
+    k d + c d' while d > 0 and ``engaged`` (1: the pawl has dropped, 0: not yet), clipped at zero."""
+    d = latch.arm * (latch.angle - theta)
+    force = ops.where(d <= 0.0, 0.0, ops.max(0.0, latch.stiffness * d - latch.damping * latch.arm * omega))
+    return ops.where(engaged <= 0.5, 0.0, force)
+
+
+def hold_latch_engagement(engaged: Scalar, theta: Scalar, latch: HoldLatch, ops: Ops = NumericOps) -> Scalar:
+    """The latch's memory (1 engaged, 0 not) after a state at cam angle ``theta`` (rad): it
+    engages once the cam has reached ``angle`` and stays engaged."""
+    return ops.where(theta >= latch.angle, 1.0, engaged)
+
+
+def one_way_stop_energy(penetration: float | np.ndarray, stiffness: float) -> float | np.ndarray:
+    """Elastic energy (J) of a stop's spring at a penetration (m): k d^2 / 2 for d > 0."""
+    d = np.maximum(penetration, 0.0)
+    return 0.5 * stiffness * d * d
 
 
 def latch_force(torque: Scalar, theta: Scalar, arm: Scalar, angle: Scalar, ops: Ops = NumericOps) -> tuple[Scalar, Scalar]:
@@ -337,13 +399,57 @@ class BreakerLaws:
         fx, fy = latch_force(torque, theta, self.latch_arm, self.latch_angle, ops)
         return torque, fx, fy
 
+    # -- the closing end stop and the holding latch (optional: breaker.end_stop, breaker.hold_latch)
+    @property
+    def has_stops(self) -> bool:
+        """Whether the rig models an end stop or a holding latch (each section is optional)."""
+        return self.b.end_stop is not None or self.b.hold_latch is not None
+
+    def end_stop(self, theta: Scalar, omega: Scalar, ops: Ops = NumericOps) -> Scalar:
+        """The end stop's force (N) on the cam's stop lever (0 without an end stop)."""
+        stop = self.b.end_stop
+        return 0.0 if stop is None else end_stop_force(theta, omega, stop, ops)
+
+    def hold_latch(self, theta: Scalar, omega: Scalar, engaged: Scalar, ops: Ops = NumericOps) -> Scalar:
+        """The holding latch's force (N) on the cam's latch face (0 without a holding latch)."""
+        latch = self.b.hold_latch
+        return 0.0 if latch is None else hold_latch_force(theta, omega, engaged, latch, ops)
+
+    def engage(self, engaged: Scalar, theta: Scalar, ops: Ops = NumericOps) -> Scalar:
+        """The holding latch's memory after a state at cam angle ``theta`` (rad)
+        (:func:`hold_latch_engagement`); 0 without a holding latch."""
+        latch = self.b.hold_latch
+        return 0.0 if latch is None else hold_latch_engagement(engaged, theta, latch, ops)
+
+    def stop_loads(self, theta: Scalar, omega: Scalar, engaged: Scalar, ops: Ops = NumericOps) -> tuple[Scalar, Scalar, Scalar]:
+        """(torque about A N m, Fx N, Fy N) of the end stop and the holding latch on the cam: each
+        force acts at its arm on A->B, perpendicular to it (the stop's against the forward turn,
+        the latch's with it), so it loads the shaft's journal like the roller's and the latch's."""
+        torque, fx, fy = 0.0, 0.0, 0.0
+        for part, force, sign in ((self.b.end_stop, self.end_stop(theta, omega, ops), -1.0),
+                                  (self.b.hold_latch, self.hold_latch(theta, omega, engaged, ops), 1.0)):
+            if part is not None:
+                f = sign * force
+                torque, fx, fy = torque + part.arm * f, fx - f * ops.sin(theta), fy + f * ops.cos(theta)
+        return torque, fx, fy
+
     def cam_loads(self, t: Scalar, theta: Scalar, omega: Scalar, phi: Scalar, phi_dot: Scalar, holding: Scalar, impact_speed: Scalar = 0.0,
-                  ops: Ops = NumericOps) -> tuple[Scalar, Scalar, Scalar]:
-        """(torque about A N m, Fx N, Fy N): the roller's and the latch's loads on the cam, the
-        breaker's share of the cam's applied torque and shaft reaction."""
+                  engaged: Scalar = 0.0, ops: Ops = NumericOps) -> tuple[Scalar, Scalar, Scalar]:
+        """(torque about A N m, Fx N, Fy N): the roller's and the latch's loads on the cam and,
+        when the rig has them, the end stop's and the holding latch's (``engaged``: the holding
+        latch's memory), the breaker's share of the cam's applied torque and shaft reaction."""
         t_cam, _, fx, fy = self.roller_loads(theta, omega, phi, phi_dot, impact_speed, ops)
         t_latch, lx, ly = self.latch_loads(t, theta, holding, ops)
-        return t_cam + t_latch, fx + lx, fy + ly
+        loads = (t_cam + t_latch, fx + lx, fy + ly)
+        return self.with_stops(loads, theta, omega, engaged, ops)
+
+    def with_stops(self, loads: tuple, theta: Scalar, omega: Scalar, engaged: Scalar, ops: Ops = NumericOps) -> tuple:
+        """``loads`` (torque N m, Fx N, Fy N on the cam) plus :meth:`stop_loads`; unchanged (the
+        same numbers, no operation) when the rig has neither an end stop nor a holding latch."""
+        if not self.has_stops:
+            return loads
+        ts, sx, sy = self.stop_loads(theta, omega, engaged, ops)
+        return loads[0] + ts, loads[1] + sx, loads[2] + sy
 
 
 def pin_weight_torque(cam, spring, pin_mass: float, gravity: float) -> float:

@@ -124,6 +124,7 @@ class BreakerExtension:
         self.initial = self.laws.initial_state(massless_pull(rig.cam, rig.closing_spring))
         self.y0 = np.array([self.initial.follower_angle, *self.initial.pole_travel, 0.0, *([0.0] * self.n)])
         self.impact = np.zeros(self.n + 1)
+        self.engaged = 0.0  # the holding latch's memory (breaker.hold_latch)
         self.offset = None  # index of the extension in the full state (set by reference_closing)
 
     def loads_and_rates(self, t: float, th: float, w: float, y: np.ndarray) -> tuple:
@@ -134,11 +135,12 @@ class BreakerExtension:
                 + laws.pole_load) / b.poles.moving_mass for i in range(n)]
         rates = np.concatenate([[phid], zd, [t_fol / b.follower.inertia], acc])
         # the roller's and the latch's loads on the cam (torque, and force into the journal)
-        return laws.cam_loads(t, th, w, phi, phid, self.initial.holding_torque, self.impact[0]), rates
+        return laws.cam_loads(t, th, w, phi, phid, self.initial.holding_torque, self.impact[0], self.engaged), rates
 
     def pre_step(self, t: float, y_full: np.ndarray) -> None:
         y, n = y_full[self.offset:], self.n
         self.laws.latch_impact_speeds(self.impact, y_full[0], y_full[1], y[0], y[1 + n], y[1:1 + n], y[2 + n:])
+        self.engaged = self.laws.engage(self.engaged, y_full[0])
 
 
 def rk4(rhs: Callable[[float, np.ndarray], np.ndarray], y0: np.ndarray, t_end: float, step: float,
@@ -234,6 +236,9 @@ def reference_closing(rig: Rig, spec: ModelSpec, law: FrictionLaw, chain: Lumped
     extension.offset = len(y0) - len(extension.y0)
     if method != "rk4" and spec.restitution < 1.0:
         raise ValueError("the breaker's contact damping needs the fixed-step reference (method='rk4')")
+    if method != "rk4" and rig.breaker.hold_latch is not None:
+        raise ValueError("the breaker's holding latch (its engagement is pre-step memory) needs the fixed-step "
+                         "reference (method='rk4')")
     if method == "rk4":
         t, Y = rk4(rhs, y0, t_end, step, extension.pre_step)
     else:

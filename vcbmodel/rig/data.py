@@ -10,7 +10,7 @@ from __future__ import annotations
 from collections.abc import Sequence
 from dataclasses import dataclass, field, replace
 
-from ..laws.breaker import CamRollerLaw, LatchPoint
+from ..laws.breaker import CamRollerLaw, EndStop, HoldLatch, LatchPoint
 from .spring_model import SpringModel
 
 
@@ -138,6 +138,8 @@ class Breaker:
     cam_roller: CamRollerLaw = CamRollerLaw()  # the cam-roller contact's law (breaker.contact)
     latch_point: LatchPoint = LatchPoint()  # where the latch holds the cam (breaker.latch)
     speed_zone: tuple = (0.004, 0.0)  # m before touch: the travel zone of the closing speed (breaker.speed_zone)
+    end_stop: EndStop | None = None  # the closing end stop (breaker.end_stop); None: not modelled
+    hold_latch: HoldLatch | None = None  # the holding latch (breaker.hold_latch); None: not modelled
 
 
 # --- the rig ------------------------------------------------------------------------------------

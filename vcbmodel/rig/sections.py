@@ -12,7 +12,7 @@ import numpy as np
 
 from .. import parameters as P
 
-from ..laws.breaker import CamRollerLaw, LatchPoint
+from ..laws.breaker import CamRollerLaw, EndStop, HoldLatch, LatchPoint
 from ..laws.cam_follower import (MAX_PRESSURE_ANGLE, TWO_PI, pitch_radius, pressure_angle_curve, profile_spline,
                                  profile_table, rest_geometry, undercut)
 from ..laws.contact import CAM_ROLLER_LAWS, DAMPING_LAWS
@@ -170,7 +170,8 @@ def read_cam_and_spring(rd: Reader, data: dict) -> dict:
 
 
 BREAKER_KEYS = {
-    "": ("cam_profile", "roller_radius", "follower", "poles", "opening_spring", "contact", "latch", "speed_zone"),
+    "": ("cam_profile", "roller_radius", "follower", "poles", "opening_spring", "contact", "latch", "speed_zone",
+         "end_stop", "hold_latch"),
     "cam_profile": ("base_radius", "lift", "rise_start", "rise_end", "return_start", "return_end", "points",
                     "radius_points"),
     "follower": ("pivot", "inertia", "roller_arm", "output_arm", "output_angle", "rest_angle"),
@@ -180,6 +181,8 @@ BREAKER_KEYS = {
     "contact": ("cam_roller_stiffness", "pole_stiffness", "exponent", "restitution", "min_impact_speed",
                 "cam_roller_law", "roller_width", "cam_roller_damping", "cam_roller_damping_factor"),
     "latch": ("release_time", "arm", "angle"),
+    "end_stop": ("angle", "arm", "stiffness", "damping"),
+    "hold_latch": ("angle", "arm", "stiffness", "damping"),
 }
 
 
@@ -226,9 +229,10 @@ def read_breaker(rd, data, cam) -> Breaker:
     release = rd.number(latch, "release_time", p, nonnegative=True, default=0.0)
     latch_point = LatchPoint(rd.number(latch, "arm", p, positive=True) if "arm" in latch else None,
                              rd.number(latch, "angle", p, default=0.0))
+    end_stop, hold_latch = read_stops(rd, b, cam)
     breaker = Breaker(profile, roller_radius, follower, poles, opening,
                       contact, release, roller_law, latch_point,
-                      read_speed_zone(rd, b, poles))
+                      read_speed_zone(rd, b, poles), end_stop, hold_latch)
     try:
         rest_geometry(breaker, cam.pivot)
     except ValueError as e:
@@ -261,6 +265,35 @@ def read_contact(rd, co: dict, p: str) -> tuple[ContactLaw, CamRollerLaw]:
     factor = (rd.number(co, "cam_roller_damping_factor", p, nonnegative=True)
               if "cam_roller_damping_factor" in co or damping == "hunt_crossley" else 0.0)
     return contact, CamRollerLaw(law, width, damping, factor)
+
+
+def read_stops(rd: Reader, b: dict, cam: Cam) -> tuple[EndStop | None, HoldLatch | None]:
+    """``breaker.end_stop`` and ``breaker.hold_latch``: each optional (absent: not modelled), and
+    when present every field is required: ``angle`` (rad, the cam angle where it acts, after the
+    start), ``arm`` (m, > 0), ``stiffness`` (N/m, > 0), ``damping`` (N s/m, >= 0). A holding
+    latch beyond the end stop could only engage with the cam pressed into the stop: refused."""
+    parts = {}
+    for key, kind, what in (("end_stop", EndStop, "an end stop"), ("hold_latch", HoldLatch, "a holding latch")):
+        if key not in b:
+            parts[key] = None
+            continue
+        p = f"breaker.{key}."
+        s = without_comments(rd.optional_section(b, key, "breaker.", BREAKER_KEYS[key]))
+        for name in BREAKER_KEYS[key]:
+            if name not in s:
+                rd.fail(p + name, f"missing: {what} needs angle (rad), arm (m), stiffness (N/m) and "
+                        f"damping (N s/m); leave out the whole breaker.{key} section to leave it out of the model")
+        parts[key] = kind(angle=rd.number(s, "angle", p), arm=rd.number(s, "arm", p, positive=True),
+                          stiffness=rd.number(s, "stiffness", p, positive=True),
+                          damping=rd.number(s, "damping", p, nonnegative=True))
+        if parts[key].angle <= cam.initial_angle:
+            rd.fail(p + "angle", f"{parts[key].angle:g} rad is not after the cam's initial angle ({cam.initial_angle:g} "
+                    "rad): the cam angle counts on from the start (not wrapped), and the part must act after it")
+    stop, latch = parts["end_stop"], parts["hold_latch"]
+    if stop is not None and latch is not None and latch.angle > stop.angle:
+        rd.fail("breaker.hold_latch.angle", f"{latch.angle:g} rad is beyond the end stop's {stop.angle:g} rad: the "
+                "pawl could only engage with the cam pressed into the stop; put it at or before the stop's angle")
+    return stop, latch
 
 
 #: The closing speed's default zone (m before each pole's touch): the last 4 mm, where a vacuum gap

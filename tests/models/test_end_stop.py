@@ -1,0 +1,140 @@
+"""The closing end stop and the holding latch (rig sections ``breaker.end_stop``,
+``breaker.hold_latch``; laws in vcbmodel.laws.breaker): what stops the cam after the closing.
+
+The test breaker is the reference breaker (parameters.py) with an end stop at 210 deg and a
+holding latch at 205 deg: after the touch (176 deg) and on the cam's rise, so the cam's travel into
+the stop shows in the follower's travel. The values are this test's own (a buffer of 8e7 N/m and
+2e4 N s/m at 0.1 m: about 0.4 of its critical damping on the cam's inertia), not a design: the
+reference breaker's own stop and latch are set with its energy budget (issue 19).
+Tolerances are set from measured numbers (given in each test) with a margin."""
+import copy
+import math
+
+import numpy as np
+import pytest
+
+from vcbmodel import parameters as P
+from vcbmodel.compiled import compiler_works
+from vcbmodel.experiments.loading import load_rig
+from vcbmodel.experiments.simulation import simulate
+from vcbmodel.laws.breaker import (EndStop, HoldLatch, end_stop_force, hold_latch_engagement, hold_latch_force)
+from vcbmodel.laws.friction import ArrayOps
+from vcbmodel.records.analyser import figures_of_merit as analyser_figures
+
+from conftest import write_rig
+
+END_STOP = {"angle": math.radians(210.0), "arm": 0.1, "stiffness": 8e7, "damping": 2e4}
+HOLD_LATCH = {"angle": math.radians(205.0), "arm": 0.1, "stiffness": 8e7, "damping": 2e4}
+T_END = 0.07  # s: the cam hits the stop at 34.9 ms and rests on the latch from about 60 ms
+
+needs_compiler = pytest.mark.skipif(not compiler_works(), reason="no working C compiler")
+
+
+def stopped(end_stop=None, hold_latch=None):
+    d = copy.deepcopy(P.REFERENCE_BREAKER)
+    d["breaker"]["end_stop"] = dict(END_STOP, **(end_stop or {}))
+    d["breaker"]["hold_latch"] = dict(HOLD_LATCH, **(hold_latch or {}))
+    return d
+
+
+@pytest.fixture(scope="module")
+def rig(tmp_path_factory):
+    return load_rig(write_rig(tmp_path_factory.mktemp("stop"), stopped(), "stopped"))
+
+
+# --- the laws -----------------------------------------------------------------------------------
+
+def test_end_stop_pushes_only_in_contact_and_never_pulls():
+    stop = EndStop(angle=1.0, arm=0.1, stiffness=1e6, damping=1e3)
+    assert end_stop_force(0.99, 10.0, stop) == 0.0  # before the stop, even moving towards it
+    # 1 mrad in: 0.1 mm at the arm: 100 N, plus the damper 1e3 N s/m x 0.1 m x 2 rad/s
+    assert end_stop_force(1.001, 2.0, stop) == pytest.approx(100.0 + 200.0)
+    assert end_stop_force(1.001, -10.0, stop) == 0.0  # leaving fast: the damper would pull, clipped
+    theta = np.linspace(0.9, 1.1, 11)
+    assert np.array_equal(end_stop_force(theta, 1.0, stop, ArrayOps),
+                          np.array([end_stop_force(x, 1.0, stop) for x in theta]))
+
+
+def test_hold_latch_stops_the_cam_turning_back_only_once_engaged():
+    latch = HoldLatch(angle=2.0, arm=0.05, stiffness=1e6, damping=0.0)
+    assert hold_latch_force(1.99, -1.0, 0.0, latch) == 0.0  # not engaged: the cam passes back freely
+    assert hold_latch_force(1.99, -1.0, 1.0, latch) == pytest.approx(1e6 * 0.05 * 0.01)
+    assert hold_latch_force(2.01, 1.0, 1.0, latch) == 0.0  # ahead of the pawl: no contact
+    engaged = 0.0
+    for theta in (1.5, 1.99, 2.0, 1.5):  # engages on reaching the angle and stays engaged
+        engaged = hold_latch_engagement(engaged, theta, latch)
+    assert engaged == 1.0
+    assert hold_latch_engagement(0.0, 1.999, latch) == 0.0
+
+
+# --- the closing with a stop and a latch ---------------------------------------------------------
+
+@needs_compiler
+@pytest.mark.parametrize("spring_model", ["massless", "lumped-2"])
+def test_compiled_and_exudyn_agree_with_stop_and_latch(rig, spring_model):
+    """Same laws, two assemblies (the Exudyn connector and pre-step memory, the traced C).
+    Measured: 1.2e-13 rad, 5e-16 m over 70 ms with the stop's impact and the latch's catch."""
+    effects = [e for e in rig.model.effects if spring_model != "massless" or e != "spring_mass"]
+    a = simulate(rig, effects, spring_model=spring_model, t_end=T_END, backend="exudyn")
+    b = simulate(rig, effects, spring_model=spring_model, t_end=T_END, backend="compiled")
+    assert np.max(np.abs(a.channels["cam_angle"] - b.channels["cam_angle"])) < 1e-9
+    assert np.max(np.abs(a.measured - b.measured)) < 1e-9
+    assert np.max(np.abs(a.channels["pole_2_travel"] - b.channels["pole_2_travel"])) < 1e-9
+    # the run covers the stop and the latch: the cam went past the stop's angle and came back below the latch's
+    theta = b.channels["cam_angle"]
+    assert theta.max() > END_STOP["angle"] and theta[-1] < HOLD_LATCH["angle"]
+
+
+def test_reference_wiring_agrees_with_stop_and_latch(rig):
+    """The hand-written equations on the model's laws (reference/solve.py, its pre-step memory),
+    the same RK4 step: round-off (measured below 1e-12 rad)."""
+    effects = ("contact_damping", "bellows_force", "spring_mass")
+    a = simulate(rig, effects, t_end=0.05)
+    b = simulate(rig, effects, t_end=0.05, backend="reference", method="rk4", step=P.BREAKER_STEP)
+    assert np.max(np.abs(a.channels["cam_angle"] - np.interp(a.t, b.t, b.channels["cam_angle"]))) < 1e-8
+    assert a.channels["cam_angle"].max() > END_STOP["angle"]
+
+
+@needs_compiler
+def test_the_latch_holds_the_cam_at_rest(rig):
+    """The stop turns the cam back at 211.5 deg (1.5 deg into it); the closing springs, past their
+    dead centre at 180 deg, pull it back onto the engaged latch, which holds it at 205 deg less
+    its spring's give (measured 0.008 deg): the cam rests, the follower's travel settles."""
+    r = simulate(rig, t_end=T_END, backend="compiled")
+    theta, x = r.channels["cam_angle"], r.measured
+    hit = int(np.argmax(theta >= END_STOP["angle"]))
+    after = slice(hit, None)
+    assert math.degrees(theta.max() - END_STOP["angle"]) == pytest.approx(1.53, abs=0.05)
+    # the latch catches the cam coming back (measured 0.50 deg into it, 0.9 mm at its arm) and holds it
+    assert math.degrees(HOLD_LATCH["angle"] - np.min(theta[after])) == pytest.approx(0.50, abs=0.05)
+    late = r.t > T_END - 0.01
+    assert np.max(np.abs(r.channels["shaft_velocity"][late])) < 1.0  # rad/s, from 204 at the stop
+    assert np.ptp(x[late]) < 1e-5  # m: the travel has settled (measured 2.2 um, of 0.46 mm overtravel)
+    assert theta[-1] == pytest.approx(HOLD_LATCH["angle"], abs=math.radians(0.02))
+
+
+@needs_compiler
+def test_a_stiffer_or_more_damped_stop_gives_less_overtravel(tmp_path):
+    """Overtravel as analysers define it (largest travel beyond the final position), from the
+    dynamics. Measured: 0.458 mm at 8e7 N/m and 2e4 N s/m; 0.452 mm twice as stiff, 0.438 mm twice
+    as damped, 0.526 mm undamped."""
+    def overtravel(**stop):
+        r = simulate(load_rig(write_rig(tmp_path, stopped(stop), "s")), t_end=T_END, backend="compiled")
+        return analyser_figures(r.t, [], r.measured)["overtravel_m"]
+
+    base = overtravel()
+    assert base == pytest.approx(0.458e-3, abs=0.01e-3)
+    assert overtravel(stiffness=1.6e8) < base - 3e-6
+    assert overtravel(damping=4e4) < base - 1e-5
+    assert overtravel(damping=0.0) > base + 5e-5
+
+
+@needs_compiler
+def test_a_stop_the_cam_never_reaches_changes_nothing(tmp_path):
+    """A stop and latch beyond the cam's turn (the cam turns back at 291.5 deg in 45 ms): the same
+    numbers as the rig without them (the forces are exactly zero out of contact)."""
+    far = stopped({"angle": math.radians(330.0)}, {"angle": math.radians(320.0)})
+    a = simulate(load_rig(write_rig(tmp_path, far, "far")), backend="compiled")
+    b = simulate(load_rig(write_rig(tmp_path, P.REFERENCE_BREAKER, "plain")), backend="compiled")
+    assert np.array_equal(a.channels["cam_angle"], b.channels["cam_angle"])
+    assert np.array_equal(a.measured, b.measured)
