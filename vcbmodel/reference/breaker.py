@@ -52,6 +52,12 @@ angle phi (direction pivot->roller centre), pole travels z_i.
   k_wipe (s - s0) above, plus c_rod s'. Opening spring: from its anchor below F0 to F.
 * Latch: torque T_h (1 - t / t_r) for 0 < t < t_r as a force T / arm perpendicular to A->L at the
   latch point L = A + arm (cos(theta + angle), sin(theta + angle)).
+* End stop and holding latch (when the rig has them): at arm a on A->B, perpendicular to it, a
+  buffer force k d + c d' while its penetration d > 0, never negative; the stop's d = a (theta -
+  angle), the latch's d = a (angle - theta) once the cam has reached the latch's angle. The start
+  and end of each contact and the latch's engagement are events (the model: its RK4 step meets
+  them, and keeps the engagement as memory from the step's start). Shared with the model: this
+  reading of the rig's fields, nothing else.
 * Start: the static rest held by the latch (follower on the base circle, rods at their rest
   compression, latch torque balancing the cam).
 

@@ -3,7 +3,8 @@
 Holds :class:`Closing`, the closing's mechanism as :mod:`.breaker` integrates it: the parameters
 read from the loaded rig and the model spec (cam and lumped closing-spring chain, shaft friction,
 follower, poles and push rods, opening spring, contacts, latch), the forces (chain, cam-roller
-and pole contacts, push rods, opening spring, latch ramp), everything on the cam but friction as
+and pole contacts, push rods, opening spring, latch ramp, and when the rig has them the closing end
+stop and the holding latch), everything on the cam but friction as
 T_c and the shaft reaction R = R0 + R1 theta'', the friction law in speed regimes with the
 friction/reaction coupling solved for theta'' (Brent), and the static rest held by the latch.
 The roller's penetration comes from :mod:`.breaker_distance`, the geometry from
@@ -13,7 +14,9 @@ Shares no code with the model. It shares the reading of the spec and rig: the fr
 its values (``mu_s`` taken as at least ``mu_k``), a lumped chain's numbers (``count`` identical
 springs lumped as one chain of ``count`` times the masses and stiffnesses), the contact constants
 (Hertz or Palmgren line stiffness, Lankarani-Nikravesh or Hunt-Crossley damping, the impact-speed
-floor), the latch ramp T_h (1 - t / t_r) and the planar layout.
+floor), the latch ramp T_h (1 - t / t_r) and the planar layout; for the end stop and the holding
+latch, the reading of their rig fields: a linear spring and damper at ``arm`` on A->B,
+perpendicular to it, never pulling, and a latch that engages on reaching its angle.
 
 Units: SI. Lengths in m, masses in kg, inertias in kg m^2, angles in rad (counter-clockwise),
 forces in N, torques in N m, stiffnesses in N/m (N/m^n for a Hertz law), gravity in m/s^2 along -y.
@@ -53,6 +56,7 @@ class Closing(Geometry):
         self._poles_and_springs(rig.breaker, spec)
         self._contacts(rig.breaker, spec)
         self._latch(rig.breaker)
+        self._stops(rig.breaker)
 
     # -- parameters ---------------------------------------------------------------------------
     def _cam_and_spring(self, cam, spring, chain):
@@ -120,6 +124,18 @@ class Closing(Geometry):
         self.t_release = b.latch_release_time
         self.holding = 0.0
 
+    def _stops(self, b):
+        """The closing end stop and the holding latch (rig sections ``breaker.end_stop`` and
+        ``breaker.hold_latch``; None: not modelled) as (angle rad, arm m, stiffness N/m, damping
+        N s/m); whether the latch has engaged is set by the integration's events."""
+        self.stop = self._stop_values(getattr(b, "end_stop", None))
+        self.hold = self._stop_values(getattr(b, "hold_latch", None))
+        self.engaged = False
+
+    @staticmethod
+    def _stop_values(part):
+        return None if part is None else (float(part.angle), float(part.arm), float(part.stiffness), float(part.damping))
+
     # -- contact distance ---------------------------------------------------------------------
     def roller_contact(self, theta: float, omega: float, phi: float, phid: float):
         """(penetration m, rate m/s, outward normal, roller centre C) (:mod:`.breaker_distance`)."""
@@ -177,6 +193,31 @@ class Closing(Geometry):
         f = torque / self.latch_arm
         return torque, -f * math.sin(a), f * math.cos(a)
 
+    def stop_penetrations(self, theta: float) -> tuple[float, float]:
+        """(end stop, holding latch) penetrations (m) at cam angle theta: the stop lever's travel
+        past the stop, arm (theta - angle), and the latch face's travel back past the pawl,
+        arm (angle - theta) (whether or not the pawl has dropped); -inf without the part."""
+        stop = self.stop[1] * (theta - self.stop[0]) if self.stop else -math.inf
+        hold = self.hold[1] * (self.hold[0] - theta) if self.hold else -math.inf
+        return stop, hold
+
+    def stops(self, theta: float, omega: float) -> tuple[float, float, float, float, float]:
+        """(torque N m, Fx N, Fy N, end stop force N, latch force N) of the end stop and, once
+        engaged, the holding latch on the cam. Each is a buffer: stiffness times penetration plus
+        damping times its rate while in contact, never pulling, acting at its arm on A->B and
+        perpendicular to it (the stop against the forward turn, the latch with it)."""
+        d_stop, d_hold = self.stop_penetrations(theta)
+        f_stop = f_hold = 0.0
+        if d_stop > 0.0:
+            _, arm, k, c = self.stop
+            f_stop = max(0.0, k * d_stop + c * arm * omega)
+        if self.engaged and d_hold > 0.0:
+            _, arm, k, c = self.hold
+            f_hold = max(0.0, k * d_hold - c * arm * omega)
+        push = (f_hold * self.hold[1] if f_hold else 0.0) - (f_stop * self.stop[1] if f_stop else 0.0)
+        net = f_hold - f_stop  # along the forward direction (-sin theta, cos theta) of a point on A->B
+        return push, -net * math.sin(theta), net * math.cos(theta), f_stop, f_hold
+
     def chain_forces(self, theta: float, pts: list[tuple[float, float]]) -> tuple[list[tuple[float, float]], tuple[float, float]]:
         """(accelerations of the chain points, pull on pin B)."""
         B = self.pin(theta)
@@ -205,6 +246,9 @@ class Closing(Geometry):
         f = self.roller_force(pen, rate)
         cfx, cfy = -f * nx, -f * ny  # on the cam
         tl, lx, ly = self.latch(t, theta)
+        if self.stop or self.hold:
+            ts, stop_x, stop_y, _, _ = self.stops(theta, omega)
+            tl, lx, ly = tl + ts, lx + stop_x, ly + stop_y
         rb = (self.lab * math.cos(theta), self.lab * math.sin(theta))
         rg = (self.lg * math.cos(theta - self.psi), self.lg * math.sin(theta - self.psi))
         rc = (C[0] - self.A[0], C[1] - self.A[1])

@@ -5,7 +5,10 @@ regime of the friction law) and :class:`ClosingRun`, which integrates a :class:`
 the latch's rest with scipy's DOP853 on smooth segments. Events end each segment: the shaft's
 speed leaving its friction regime, the stuck shaft breaking away (|T_c| above mu_s r F_n), the
 start and end of each pole contact and (Lankarani-Nikravesh damping) of the cam-roller contact,
-whose impact speed is the exact approach speed at that instant. The model instead latches impact
+whose impact speed is the exact approach speed at that instant; with the rig's closing end stop
+and holding latch, the start and end of the stop's contact, the latch's engagement (the cam
+reaching its angle: exact, where the model keeps it as memory from the start of its step) and,
+once engaged, the start and end of the latch's contact. The model instead latches impact
 speeds at the start of the RK4 step and catches sticking with a widened band; this module shares
 no code with the model.
 
@@ -99,6 +102,9 @@ class ClosingRun:
         self.mode = self.start_at_rest(self.t, y) if y[1] == 0.0 else ("slip", 1 if y[1] > 0 else -1, 0)
         self.closed = [mech.roller_contact(y[0], y[1], y[j], y[j + 1 + n])[0] > 0.0]
         self.closed += [y[j + 1 + i] > mech.gaps[i] for i in range(n)]
+        d_stop, d_hold = mech.stop_penetrations(y[0])
+        # contact states of the stop and of the latch (in contact only once engaged)
+        self.stop_closed, self.hold_closed = d_stop > 0.0, False
 
     def start_at_rest(self, t: float, y: np.ndarray) -> tuple:
         """The mode of the shaft at rest: stuck if static friction holds T_c, else slipping its way."""
@@ -152,6 +158,32 @@ class ClosingRun:
             land.terminal, land.direction = True, -1.0 if closed[0] else 1.0
             evs.append(land)
             kinds.append(("roller", 0))
+        more, more_kinds = self.stop_events()
+        return evs + more, kinds + more_kinds
+
+    def stop_events(self) -> tuple[list[Callable], list[tuple]]:
+        """(events, kinds) of the end stop and the holding latch: the stop's contact begins or ends
+        (its damper's force jumps there); the latch engages when the cam reaches its angle, and once
+        engaged its contact begins or ends."""
+        mech, evs, kinds = self.mech, [], []
+        if mech.stop:
+            def stop(tt, yy):
+                return mech.stop_penetrations(yy[0])[0]
+            stop.terminal, stop.direction = True, -1.0 if self.stop_closed else 1.0
+            evs.append(stop)
+            kinds.append(("end_stop", 0))
+        if mech.hold and not mech.engaged:
+            def engage(tt, yy):
+                return yy[0] - mech.hold[0]
+            engage.terminal, engage.direction = True, 1.0
+            evs.append(engage)
+            kinds.append(("engage", 0))
+        elif mech.hold:
+            def hold(tt, yy):
+                return mech.stop_penetrations(yy[0])[1]
+            hold.terminal, hold.direction = True, -1.0 if self.hold_closed else 1.0
+            evs.append(hold)
+            kinds.append(("hold_latch", 0))
         return evs, kinds
 
     # -- integration --------------------------------------------------------------------------
@@ -173,20 +205,23 @@ class ClosingRun:
                         events=evs, dense_output=True)
         if sol.status < 0:
             raise SimulationError(f"independent breaker reference: {sol.message} at t = {sol.t[-1]:.6g} s")
-        self.segments.append((t, sol.t[-1], mode, sol.sol, list(mech.impact)))
+        self.segments.append((t, sol.t[-1], mode, sol.sol, list(mech.impact), mech.engaged))
         if sol.status == 0:
             return True
         hit = [(sol.t_events[k][0], k) for k in range(len(evs)) if len(sol.t_events[k])]
         t_hit, k = min(hit)
         self.y = np.array(sol.y_events[k][0], float)
         self.t = float(t_hit)
-        self.segments[-1] = (self.segments[-1][0], self.t, mode, sol.sol, self.segments[-1][4])
+        self.segments[-1] = (self.segments[-1][0], self.t, mode, sol.sol) + self.segments[-1][4:]
         self.apply(kinds[k])
         return False
 
     def apply(self, kind) -> None:
         """Log an event at (self.t, self.y) and switch the mode or contact it ends."""
         mech, t, y, closed, j, n = self.mech, self.t, self.y, self.closed, self.j, self.mech.n
+        if not isinstance(kind, str) and kind[0] in ("end_stop", "engage", "hold_latch"):
+            self.apply_stop(kind[0])
+            return
         if isinstance(kind, str):
             self.events.append((t, kind))
         else:
@@ -216,6 +251,19 @@ class ClosingRun:
                 if self.touches[i] is None:
                     self.touches[i], self.touch_speeds[i] = t, y[j + 2 + n + i]
 
+    def apply_stop(self, what: str) -> None:
+        """Log and switch an end stop or holding latch event at self.t."""
+        if what == "engage":
+            self.mech.engaged = True  # at its angle: the pawl drops, not yet in contact
+            self.hold_closed = False
+            self.events.append((self.t, "hold_latch_engages"))
+        elif what == "end_stop":
+            self.stop_closed = not self.stop_closed
+            self.events.append((self.t, f"end_stop_{'closes' if self.stop_closed else 'opens'}"))
+        else:
+            self.hold_closed = not self.hold_closed
+            self.events.append((self.t, f"hold_latch_{'closes' if self.hold_closed else 'opens'}"))
+
     # -- output -------------------------------------------------------------------------------
     def sample(self, t_eval: np.ndarray):
         """(states, roller force N, penetration m, friction torque N m, normal force N) at t_eval."""
@@ -225,10 +273,10 @@ class ClosingRun:
         Y = np.empty((len(t_eval), len(self.y)))
         force, pen, tf, fn = (np.empty(len(t_eval)) for _ in range(4))
         for q in np.unique(idx):
-            t0, t1, mode, sol, impact = segments[q]
+            t0, t1, mode, sol, impact, engaged = segments[q]
             sel = np.nonzero(idx == q)[0]
             Ys = sol(np.clip(t_eval[sel], t0, t1)).T
-            mech.impact = list(impact)
+            mech.impact, mech.engaged = list(impact), engaged
             for r, yy in zip(sel, Ys):
                 if mode[0] == "stuck":
                     yy[1] = 0.0
