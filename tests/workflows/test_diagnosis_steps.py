@@ -5,6 +5,8 @@ wrong rule fails here without a whole diagnosis; the align and start steps run o
 drop."""
 import math
 import re
+import threading
+import time
 from pathlib import Path
 from types import SimpleNamespace
 
@@ -18,20 +20,23 @@ from vcbmodel.analysis.diagnosis import springs as springs_step
 from vcbmodel.analysis.diagnosis.align import align, fitted_channels
 from vcbmodel.analysis.diagnosis.candidates import NULL_VALUES, nested, pair_jobs
 from vcbmodel.analysis.diagnosis.context import Budget, Context
+from vcbmodel.analysis.diagnosis.fits import _fresh_bases
 from vcbmodel.analysis.diagnosis.period import period_mismatch, needs_period
 from vcbmodel.analysis.diagnosis.pipeline import STEPS, Step, run_steps
 from vcbmodel.analysis.diagnosis.report import timing, window
 from vcbmodel.analysis.diagnosis.scores import (BIC_MARGIN, consistent, earns_margin, excess_share_left,
                                                 noise_separable)
 from vcbmodel.analysis.diagnosis.select import pair_reason
-from vcbmodel.analysis.diagnosis.side_by_side import pruned
+from vcbmodel.analysis.diagnosis import side_by_side
+from vcbmodel.analysis.diagnosis.side_by_side import cannot_win, pruned
 from vcbmodel.analysis.diagnosis.start import fit_start
 from vcbmodel.analysis.diagnosis.state import Candidate, State
 from vcbmodel.analysis.diagnosis_report import evidence_text
-from vcbmodel.analysis.fit import FitResult, Parameter, SimulationPool
+from vcbmodel.analysis.fit import FitAborted, FitResult, Parameter, SimulationPool
 from vcbmodel.analysis.noise import NoiseModel
 from vcbmodel.analysis.synthetic import random_case
 from vcbmodel.experiments.loading import load_record, load_rig
+from vcbmodel.model.effects import parameter_specs
 from vcbmodel.rig.spring_model import SpringModel
 
 SIGMA = 1e-3
@@ -166,6 +171,35 @@ def test_pair_jobs_are_every_pair_of_the_singles_with_the_spring_variants(cam_ri
 def test_occam_prunes_candidates_no_simpler_than_one_that_reached_the_noise():
     assert pruned(2, [1]) and pruned(1, [1])
     assert not pruned(0, [1]) and not pruned(3, [])
+    # running ones are cancelled only with strictly more parameters (an equal one may still win)
+    assert cannot_win(2, [1]) and not cannot_win(1, [1]) and not cannot_win(3, [])
+
+
+def test_running_candidates_that_cannot_win_are_cancelled(monkeypatch):
+    """Three candidates start together: ``a`` (no new parameter) reaches the noise at once; ``b``
+    (one parameter) is cancelled while it runs; ``c`` (no new parameter, like ``a``) runs to its
+    end; ``d`` (two parameters), still pending, is never started."""
+    started = []
+
+    def fake(ctx, current, name, effects, variants, scan, should_stop):
+        started.append(name)
+        if name == "a":
+            return fit_of(noise()), None
+        deadline = time.monotonic() + (0.5 if name == "c" else 10.0)
+        while time.monotonic() < deadline:
+            if should_stop():
+                raise FitAborted()
+            time.sleep(0.01)
+        return fit_of(noise(2)), None
+
+    monkeypatch.setattr(side_by_side, "fit_candidate", fake)
+    ctx = ctx_of(processes=3, stop=threading.Event(), record=SimpleNamespace(unit="rad"),
+                 budget=SimpleNamespace(started=time.monotonic()))
+    jobs = [(name, ((), (), {}), k) for name, k in (("a", 0), ("b", 1), ("c", 0), ("d", 2))]
+    fits, _ = side_by_side.run_candidates(ctx, fit_of(noise() + bump()), jobs, 1)
+    assert fits[0] is not None and fits[2] is not None  # a, and c with as many parameters
+    assert fits[1] is None and fits[3] is None
+    assert "d" not in started
 
 
 def test_a_candidate_is_never_worse_than_its_nested_model():
@@ -178,6 +212,17 @@ def test_a_candidate_is_never_worse_than_its_nested_model():
     assert out.chi2 == current.chi2 and out.effects == worse.effects
     better = fit_of(0.5 * noise(), effects=worse.effects, varied={"mu_k": 0.1, "viscous": 0.3})
     assert nested(ctx, current, better.effects, better) is better
+
+
+def test_a_scan_is_centred_on_the_current_values_and_afresh_on_the_records_guesses():
+    effects = ("coulomb_friction", "viscous_friction")
+    registry = {spec.name: spec.initial for spec in parameter_specs(effects)}
+    params = {"mu_k": Parameter("mu_k", 0.3), "viscous": Parameter("viscous", 0.9),
+              "stick_velocity": Parameter("stick_velocity", 1e-3, vary=False)}
+    bases = _fresh_bases(ctx_of(guesses=[{"mu_k": 0.2}]), effects, params)
+    assert bases == [{}, {"mu_k": 0.2, "viscous": registry["viscous"]}]
+    frozen = {name: Parameter(name, 0.1, vary=False) for name in params}
+    assert _fresh_bases(ctx_of(guesses=[{"mu_k": 0.2}]), effects, frozen) is None
 
 
 # --- refine the selection -------------------------------------------------------------------------

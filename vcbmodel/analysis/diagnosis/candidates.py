@@ -77,18 +77,19 @@ def nested(ctx, current: FitResult, effects: tuple, fit: FitResult | None) -> Fi
     return out
 
 
-def fit_candidate(ctx, current: FitResult, name: str, effects: tuple, variants: tuple, scan: dict) -> tuple:
+def fit_candidate(ctx, current: FitResult, name: str, effects: tuple, variants: tuple, scan: dict,
+                  should_stop=None) -> tuple:
     """The best fit of ``current`` + effect(s) ``name``; for spring_mass the best spring variant.
     The nuisance starts afresh from the record (the current fit's may have bent to mimic the
-    missing effect); the current fit's values are a second start. Returns (FitResult, variants
-    summary or None)."""
+    missing effect); the current fit's values are a second start. ``should_stop`` cancels it
+    (FitAborted). Returns (FitResult, variants summary or None)."""
     initial = dict(ctx.guesses[0])
     initial.update(current.model_values)
     previous = dict(current.model_values)
     if variants:
-        return fit_spring_variants(ctx, current, effects, variants, previous, initial)
+        return fit_spring_variants(ctx, current, effects, variants, previous, initial, should_stop)
     fit = fit_record(ctx, effects, current.spring_model, parameters(ctx, effects, previous, initial), f"+{name}",
-                     scan=scan)
+                     scan=scan, should_stop=should_stop)
     return nested(ctx, current, effects, fit), None
 
 
@@ -107,21 +108,21 @@ def screen_spring_models(ctx, effects: tuple, variants: list, params: dict, valu
     return costs
 
 
-def _refine_runners(ctx, effects, best, runners, fits) -> None:
+def _refine_runners(ctx, effects, best, runners, fits, should_stop) -> None:
     """Each runner-up spring model refined from ``best``'s values with its Jacobian."""
     hint = fitting.jacobian_of(best)
     for v in runners:
         p2 = {k: replace(p, stderr=None) for k, p in best.parameters.items()}
         try:
             fits[v.label] = fitting.refine([ctx.dataset], effects, v, p2, hint, pool=ctx.pool, scales=ctx.scales(),
-                                           sigma=ctx.sigma_hf, should_stop=ctx.stop.is_set,
+                                           sigma=ctx.sigma_hf, should_stop=should_stop or ctx.stop.is_set,
                                            label=f"+spring_mass [{v.label}]")
         except SimulationError:
             continue
 
 
 def fit_spring_variants(ctx, current: FitResult, effects: tuple, variants: tuple, previous: dict,
-                        initial: dict) -> tuple:
+                        initial: dict, should_stop=None) -> tuple:
     """Adding the spring's mass is a discrete choice among mass models. Every model is first
     simulated at the current values (one simulation each, all at once on the pool; alignment
     refitted without simulating); the best is fitted. If it leaves more than the noise, the two
@@ -132,12 +133,13 @@ def fit_spring_variants(ctx, current: FitResult, effects: tuple, variants: tuple
     order = sorted(range(len(variants)), key=lambda i: costs[i])
     first = variants[order[0]]
     fits = {first.label: fit_record(ctx, effects, first, parameters(ctx, effects, previous, initial),
-                                    f"+spring_mass [{first.label}]", starts=[dict(current.values)])}
+                                    f"+spring_mass [{first.label}]", starts=[dict(current.values)],
+                                    should_stop=should_stop)}
     best = fits[first.label]
     if not consistent(ctx, best):
         runners = [variants[i] for i in order[1:3] if math.isfinite(costs[i])]
         runners += [v for v in variants if v.kind == "ancf" and v not in runners and v is not first]
-        _refine_runners(ctx, effects, best, runners, fits)
+        _refine_runners(ctx, effects, best, runners, fits, should_stop)
     chosen = min(fits.values(), key=lambda f: f.chi2)
     lumped = [f for f in fits.values() if f.spring_model.kind == "lumped"]
     if chosen.spring_model.kind != "lumped" and lumped:

@@ -99,14 +99,14 @@ def _fresh_bases(ctx, effects, params):
 
 
 def fit_record(ctx, effects: tuple, spring_model: object, params: dict, label: str, starts: list | None = None,
-               scan: dict | None = None, step: float | None = None) -> FitResult:
+               scan: dict | None = None, step: float | None = None, should_stop=None) -> FitResult:
     """One fit of the record (staged for a free swing). With a ``scan`` of new parameters,
     the grid is laid around the current values and around the record's own starting values;
     the optimiser runs from the best point, and from the second best when the first does not
-    reach the noise."""
+    reach the noise. ``should_stop`` (default: the time budget's) aborts it with FitAborted."""
     ds = [ctx.dataset]
     kw = dict(sigma=ctx.sigma_hf, verbose=False, label=label, pool=ctx.pool, processes=1,
-              scales=ctx.scales(), should_stop=ctx.stop.is_set, max_starts=MAX_STARTS)
+              scales=ctx.scales(), should_stop=should_stop or ctx.stop.is_set, max_starts=MAX_STARTS)
     bases = _fresh_bases(ctx, effects, params) if scan else None
     if ctx.record.staged_fit:
         r = fitting.staged_fit(ds, effects, spring_model, params, starts=starts, scan=scan,
