@@ -4,10 +4,12 @@ lines and rounding as nuisance, and the record's time base as an alignment param
 The residuals here are made directly (noise drawn here, a model error added by hand), so each
 rule is checked on a case whose answer is known without running a diagnosis."""
 import math
+from types import SimpleNamespace
 
 import numpy as np
 import pytest
 
+from vcbmodel.analysis.diagnose import _ties
 from vcbmodel.analysis.fit import Dataset, Objective, make_parameters
 from vcbmodel.analysis.fit.dataset import TIME_SCALE_SPAN, time_scale_name
 from vcbmodel.analysis.fit.objective import Curves
@@ -217,3 +219,31 @@ def test_time_scale_is_an_alignment_parameter(pendulum_rig):
     assert fitted[time_scale_name(0)] == pytest.approx(k, abs=2e-4)
     assert fitted["release_time_0"] == pytest.approx(release, abs=2e-4)
     assert rms_scaled < 0.1 * rms_plain
+
+
+# --- ties ---------------------------------------------------------------------------------------------
+
+def _candidate(effect, delta_bic, residual, t):
+    fit = SimpleNamespace(times=[t], residuals=[residual])
+    return SimpleNamespace(effect=effect, delta_bic=delta_bic, round=1, fit=fit)
+
+
+def test_a_kept_effect_within_the_margin_of_a_rival_is_a_tie():
+    """The case of issue 20: spring_mass kept over coulomb_friction at a BIC difference of 3 (the
+    rival itself short of the margin over the model before) is reported as ambiguous, with the
+    part of the record where the two models differ most; a rival 11 behind, or one that does not
+    improve on the model at all, is not."""
+    t = np.linspace(0.0, 0.035, 421)
+    bump = np.where((t > 0.02) & (t < 0.03), 5e-3, 0.0)
+    chosen = _candidate("spring_mass", 12.0, np.zeros_like(t), t)
+    candidates = [chosen, _candidate("coulomb_friction", 9.0, bump, t), _candidate("viscous_friction", 1.0, bump, t),
+                  _candidate("stribeck", -4.0, bump, t)]
+    ctx = SimpleNamespace(dataset=SimpleNamespace(t=t), noise=SimpleNamespace(marginal_sd=1e-3),
+                          record=SimpleNamespace(measured_channel="cam_angle"))
+    path = [{"effect": "spring_mass", "round": 1, "with": None}]
+    ties = _ties(ctx, path, candidates)
+    assert [tie["between"] for tie in ties] == [["spring_mass", "coulomb_friction"]]
+    tie = ties[0]
+    assert tie["delta_bic_between"] == pytest.approx(3.0)
+    t0, t1 = tie["separate_by"]["window"]
+    assert 0.018 <= t0 < t1 <= 0.032 and tie["separate_by"]["channel"] == "cam_angle"

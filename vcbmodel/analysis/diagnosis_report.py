@@ -133,8 +133,11 @@ def evidence_text(ctx, baseline, final, missing, window, signature, verdict, per
         tests = verdict["tests"]
         text += (f" NOT explained: the final model leaves {final.rms:.3g} {unit} ({final.rms / sigma:.1f}x the noise),"
                  f" largest in t = [{left.get('window', [0, 0])[0]:.4g}, {left.get('window', [0, 0])[1]:.4g}] s, dominant "
-                 f"frequency {left.get('dominant_frequency_hz', float('nan')):.3g} Hz; whitened residual not white "
-                 f"(Ljung-Box p {tests.get('ljung_box_p', float('nan')):.2g}, periodogram p "
-                 f"{tests.get('periodogram_p', float('nan')):.2g}). Something no registered effect describes is "
-                 "missing, or the rig or record is not what its files say.")
+                 f"frequency {left.get('dominant_frequency_hz', float('nan')):.3g} Hz; "
+                 + ("it passes for the noise model fitted to it, but not for the noise the record shows "
+                    "independently (below)" if tests.get("consistent") else
+                    f"whitened residual not white (Ljung-Box p {tests.get('ljung_box_p', float('nan')):.2g}, "
+                    f"periodogram p {tests.get('periodogram_p', float('nan')):.2g})")
+                 + ". Something no registered effect describes is missing, or the rig or record is not what its "
+                 "files say.")
     return text

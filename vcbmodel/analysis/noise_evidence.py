@@ -21,10 +21,12 @@ The rule (:func:`judge_against_witnesses`): with a level witness of standard dev
 ``nu_w`` effective degrees of freedom, the residual after the release (``n`` samples, ``nu_r``
 effective degrees of freedom) must satisfy
 
-    mean(r^2) / s_w^2  <=  LEVEL_FACTOR^2 * (1 + Z * sqrt(2 / nu_r + 2 / nu_w))
+    mean(r^2) / s_w^2  <=  LEVEL_FACTOR^2 * F(0.99; nu_r, nu_w)
 
-(``Z`` the one-sided 1 % point of a normal variable: the variance ratio's sampling spread). The
-effective degrees of freedom of a variance from ``n`` samples of noise with lag-1 correlation
+(``F`` the 99 % point of the F distribution: the ratio of two variance estimates of the same noise;
+a stated level counts as nu_w = infinity). A short pre-trigger is a weak witness: 36 camera samples
+at lag-1 correlation 0.6 are 17 degrees of freedom, and then only a residual above about 1.9x its
+level is caught. The effective degrees of freedom of a variance from ``n`` samples of noise with lag-1 correlation
 ``phi`` are ``n (1 - phi^2) / (1 + phi^2)`` (an AR(1) process: the sum of squared
 autocorrelations). Units: the record's (rad, or m for a closing's follower).
 """
@@ -34,13 +36,14 @@ import math
 from dataclasses import dataclass
 
 import numpy as np
+from scipy.stats import chi2, f as f_dist
 
 #: A residual may hold up to this factor times a level witness's standard deviation (before its
 #: sampling spread): the verdict already tolerates structure up to 10 % of the noise variance
 #: (:data:`.noise.STRUCTURE_TOLERANCE`), and a stated sensor noise is rarely better than +-10 %.
 LEVEL_FACTOR = 1.15
-#: One-sided 1 % point of the standard normal: the variance ratio's allowed sampling excursion.
-Z_ONE_PERCENT = 2.326
+#: One-sided significance level of the variance-ratio test against a level witness.
+ALPHA = 0.01
 #: A residual up to this factor times the record's high-frequency (third-difference) level is what
 #: correlated sensor noise alone can leave: an AR(1) noise of lag-1 correlation phi has a
 #: third-difference level of sqrt((20 - 30 phi + 12 phi^2 - 2 phi^3) / 20) of its own, which is
@@ -153,8 +156,11 @@ def check_witness(witness: Witness, residual: np.ndarray, lag1: float) -> dict:
         out["holds"] = True if math.sqrt(ratio) <= HIGH_FREQUENCY_FACTOR else None
         return out
     nu_r = variance_dof(n, witness.lag1 if witness.lag1 is not None else lag1)
-    spread = math.sqrt(2.0 / nu_r + (2.0 / witness.dof if math.isfinite(witness.dof) else 0.0))
-    limit = LEVEL_FACTOR**2 * (1.0 + Z_ONE_PERCENT * spread)
+    if math.isfinite(witness.dof):
+        spread = float(f_dist.ppf(1.0 - ALPHA, nu_r, witness.dof))
+    else:
+        spread = float(chi2.ppf(1.0 - ALPHA, nu_r) / nu_r)
+    limit = LEVEL_FACTOR**2 * spread
     out.update(variance_ratio=ratio, limit_variance_ratio=limit, holds=bool(ratio <= limit))
     return out
 

@@ -336,7 +336,8 @@ def _record_times(rng: np.random.Generator, rec, drawn: Mapping[str, Any], t_end
     n = int(round((t_end + lead) / dt)) + 1
     t_rec = np.arange(n) * dt
     clock = drawn.get("time_base", 0.0)
-    t_true = t_rec * (1 + clock) + (rng.normal(0.0, 2e-5, n) if clock else 0.0)
+    jitter = drawn.get("jitter", 2e-5) if clock else 0.0  # s (a value "jitter" may set it, 0: none)
+    t_true = t_rec * (1 + clock) + (rng.normal(0.0, jitter, n) if jitter else 0.0)
     tau = t_true - lead  # model time
     tau_grid = np.arange(int(math.ceil((tau[-1] + 2 * dt) / dt)) + 1) * dt
     return t_rec, tau, tau_grid, lead

@@ -85,6 +85,8 @@ def align(ctx, state) -> None:
     ctx.guesses = rec.start_guesses(rig, measurement.window(ctx.setup.window[0], ctx.setup.window[1]))
     ctx.uncertain = dict(getattr(rig, "uncertain", None) or {})
     ctx.implied = {}
+    clock_sd = ctx.uncertain.get("record.time_base")  # the rig says the record's clock is approximate
+    ctx.time_scale = {"value": 1.0, "sd": clock_sd, "source": "rig (uncertain record.time_base)"} if clock_sd else None
     ctx.coarse_step = 2 * rec.step(rig) if rec.staged_fit else None
     s = ctx.setup
     ctx.say(f"noise {ctx.sigma_hf:.3g} {rec.unit} (high frequencies"

@@ -81,6 +81,7 @@ class Context:
     guesses: list = field(default_factory=list)
     uncertain: dict = field(default_factory=dict)
     implied: dict = field(default_factory=dict)  # uncertain values the diagnosis added itself
+    time_scale: dict | None = None  # the record's time base as a nuisance: {"value", "sd", "source"}
     coarse_step: float | None = None
     spring_final: object = None  # the spring model the final model is refined with (ANCF)
     fits: int = 0

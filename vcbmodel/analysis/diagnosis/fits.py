@@ -9,6 +9,7 @@ from ...model.effects import parameter_specs
 from ...rig.paths import loaded_value
 from .. import fit as fitting
 from ..fit import FitResult, Parameter, make_parameters
+from ..time_base import time_scale_parameter
 from .scores import consistent
 
 #: Optimiser runs per fit: from the best of its ranked starts (and the next best, when 2 and the
@@ -67,6 +68,8 @@ def nuisance_parameters(ctx, previous: dict | None = None) -> dict:
         add(Parameter("initial_angle_0", s.initial_angle, s.initial_angle - 0.1, s.initial_angle + 0.1,
                       vary="initial_angle" not in s.pinned, unit="rad", kind="state", dataset=0,
                       path=ctx.record.initial_angle_field, prior=s.initial_angle_prior))
+    if ctx.time_scale:  # the record's clock (..time_base)
+        add(time_scale_parameter(ctx.time_scale["sd"], ctx.time_scale["value"]))
     _rig_parameters(ctx, add)
     return params
 

@@ -1,7 +1,11 @@
-"""Step 5, judge the residual: the final noise model (an autoregressive model of the best
+"""Step 5, judge the residual: before a "not explained", the record's time base is fitted as a
+nuisance (:func:`time_base`); the final noise model (an autoregressive model of the best
 residual, :mod:`..noise`) re-scores every step of the search; the verdict ``explained`` is true
-only when the final residual is what that noise alone leaves (whitened residual white, level as
-the record's), otherwise it says what is left (window, size, signature). Selections the evidence
+only when the final residual, the sensor's lines and timing jitter set aside, is what that noise
+alone leaves (whitened residual white, level as the record's) and stands within the noise that
+witnesses the fit did not shape show (:mod:`..verdict_evidence`: the rig's stated sensor noise, the
+record before the release, its high-frequency level); otherwise it says what is left (window,
+size, signature). Selections the evidence
 does not settle are reported as ties. The starting model is put on the final model's alignment of
 the record, so the gap is not hidden by a nuisance bent to the wrong model."""
 from __future__ import annotations
@@ -11,30 +15,80 @@ import numpy as np
 from ...errors import SimulationError
 from ...records.signals import disagreement_window, dominant_frequency, lag1_autocorrelation
 from ..fit import FitAborted, FitResult
-from ..noise import consistency, fit_noise
+from ..fit.dataset import time_scale_name
+from ..time_base import clock_from_lines
+from ..verdict_evidence import gather_witnesses, judge_residual, mechanism_band
 from .fits import fit_record, parameters
+from .period import period_fields_fitted
 from .scores import BIC_MARGIN, excess, noise_of_best
 
 
 def verdict(ctx, final: FitResult) -> dict:
-    """Is the final residual what the noise alone would leave? With what is left if not."""
-    noise = fit_noise(final.residuals, ctx.sigma_hf, ctx.quantisation, source="final model's residual")
-    lags = 20 if final.n_data > 2000 else 10
-    c = consistency(final.residuals, noise, lags=lags)
-    # level against the record's own high-frequency noise: a correlated residual must also be
-    # explained by a plausible noise process (not by model error dressed up as noise)
-    white_equiv = ctx.sigma_hf
-    c["rms_over_high_frequency_noise"] = final.rms / white_equiv if white_equiv > 0 else float("nan")
-    explained = bool(c["consistent"])
-    out = {"explained": explained, "tests": c, "noise_of_final_residual": noise.to_json()}
-    if not explained:
+    """Is the final residual what the noise alone would leave, the sensor's artefacts set aside and
+    against witnesses the fit did not shape (:mod:`..verdict_evidence`)? With what is left if not."""
+    rec = ctx.record
+    band = mechanism_band(rec.natural_frequency(ctx.rig) if rec.natural_frequency else None)
+    release = final.values.get("release_time_0", ctx.setup.release)
+    witnesses = gather_witnesses((ctx.rig.record or {}).get("sensor_noise"), ctx.measurement.t,
+                                 ctx.measurement.channel(rec.measured_channel), release,
+                                 ctx.setup.still_start and not ctx.setup.hand_start, ctx.sigma_hf, ctx.quantisation)
+    model = final.simulations[0].measured[ctx.dataset.mask()] if final.simulations else None
+    out = judge_residual(final.times, final.residuals, ctx.sigma_hf, ctx.quantisation, witnesses, band, release,
+                         lags=20 if final.n_data > 2000 else 10, model=model)
+    if not out["explained"]:
         t = final.times[0]
-        r = final.residuals[0]
-        t0, t1, peak = disagreement_window(t, r, noise.marginal_sd)
-        out["left"] = {"window": [t0, t1], "rms": final.rms, "excess": excess(final.rms, ctx.noise.marginal_sd),
+        r = out["cleaned"][0]
+        t0, t1, peak = disagreement_window(t, r, out["noise_of_final_residual"]["sigma"])
+        rms = out["rms_without_sensor_lines"]
+        out["left"] = {"window": [t0, t1], "rms": rms, "excess": excess(rms, ctx.noise.marginal_sd),
                        "dominant_frequency_hz": dominant_frequency(t, r), "lag1_autocorrelation":
                        lag1_autocorrelation(r), "peak_running_rms": peak}
     return out
+
+
+def time_base(ctx, state) -> None:
+    """Before the verdict "not explained": the record's clock may be off (:mod:`..time_base`). The
+    current model is refitted with the time scale as a nuisance: read off a mains line when the
+    residual holds one (the grid's frequency is known), else fitted within +-1 % (not where the
+    rig's inertia is fitted too: a clock and an inertia error change a swing alike). Kept if it
+    lowers the whitened BIC by more than the margin and stays inside its bounds (a scale at +-1 %
+    stands in for something else)."""
+    current = state.current
+    if ctx.over() or ctx.time_scale is not None:
+        return
+    first = verdict(ctx, current)
+    if first["explained"]:
+        return
+    clock = clock_from_lines(first["_lines"])
+    if clock is not None:
+        ctx.time_scale = {"value": clock[0], "sd": clock[1], "source": "mains line"}
+    elif period_fields_fitted(ctx):
+        return
+    else:
+        ctx.time_scale = {"value": 1.0, "sd": None, "source": "fitted"}
+    ctx.say(f"the final model leaves more than the noise: refitting it with the record's time base as a nuisance "
+            f"({ctx.time_scale['source']})")
+    try:
+        timed = fit_record(ctx, current.effects, current.spring_model, parameters(ctx, current.effects, current.values),
+                           "final model (record's time base fitted)")
+    except (FitAborted, SimulationError):
+        ctx.time_scale = None
+        return
+    state.all_fits.append(timed)
+    noise = noise_of_best(ctx, state.all_fits)
+    gain = current.bic_with(noise) - timed.bic_with(noise)
+    scale = timed.parameters[time_scale_name(0)]
+    if gain <= BIC_MARGIN or scale.at_bound():
+        ctx.say(f"time base: scale {scale.value:.5f}, rms {timed.rms:.3g} {ctx.record.unit}, delta BIC {gain:.1f}: "
+                "not kept")
+        ctx.time_scale = None
+        return
+    ctx.say(f"time base: scale {scale.value:.5f}; rms {current.rms:.3g} -> {timed.rms:.3g} {ctx.record.unit} "
+            f"(delta BIC {gain:.0f})")
+    for step in state.path:  # the selection's steps lead to this model now
+        if step["_fit"] is current:
+            step["_fit"] = timed
+    state.current = timed
 
 
 def _tie(ctx, chosen, rival) -> dict:
@@ -52,7 +106,7 @@ def _tie(ctx, chosen, rival) -> dict:
 
 def ties(ctx, path: list, candidates: list) -> list:
     """Selections the evidence does not settle: a kept effect whose runner-up in the same round
-    also earned the margin over the model before and trails it by no more than the margin
+    also improves on the model before and trails it by no more than the margin
     (scored with the final noise model). For each: what would separate them, the part of the
     record where the two fitted models differ most."""
     out = []
@@ -62,8 +116,11 @@ def ties(ctx, path: list, candidates: list) -> list:
         chosen = next((c for c in candidates if c.round == step["round"] and c.effect == step["effect"]), None)
         if chosen is None:
             continue
+        # a rival that improves on the model before and trails the kept effect by no more than the
+        # margin: the evidence does not prefer one (also when the rival itself falls short of the
+        # margin over the model before: then the kept effect barely earns it)
         rivals = [c for c in candidates if c.round == chosen.round and c is not chosen and "+" not in c.effect
-                  and c.delta_bic > BIC_MARGIN and chosen.delta_bic - c.delta_bic <= BIC_MARGIN]
+                  and c.delta_bic > 0 and chosen.delta_bic - c.delta_bic <= BIC_MARGIN]
         out.extend(_tie(ctx, chosen, rival) for rival in sorted(rivals, key=lambda c: -c.delta_bic))
     return out
 
@@ -108,6 +165,7 @@ def _rescore(ctx, state) -> None:
 def judge(ctx, state) -> None:
     """Step 5 (see the module docstring): sets ``state.final``, ``verdict``, ``missing``,
     ``selection``, and the baseline on the final alignment."""
+    time_base(ctx, state)
     state.final = final = state.current
     _rescore(ctx, state)
     state.verdict = verdict(ctx, final)

@@ -1,12 +1,17 @@
 """Step 7, report: the diagnosis as the user reads it (:class:`.result.Diagnosis`): the window
 where model and record disagree most, the residual's signature, the record's nuisance, the
-evidence in words (:mod:`..diagnosis_report`) and the time spent."""
+evidence in words (:mod:`..diagnosis_report`; the sensor's artefacts, the record's time base and the
+verdict's independent evidence from :mod:`..verdict_evidence`) and the time spent."""
 from __future__ import annotations
 
 import time
 
 from ...records.signals import disagreement_window
 from ..diagnosis_report import describe_signature, evidence_text, nuisance_report
+from ..fit.dataset import time_scale_name
+from ..time_base import time_base_report
+from ..verdict_evidence import sensor_nuisance, strip_private, verdict_sentences
+from .period import period_fields_fitted
 from .result import Diagnosis
 from .scores import BIC_MARGIN
 
@@ -33,8 +38,14 @@ def report(ctx, state) -> None:
     where = window(ctx, baseline)
     signature = describe_signature(ctx, baseline, final)
     nuisance = nuisance_report(ctx, final, state.period)
+    nuisance.update(sensor_nuisance(state.verdict, ctx.quantisation, ctx.sigma_hf, ctx.record.unit))
+    if ctx.time_scale is not None and time_scale_name(0) in final.parameters:
+        p = final.parameters[time_scale_name(0)]
+        nuisance["time_base"] = time_base_report(p.value, p.stderr, ctx.time_scale["source"], period_fields_fitted(ctx))
     evidence = evidence_text(ctx, baseline, final, state.missing, where, signature, state.verdict, state.period,
                              state.backward, BIC_MARGIN)
+    evidence += verdict_sentences(state.verdict, ctx.record.unit)
+    state.verdict = strip_private(state.verdict)
     spent = timing(ctx)
     ctx.say(f"missing effects: {', '.join(state.missing) or 'none'}; rms {baseline.rms:.3g} -> {final.rms:.3g} "
             f"{ctx.record.unit}; explained: {state.verdict['explained']}; {spent['seconds']:.0f} s, "
