@@ -59,9 +59,12 @@ def fit_of(residual, effects=(), varied=(), spring=None, nuisance=()):
 def ctx_of(**kw):
     out = SimpleNamespace(sigma_hf=SIGMA, quantisation=0.0, noise=NoiseModel.white(SIGMA), over=lambda f=0.8: False,
                           skipped=[], say=lambda m: None, fits=0, record=SimpleNamespace(period_fields=(),
-                                                                                        measured_channel="angle"),
+                                                                                        measured_channel="angle",
+                                                                                        natural_frequency=None),
                           stop=SimpleNamespace(is_set=lambda: False), spring_final=None,
-                          dataset=SimpleNamespace(t=T), rig=SimpleNamespace(experiment="cam_drop"))
+                          dataset=SimpleNamespace(t=T), rig=SimpleNamespace(experiment="cam_drop", record={}),
+                          setup=SimpleNamespace(release=0.0, still_start=False, hand_start=False),
+                          measurement=SimpleNamespace(t=T, channel=lambda name: np.zeros_like(T)))
     out.__dict__.update(kw)
     return out
 
