@@ -44,7 +44,7 @@ LIMITS = {
 #: Histograms: (column, label, scale, unit)
 PANELS = [("closing_time_s", "closing time", 1e3, "ms"), ("touch_speed_m_s", "touch speed", 1.0, "m/s"),
           ("pole_spread_s", "pole spread", 1e3, "ms"), ("bounce_duration_s", "bounce duration", 1e3, "ms"),
-          ("overtravel_m", "overtravel (wipe)", 1e3, "mm"), ("peak_cam_roller_force_N", "peak cam-roller force", 1e-3, "kN")]
+          ("wipe_m", "wipe", 1e3, "mm"), ("peak_cam_roller_force_N", "peak cam-roller force", 1e-3, "kN")]
 
 
 def limit_text(col):

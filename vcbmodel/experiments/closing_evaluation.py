@@ -9,10 +9,12 @@ from typing import TYPE_CHECKING
 import numpy as np
 from scipy.integrate import cumulative_trapezoid
 
-from ..laws.breaker import BreakerLaws, cam_roller_contact, follower_displacement, pole_gaps, push_rod_energy
+from ..laws.breaker import (BreakerLaws, cam_roller_contact, follower_displacement, one_way_stop_energy, pole_gaps,
+                            push_rod_energy)
 from ..laws.friction import ArrayOps
 from ..laws.mechanics import cam_pin
 from ..laws.springs import chain_for
+from ..records.analyser import travel_figures
 
 if TYPE_CHECKING:
     from ..model.effects import ModelSpec
@@ -68,7 +70,26 @@ def contact_channels(laws: BreakerLaws, ch: dict[str, np.ndarray], n: int) -> di
                         f"pole_{i + 1}_contact_damping_force": np.where(pen > 0, f - pole_elastic, 0.0),
                         f"pole_{i + 1}_rod_force": rod, f"pole_{i + 1}_rod_compression": s,
                         f"pole_{i + 1}_rod_rate": rate})
+        out.update(stop_channels(laws, th, w))
     return {name: np.asarray(v, float) * np.ones(len(th)) for name, v in out.items()}
+
+
+def stop_channels(laws: BreakerLaws, theta: np.ndarray, omega: np.ndarray) -> dict[str, np.ndarray]:
+    """The end stop's and the holding latch's channels, for the parts the rig has: force (N) and
+    penetration (m, at the arm) of each, and the latch's engagement (0/1) replayed over the
+    samples (:func:`vcbmodel.laws.breaker.hold_latch_engagement`: engaged from the first sample
+    at or past its angle)."""
+    out = {}
+    stop, latch = laws.b.end_stop, laws.b.hold_latch
+    if stop is not None:
+        out["end_stop_penetration"] = stop.arm * (theta - stop.angle)
+        out["end_stop_force"] = laws.end_stop(theta, omega, ArrayOps)
+    if latch is not None:
+        engaged = np.maximum.accumulate(theta >= latch.angle).astype(float)
+        out["hold_latch_engaged"] = engaged
+        out["hold_latch_penetration"] = np.where(engaged > 0.5, latch.arm * (latch.angle - theta), 0.0)
+        out["hold_latch_force"] = laws.hold_latch(theta, omega, engaged, ArrayOps)
+    return out
 
 
 def latched_impact_speeds(penetration: np.ndarray, rate: np.ndarray) -> np.ndarray:
@@ -85,8 +106,10 @@ def energy_parts(result: SimulationResult, rig: Rig) -> dict:
     the cam (with the springs' pin mass), the closing springs' chain, the follower and the poles;
     potential energy of the closing springs, the cam's weight, the springs' weight, the opening
     spring, the push rods and wipe springs, the contacts and the poles' loads (bellows minus
-    weight); dissipated (cumulative) in the shaft friction, the contacts' damping and the rods'
-    damping; and the latch's work. Massless or lumped springs (ANCF: not covered)."""
+    weight), the end stop and the holding latch (their springs); dissipated (cumulative) in the
+    shaft friction, the contacts' damping and the rods' damping, and the end stop's and the holding
+    latch's dampers; and the latch's work. The stop and latch terms are zero when the rig leaves
+    them out. Massless or lumped springs (ANCF: not covered)."""
     ch, t = result.channels, result.t
     laws = BreakerLaws.of_rig(rig, result.spec)
     chain = chain_for(rig.closing_spring, result.spec.spring_model)
@@ -102,6 +125,7 @@ def energy_parts(result: SimulationResult, rig: Rig) -> dict:
     parts["dissipated_friction"] = cumulative_trapezoid(friction, t, initial=0.0)
     damping = parts.pop("contact_damping_rate") + parts.pop("rod_damping_rate")
     parts["dissipated_damping"] = cumulative_trapezoid(damping, t, initial=0.0)
+    parts.update(_stop_parts(ch, b, t))
     holding = result.info["initial"].holding_torque
     parts["latch_work"] = cumulative_trapezoid(np.array([laws.latch(tt, holding) for tt in t]) * w, t, initial=0.0)
     return parts
@@ -154,21 +178,55 @@ def _pole_parts(ch, laws, b):
             "contact_damping_rate": contact_damping, "rod_damping_rate": rod_damping}
 
 
+def _stop_parts(ch, b, t):
+    """The end stop's and the holding latch's elastic energy (J) and what their dampers dissipated
+    (J, cumulative): the damper's share of a stop's force (force - spring, clipped with it) times
+    the penetration's rate. Zero for a part the rig leaves out."""
+    zero = np.zeros_like(t)
+    out = {"end_stop": zero, "hold_latch": zero, "dissipated_end_stop": zero, "dissipated_hold_latch": zero}
+    w = ch["shaft_velocity"]
+    for key, part, sign in (("end_stop", b.end_stop, 1.0), ("hold_latch", b.hold_latch, -1.0)):
+        if part is None:
+            continue
+        d, force = ch[f"{key}_penetration"], ch[f"{key}_force"]
+        contact = (d > 0.0) & (force >= 0.0) if key == "end_stop" else (d > 0.0) & (ch["hold_latch_engaged"] > 0.5)
+        out[key] = np.where(contact, one_way_stop_energy(d, part.stiffness), 0.0)
+        damper = np.where(contact, force - part.stiffness * d, 0.0)
+        out[f"dissipated_{key}"] = jump_integral(damper * sign * part.arm * w, t, d, contact)
+    return out
+
+
+def jump_integral(power: np.ndarray, t: np.ndarray, penetration: np.ndarray, contact: np.ndarray) -> np.ndarray:
+    """Cumulative integral (J) of a damper's power (W) that jumps from zero when its contact
+    begins (a linear damper meets the stop at speed): the trapezoid rule, except over a step in
+    which a contact begins, where the power is taken from the contact's start (the penetration's
+    zero, interpolated) at its value at the step's end, not spread over the whole step."""
+    steps = 0.5 * (power[1:] + power[:-1]) * np.diff(t)
+    begins = np.nonzero(~contact[:-1] & contact[1:])[0]
+    d0, d1 = penetration[begins], penetration[begins + 1]
+    inside = np.clip(d1 / np.where(d1 > d0, d1 - d0, 1.0), 0.0, 1.0)  # the step's share after the start
+    steps[begins] = power[begins + 1] * inside * (t[begins + 1] - t[begins])
+    return np.concatenate([[0.0], np.cumsum(steps)])
+
+
 KINETIC = ("kinetic_cam", "pin_on_cam", "kinetic_spring", "kinetic_follower", "kinetic_poles")
-POTENTIAL = ("closing_springs", "cam_weight", "spring_weight", "opening_spring", "wipe_and_rods", "contacts", "pole_loads")
+POTENTIAL = ("closing_springs", "cam_weight", "spring_weight", "opening_spring", "wipe_and_rods", "contacts", "pole_loads",
+             "end_stop", "hold_latch")
+DISSIPATED = ("dissipated_friction", "dissipated_damping", "dissipated_end_stop", "dissipated_hold_latch")
 
 
 def energy_balance(result: SimulationResult, rig: Rig) -> dict:
     """Energy bookkeeping of a closing (J), from the recorded states (massless or lumped spring;
     the terms: :func:`energy_parts`). Returns time series: ``kinetic``, ``potential``,
     ``closing_springs``, ``opening_spring``, ``wipe_and_rods``, ``contacts``, ``dissipated``
-    (shaft friction, contact damping, rod damping), ``latch_work``, ``spring_energy_released`` and
+    (shaft friction, contact damping, rod damping, the end stop's and holding latch's dampers),
+    ``latch_work``, ``spring_energy_released`` and
     ``residual`` = E(t) + dissipated - latch_work - E(0), which is zero for an exact solution."""
     p = energy_parts(result, rig)
     t = result.t
     kinetic = sum(p[k] for k in KINETIC)
     potential = sum(p[k] for k in POTENTIAL)
-    dissipated = p["dissipated_friction"] + p["dissipated_damping"]
+    dissipated = sum(p[k] for k in DISSIPATED)
     total = kinetic + potential
     return {"t": t, "kinetic": kinetic, "potential": potential, "closing_springs": p["closing_springs"],
             "opening_spring": p["opening_spring"], "wipe_and_rods": p["wipe_and_rods"], "contacts": p["contacts"],
@@ -184,15 +242,19 @@ SPLIT_TERMS = (("kinetic_cam", "cam (kinetic)"), ("pin_on_cam", "springs' pin ma
                ("wipe_and_rods", "wipe springs and push rods"), ("contacts", "contacts (elastic)"),
                ("cam_weight", "cam's weight (raised)"), ("spring_weight", "springs' weight (raised)"),
                ("pole_loads", "bellows and pole weights"), ("dissipated_friction", "shaft friction (dissipated)"),
-               ("dissipated_damping", "contact and rod damping (dissipated)"))
+               ("dissipated_damping", "contact and rod damping (dissipated)"),
+               ("end_stop", "end stop (elastic)"), ("hold_latch", "holding latch (elastic)"),
+               ("dissipated_end_stop", "end stop's damper (dissipated)"),
+               ("dissipated_hold_latch", "holding latch's damper (dissipated)"))
 
 
-def energy_split(result: SimulationResult, rig: Rig, at: float) -> dict:
+def energy_split(result: SimulationResult, rig: Rig, at: float, parts: dict | None = None) -> dict:
     """Where the energy the closing springs gave up by time ``at`` (s) has gone (J): each term of
     :func:`energy_parts` as its change since the release (kinetic energies, the charge of the
     opening and wipe springs, the contacts, raised weights, dissipation), with ``released`` (the
-    springs' energy drop), ``latch_work`` and ``unaccounted`` (the balance's residual)."""
-    p = energy_parts(result, rig)
+    springs' energy drop), ``latch_work`` and ``unaccounted`` (the balance's residual). ``parts``:
+    :func:`energy_parts` when already computed."""
+    p = energy_parts(result, rig) if parts is None else parts
     t = result.t
     k = int(min(np.searchsorted(t, at), t.size - 1))
     out = {name: float(p[name][k] - p[name][0]) for name, _ in SPLIT_TERMS}
@@ -201,6 +263,23 @@ def energy_split(result: SimulationResult, rig: Rig, at: float) -> dict:
     out["unaccounted"] = out["released"] + out["latch_work"] - sum(out[name] for name, _ in SPLIT_TERMS)
     out["t_s"] = float(t[k])
     return out
+
+
+def energy_splits(result: SimulationResult, rig: Rig) -> dict:
+    """:func:`energy_split` at the first touch (``first_touch``; None if no pole touches) and at
+    the end of the run (``end``), with ``at_rest``: whether the mechanism has come to rest by then
+    (the kinetic energy of the cam, follower and poles below 0.1 % of the energy the springs gave
+    up, and the travel settled, :func:`vcbmodel.records.analyser.travel_figures`), that kinetic
+    energy (``kinetic_J``) and the spring coils' (``coils_kinetic_J``: a lumped chain has no
+    damping of its own, so its surge rings on after the mechanism rests)."""
+    fom = figures_of_merit(result, rig)
+    parts = energy_parts(result, rig)
+    end = energy_split(result, rig, float(result.t[-1]), parts)
+    kinetic = float(sum(parts[k][-1] for k in KINETIC if k != "kinetic_spring"))
+    touch = fom["first_touch_s"]
+    return {"first_touch": energy_split(result, rig, touch, parts) if touch is not None else None, "end": end,
+            "kinetic_J": kinetic, "coils_kinetic_J": float(parts["kinetic_spring"][-1]),
+            "at_rest": bool(kinetic < 1e-3 * abs(end["released"]) and fom["travel_settled_s"] is not None)}
 
 
 def crossing_time(t: np.ndarray, z: np.ndarray, level: float) -> float | None:
@@ -259,7 +338,7 @@ def figures_of_merit(result: SimulationResult, rig: Rig) -> dict:
     travel = ch["follower_displacement"]
     zone_speeds = [zone_speed(t, ch[f"pole_{i + 1}_travel"], gap, b.speed_zone) for i, gap in enumerate(gaps)]
     done = [x for x in touches if x is not None]
-    at_touch = float(np.interp(min(done), t, travel)) if done else float("nan")
+    figures = travel_figures(t, travel, min(done) if done else None)
     force = ch["cam_roller_force"]
     off = force <= 0.0
     first_off = None  # first sample at which the roller has left the cam, interpolated like the touches
@@ -277,9 +356,11 @@ def figures_of_merit(result: SimulationResult, rig: Rig) -> dict:
                               if any(v is not None for v in zone_speeds) else None),
         "bounce_count": int(max(bounces)),
         "bounce_duration_s": float(max(bounce_times)),
+        # the follower's travel as analysers read it (records.analyser.travel_figures): overtravel
+        # beyond the final position, rebound below it after the peak, wipe after the first touch
         "final_travel_m": float(travel[-1]),
-        "overtravel_m": float(np.max(travel) - at_touch) if done else None,  # follower travel after first touch
-        "overshoot_m": float(np.max(travel) - travel[-1]),
+        "overtravel_m": figures["overtravel_m"], "rebound_m": figures["rebound_m"],
+        "wipe_m": figures.get("wipe_m"), "travel_settled_s": figures["travel_settled_s"],
         "peak_cam_roller_force_N": float(np.max(ch["cam_roller_force"])),
         "roller_lift_off_s": float(np.sum(np.diff(t) * off[1:])),  # total time off the cam
         # when the roller first leaves the cam, relative to the first touch (negative: a follower

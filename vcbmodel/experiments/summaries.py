@@ -54,6 +54,7 @@ def cam_drop_summary(result: SimulationResult, rig: Rig) -> list[tuple]:
 def closing_summary(result: SimulationResult, rig: Rig) -> list[tuple]:
     fom = result_figures(result, rig)
     per_pole = fom["per_pole"]
+    geometric = ")" if rig.breaker.end_stop is not None else "; no end stop in the rig: the cam's geometry, not dynamics)"
     lines = [(f"pole {i} closes at", v, "s") for i, v in enumerate(per_pole["touch_s"], start=1)]
     lines += [("closing time (last pole)", fom["closing_time_s"], "s"),
               ("touch speed (mean of poles)", fom["touch_speed_m_s"], "m/s"),
@@ -61,7 +62,10 @@ def closing_summary(result: SimulationResult, rig: Rig) -> list[tuple]:
                "before touch)", fom["closing_speed_m_s"], "m/s"),
               ("pole spread", fom["pole_spread_s"], "s"), ("bounces (worst pole)", float(fom["bounce_count"]), "-"),
               ("bounce duration (worst pole)", fom["bounce_duration_s"], "s"),
-              ("overtravel (follower, after first touch)", fom["overtravel_m"], "m"),
+              ("wipe (follower travel after the first touch, to its final position)", fom["wipe_m"], "m"),
+              ("overtravel (follower travel beyond its final position" + geometric, fom["overtravel_m"], "m"),
+              ("rebound (follower travel back below its final position after the peak)", fom["rebound_m"], "m"),
+              ("follower travel settled (within 0.05 mm of its final position)", fom["travel_settled_s"], "s"),
               ("peak cam-roller force", fom["peak_cam_roller_force_N"], "N")]
     return lines
 

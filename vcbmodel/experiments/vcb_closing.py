@@ -66,7 +66,8 @@ VCB_CLOSING = Experiment(
     # a breaker analyser's timing and travel channels (vcbmodel.records.analyser), fitted when present
     extra_channels=(r"pole_\d+_contact", r"pole_\d+_travel"),
     figure_units=(("closing_time_s", "s"), ("touch_speed_m_s", "m/s"), ("closing_speed_m_s", "m/s"), ("pole_spread_s", "s"), ("bounce_count", "-"),
-                  ("bounce_duration_s", "s"), ("overtravel_m", "m"), ("peak_cam_roller_force_N", "N")),
+                  ("bounce_duration_s", "s"), ("wipe_m", "m"), ("overtravel_m", "m"), ("rebound_m", "m"),
+                  ("travel_settled_s", "s"), ("peak_cam_roller_force_N", "N")),
     missing_means=(("closing_time_s", "not_closed"),), summary=closing_summary,
     record_channels=closing_record_channels, fit_step=fit_step, scan_step=CLOSING_SCAN_STEP,
     fit_user_function="python", release_from_model=True,

@@ -19,7 +19,9 @@ poles; here the reference is the mechanical release, the record's ``release_time
   travel before the first contact touch (default 6 mm), distance over time;
 - **overtravel**: the largest travel beyond the final resting position (max - final); **rebound**:
   how far the travel comes back below the final position after that peak (final - min after it);
-  **wipe**: travel after the first touch (final - travel at touch).
+  **wipe**: travel after the first touch (final - travel at touch); the final position is the
+  median of the record's last 2 % (:func:`travel_figures`, which simulations use too), and the
+  travel has **settled** once it stays within REST_BAND of it.
 """
 from __future__ import annotations
 
@@ -42,6 +44,9 @@ TRAVEL = re.compile(r"pole_(\d+)_travel")
 TOUCH_ZONE = 0.006
 #: Shortest opening counted as a bounce (s): one sample of a 20 kHz analyser.
 MIN_BOUNCE = 5e-5
+#: Band around the final travel (m) within which the travel counts as settled: half the 0.1 mm a
+#: breaker analyser's travel transducer resolves on a 10-20 mm stroke (its figures are read to 0.1 mm).
+REST_BAND = 5e-5
 #: Weight of a contact channel's residual: one misclassified sample counts as a 2-sigma deviation.
 CONTACT_SIGMA = 0.5
 
@@ -120,15 +125,10 @@ def figures_of_merit(t: np.ndarray, contacts: Sequence[np.ndarray], travel: np.n
            "bounce_duration_s": float(max((p["bounce_duration_s"] for p in poles), default=0.0))}
     if travel is not None:
         travel = np.asarray(travel, float)
-        final = float(np.median(travel[-max(3, travel.size // 50):]))
-        k = int(np.argmax(travel))
-        out["overtravel_m"] = float(travel[k] - final)
-        out["rebound_m"] = float(max(0.0, final - np.min(travel[k:])))
+        out.update(travel_figures(t, travel, min(done) + release if done else None, release))
         if done:
             t_touch = min(done) + release
-            x_touch = float(np.interp(t_touch, t, travel))
-            out["travel_at_touch_m"] = x_touch
-            out["wipe_m"] = final - x_touch
+            x_touch = out["travel_at_touch_m"]
             before = np.nonzero((travel <= x_touch - zone) & (t <= t_touch))[0]
             if before.size:
                 i = int(before[-1])
@@ -136,6 +136,29 @@ def figures_of_merit(t: np.ndarray, contacts: Sequence[np.ndarray], travel: np.n
                 t0 = t[i] + (x_touch - zone - travel[i]) / max(travel[i + 1] - travel[i], 1e-300) * (t[i + 1] - t[i])
                 out["touch_speed_m_s"] = zone / max(t_touch - t0, 1e-300)
                 out["touch_zone_m"] = zone
+    return out
+
+
+def travel_figures(t: np.ndarray, travel: np.ndarray, t_touch: float | None = None, release: float = 0.0) -> dict:
+    """The travel's figures (module docstring; lengths in m, times in s from ``release``):
+    ``final_travel_m`` (the median of the last 2 % of the samples, at least 3: the resting position),
+    ``overtravel_m`` (max - final), ``rebound_m`` (final - the least travel after the max, >= 0),
+    ``travel_settled_s`` (when the travel enters REST_BAND of the final travel for good; None if
+    only within the last 2 %: not at rest within the record) and, given the first touch
+    ``t_touch`` (s, on the record's clock), ``travel_at_touch_m`` and ``wipe_m`` (final - at touch)."""
+    t, travel = np.asarray(t, float), np.asarray(travel, float)
+    tail = max(3, travel.size // 50)
+    final = float(np.median(travel[-tail:]))
+    k = int(np.argmax(travel))
+    out = {"final_travel_m": final, "overtravel_m": float(travel[k] - final),
+           "rebound_m": float(max(0.0, final - np.min(travel[k:])))}
+    outside = np.nonzero(np.abs(travel - final) > REST_BAND)[0]
+    settled = 0 if not outside.size else int(outside[-1]) + 1
+    out["travel_settled_s"] = float(t[settled] - release) if settled < travel.size - tail else None
+    if t_touch is not None:
+        x_touch = float(np.interp(t_touch, t, travel))
+        out["travel_at_touch_m"] = x_touch
+        out["wipe_m"] = final - x_touch
     return out
 
 
