@@ -9,7 +9,7 @@ import time
 from pathlib import Path
 
 HERE = Path(__file__).resolve().parent
-STUDIES = ["friction_identification.py", "spring_reading.py", "spring_models.py", "vcb_closing.py", "discrepancy_demo.py",
+STUDIES = ["friction_identification.py", "spring_reading.py", "spring_models.py", "vcb_closing.py", "discrepancy_demo.py", "discovery_demo.py",
            "diagnosis_sweep.py", "diagnosis_realism.py", "design_sensitivity.py", "design_tolerance.py", "design_conclusion_map.py",
            "design_optimum.py", "benchmark.py"]
 

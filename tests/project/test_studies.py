@@ -15,6 +15,7 @@ EXPECTED = {
                          "spring_convergence.png", "spring_shapes_fig10.png", "spring_lateral.png", "cam_drop.gif",
                          "synthetic/cam_drop_m0_1kg.csv"],
     "discrepancy_demo.py": ["discrepancy_demo_cam.png", "discrepancy_demo_pendulum.png", "discrepancy_demo.json"],
+    "discovery_demo.py": ["discovery.png", "discovery.json", "discovery.md", "synthetic/discovery_demo.rig.json"],
     "diagnosis_sweep.py": ["diagnosis_sweep.json", "diagnosis_sweep.md"],
     "diagnosis_realism.py": ["diagnosis_realism.json", "diagnosis_realism.md", "diagnosis_realism.png"],
     "benchmark.py": ["benchmark.json", "benchmark.md"],

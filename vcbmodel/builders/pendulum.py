@@ -3,6 +3,7 @@ from __future__ import annotations
 
 from typing import TYPE_CHECKING
 
+from ..laws.discovered import discovered_torque
 from ..laws.friction import shaft_friction
 from ..laws.mechanics import pendulum_loads
 from .core import ExudynModel, add_friction_connector, add_shaft, exudyn_modules
@@ -12,9 +13,12 @@ if TYPE_CHECKING:
     from ..rig.data import Rig
 
 
-def build_pendulum(rig: Rig, law: FrictionLaw, user_function: str = "symbolic") -> ExudynModel:
+def build_pendulum(rig: Rig, law: FrictionLaw, user_function: str = "symbolic", discovered: tuple = ()) -> ExudynModel:
     """Pendulum of eq. 1 on the shaft coordinate; the weight M g acts at distance L.
-    ``user_function``: friction connector as 'symbolic' (compiled), 'python' or 'none'."""
+    ``user_function``: friction connector as 'symbolic' (compiled), 'python' or 'none'.
+    ``discovered``: a discovered torque T_d, ((term, coefficient), ...) (:mod:`vcbmodel.laws.discovered`):
+    applied by a connector of its own (recorded as ``discovered_torque``, N m, the torque the connector
+    applies against the shaft: -T_d) and part of the applied torque the friction law sees."""
     exu, it = exudyn_modules()
     p, g = rig.pendulum, rig.gravity
     model = ExudynModel()
@@ -22,10 +26,19 @@ def build_pendulum(rig: Rig, law: FrictionLaw, user_function: str = "symbolic") 
     shaft = add_shaft(model, p.inertia, p.initial_angle, p.initial_velocity)
     mWeight = mbs.AddMarker(it.MarkerBodyPosition(bodyNumber=shaft.body, localPosition=[0.0, -p.com_distance, 0.0]))
     mbs.AddLoad(it.LoadForceVector(markerNumber=mWeight, loadVector=[0.0, -p.mass * g, 0.0]))
+    kind = "symbolic" if user_function == "auto" else user_function
 
     def friction_of_state(t, theta, omega, ops):
         Tc, R0x, R0y, R1x, R1y = pendulum_loads(theta, omega, p.mass, p.com_distance, g, ops)
+        if discovered:
+            Tc = Tc + discovered_torque(t, theta, omega, discovered, ops)
         return shaft_friction(omega, Tc, R0x, R0y, R1x, R1y, p.inertia, law, ops)[0]
 
-    add_friction_connector(model, shaft, friction_of_state, "symbolic" if user_function == "auto" else user_function)
+    def against_discovered(t, theta, omega, ops):  # a connector's torque opposes its coordinate
+        return -discovered_torque(t, theta, omega, discovered, ops)
+
+    if discovered:
+        add_friction_connector(model, shaft, against_discovered, "python" if kind == "none" else kind)
+        model.sensors["discovered_torque"] = model.sensors.pop("friction_torque")
+    add_friction_connector(model, shaft, friction_of_state, kind)
     return model

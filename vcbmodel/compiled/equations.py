@@ -19,6 +19,7 @@ from __future__ import annotations
 from collections.abc import Sequence
 
 from ..laws.breaker import BreakerLaws, massless_pull, pin_weight_torque
+from ..laws.discovered import discovered_torque
 from ..laws.friction import shaft_friction
 from ..laws.mechanics import cam_inertia, cam_loads, cam_pin, link_pull, massless_spring_force, pendulum_loads
 from ..laws.types import Ops, Scalar
@@ -30,16 +31,19 @@ SHAFT = [("angle", "velocity", 1)]
 def prepare_pendulum(rig, spec, law, chain=None) -> OdeSetup:
     """The pendulum's inputs and its release angle (rad) and speed (rad/s)."""
     p = rig.pendulum
-    return OdeSetup({"pendulum": p, "gravity": rig.gravity, "law": law}, [p.initial_angle], [p.initial_velocity],
-                    list(SHAFT))
+    return OdeSetup({"pendulum": p, "gravity": rig.gravity, "law": law, "discovered": tuple(spec.discovered)},
+                    [p.initial_angle], [p.initial_velocity], list(SHAFT))
 
 
 def pendulum_equations(t: Scalar, q: Sequence[Scalar], v: Sequence[Scalar], memory: list, inputs: dict,
                        ops: Ops) -> tuple[list[Scalar], dict[str, Scalar]]:
-    """Paper eq. 1 with the shaft friction of eq. 2-6: I theta'' = -M g L sin(theta) - T_f."""
+    """Paper eq. 1 with the shaft friction of eq. 2-6: I theta'' = -M g L sin(theta) + T_d - T_f,
+    T_d a discovered torque (:mod:`vcbmodel.laws.discovered`; none unless the model carries one)."""
     p, law = inputs["pendulum"], inputs["law"]
     theta, omega = q[0], v[0]
     Tc, R0x, R0y, R1x, R1y = pendulum_loads(theta, omega, p.mass, p.com_distance, inputs["gravity"], ops)
+    if inputs.get("discovered"):
+        Tc = Tc + discovered_torque(t, theta, omega, inputs["discovered"], ops)
     Tf = shaft_friction(omega, Tc, R0x, R0y, R1x, R1y, p.inertia, law, ops)[0]
     return [(Tc - Tf) / p.inertia], {"friction_torque": Tf}
 

@@ -30,7 +30,16 @@ if TYPE_CHECKING:
 
 def build(rig: Rig, spec: ModelSpec, law: FrictionLaw, chain: LumpedChain | None, user_function: str,
           ancf_elements: AncfOptions | int | None) -> ExudynModel:
-    return build_pendulum(rig, law, user_function)
+    return build_pendulum(rig, law, user_function, spec.discovered)
+
+
+def reference(rig: Rig, spec: ModelSpec, law: FrictionLaw, chain: LumpedChain | None, t_end: float,
+              method: str = "DOP853", step: float | None = None) -> tuple[dict[str, np.ndarray], dict]:
+    """The reference solve (:func:`vcbmodel.reference.solve.reference_pendulum`); it has no
+    discovered torque, so a model that carries one is refused rather than solved without it."""
+    if spec.discovered:
+        raise ValueError("the reference solve has no discovered torque: use backend='exudyn' or 'compiled'")
+    return reference_pendulum(rig, spec, law, chain, t_end, method, step)
 
 
 def channels(data: dict[str, np.ndarray], rig: Rig, spec: ModelSpec, info: dict) -> dict[str, np.ndarray]:
@@ -117,5 +126,5 @@ PENDULUM = Experiment(
     fit_user_function="symbolic", staged_fit=True, natural_frequency=swing_frequency,
     # a swing starts within tens of ms of where it is first seen to move (a hand release is slower)
     free_swing=True, release_span=0.06,
-    ode_model=OdeModel("pendulum", prepare_pendulum, pendulum_equations), reference=reference_pendulum,
+    ode_model=OdeModel("pendulum", prepare_pendulum, pendulum_equations), reference=reference,
     sensor="potentiometer", random_rig=pendulum_random_rig)

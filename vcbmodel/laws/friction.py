@@ -55,7 +55,8 @@ class NumericOps:
     """Scalar float operations (the pure-Python evaluation of the laws). Every ``ops`` namespace
     offers these: ``where``, ``abs``, ``sqrt``, ``sign``, ``min``, ``max``, ``sin``, ``cos``,
     ``atan2``, ``acos``, ``pow``, ``floor``, ``take`` (an item of a table by a computed index; Exudyn's
-    symbolic one: the first eight, what the friction law needs)."""
+    symbolic one: the first eight, what the friction law needs, and ``pow``, what a discovered
+    torque needs)."""
 
     @staticmethod
     def where(condition: bool, if_true: float, if_false: float) -> float:
@@ -139,6 +140,10 @@ def symbolic_ops() -> type:
         max = staticmethod(es.max)
         sin = staticmethod(es.sin)
         cos = staticmethod(es.cos)
+
+        @staticmethod
+        def pow(a, b):
+            return es.pow(real(a), real(b))
 
     return SymbolicOps
 

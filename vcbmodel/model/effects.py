@@ -15,6 +15,7 @@ from dataclasses import dataclass, field
 from typing import TYPE_CHECKING
 
 from ..errors import InputError
+from ..laws.discovered import term
 from ..laws.friction import FrictionLaw, effective_static, viscous_from_zeta
 from ..parameters import DEFAULT_SPRING_MASS_MODEL, DEFAULT_STICK_VELOCITY
 from ..rig.spring_model import SpringModel
@@ -52,6 +53,8 @@ class ModelSpec:
     sticking: str = "passive"  # passive | literal (spec "Sticking is passive")
     restitution: float = 1.0  # whole breaker: contacts' coefficient of restitution (1: elastic)
     bellows_force: float = 0.0  # whole breaker: atmospheric force on each pole's bellows (N)
+    #: a discovered torque on the shaft: ((library term, coefficient), ...) (laws.discovered; N m)
+    discovered: tuple = ()
 
     def friction_law(self, radius: float, step: float = 0.0) -> FrictionLaw:
         """The shaft friction law with journal radius ``radius`` (m), for an integrator with
@@ -216,6 +219,37 @@ EFFECTS = {e.name: e for e in (CoulombFriction(), Stribeck(), ViscousFriction(),
                                BellowsForce())}
 
 
+class DiscoveredTorque:
+    """The machinery that carries a discovered torque (:mod:`vcbmodel.laws.discovered`): not an
+    effect of the registry (the diagnosis never proposes it; discovery adds it with the terms it
+    found). Its parameters are the terms' coefficients, named ``discovered:<term>`` (each in its
+    term's unit); listing ``discovered_torque`` among a run's effects switches it on."""
+
+    name = "discovered_torque"
+    prefix = "discovered:"
+    experiments = ("pendulum",)  # the experiments whose equations carry the torque
+
+    def terms(self, values: dict) -> tuple:
+        """((term name, coefficient), ...) from ``values``' ``discovered:<term>`` entries, sorted."""
+        out = []
+        for key in sorted(values):
+            if key.startswith(self.prefix):
+                name = key[len(self.prefix):]
+                term(name)  # ValueError for a name the library does not have
+                out.append((name, float(values[key])))
+        return tuple(out)
+
+    def on(self, spec: ModelSpec, values: dict, rig: Rig) -> None:
+        if rig.experiment not in self.experiments:
+            raise ValueError(f"a discovered torque applies to {', '.join(self.experiments)} tests only, "
+                             f"not a {rig.experiment} test")
+        spec.discovered = self.terms(values)
+
+
+#: Model parts that are not effects of the registry (the diagnosis's candidates): discovery's torque.
+MACHINERY = {m.name: m for m in (DiscoveredTorque(),)}
+
+
 def effect_reading(path: str, registry: dict[str, Effect] | None = None) -> str | None:
     """The name of the effect that reads rig field ``path``, or None (a field every model uses)."""
     for name, effect in (registry or EFFECTS).items():
@@ -241,4 +275,7 @@ def assemble(rig, effects, values) -> ModelSpec:
     spec = ModelSpec(effects=tuple(effects), sticking=rig.friction.get("sticking", "passive"))
     for name, effect in EFFECTS.items():
         (effect.on if name in effects else effect.off)(spec, values, rig)
+    for name, machinery in MACHINERY.items():
+        if name in effects:
+            machinery.on(spec, values, rig)
     return spec

@@ -8,7 +8,7 @@ starting guesses come from the registry and are never used as model values other
 from __future__ import annotations
 
 from ..errors import InputError
-from .effects import EFFECTS, parameter_specs
+from .effects import EFFECTS, MACHINERY, parameter_specs
 
 
 def rig_values(rig) -> dict:
@@ -40,4 +40,7 @@ def model_values(rig, effects, values=None, *, for_fit=False) -> dict:
         else:
             raise InputError(rig.path, p.rig_field, f"missing: the model's effect {owner_of(p.name)!r} needs it "
                              "(give it in the rig, or let identify/diagnose fit it)")
+    for name, machinery in MACHINERY.items():  # a discovered torque's coefficients, as given
+        if name in effects:
+            out.update({k: v for k, v in given.items() if k.startswith(machinery.prefix)})
     return out

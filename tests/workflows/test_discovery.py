@@ -1,0 +1,142 @@
+"""Discovery of a torque no registered effect describes (vcbmodel.analysis.discovery): the model
+carries a discovered torque on every backend; the sparse regression picks the right column; on
+independent synthetic records (vcbmodel.reference.torque_truth) air drag is found with its
+coefficient, and a record of pure noise and one with a torque outside the library give "nothing"."""
+import math
+
+import numpy as np
+import pytest
+from conftest import write_rig
+
+from vcbmodel import parameters as P
+from vcbmodel.analysis import fit as fitting
+from vcbmodel.analysis.diagnose import BIC_MARGIN, MIN_VARIANCE_GAIN
+from vcbmodel.analysis.discovery import discover
+from vcbmodel.analysis.discovery.regression import select
+from vcbmodel.compiled import compiler_works
+from vcbmodel.experiments.loading import load_rig
+from vcbmodel.experiments.simulation import simulate
+from vcbmodel.records.measurement import Measurement
+from vcbmodel.records.signals import noise_estimate
+from vcbmodel.reference.torque_truth import pendulum_with_torque
+
+PENDULUM = {"mass": 5.0, "inertia": 0.5, "com_distance": 0.3, "initial_angle": 0.8, "initial_velocity": 0.0}
+FRICTION = {"mu_k": 0.05, "viscous": 0.01}
+EFFECTS = ("coulomb_friction", "viscous_friction")
+DRAG = 0.01  # N m s^2/rad^2
+SIGMA = 0.5e-3
+
+
+@pytest.fixture(scope="module")
+def light_rig(tmp_path_factory):
+    rig = {"format": "vcb-rig/1", "name": "light pendulum", "experiment": "pendulum", "gravity": 9.81,
+           "shaft": {"radius": 0.02}, "pendulum": PENDULUM, "friction": {},
+           "model": {"effects": list(EFFECTS), "spring_model": "massless"}}
+    return load_rig(write_rig(tmp_path_factory.mktemp("discovery"), rig, "light"))
+
+
+def record(extra, seed, duration=5.0):
+    t = np.arange(int(duration * 1000) + 1) / 1000.0
+    theta = pendulum_with_torque(PENDULUM, 9.81, 0.02, FRICTION, extra, t)
+    return Measurement("synthetic.csv", t, {"pendulum_angle": theta + np.random.default_rng(seed).normal(0, SIGMA, t.size)})
+
+
+def discovery_of(rig, meas):
+    """Discovery on the registered model (Coulomb + viscous) fitted to a record that starts at the release."""
+    ds = fitting.Dataset(rig, meas)
+    sigma = noise_estimate(meas.channel("pendulum_angle"))
+    params = fitting.make_parameters(rig, EFFECTS, initial={"mu_k": 0.03, "viscous": 0.02})
+    registered = fitting.fit([ds], EFFECTS, rig.model.spring_model, params, sigma=sigma, verbose=False, processes=1)
+    return discover(rig, meas, registered, dataset=ds, sigma=sigma, quantisation=0.0, bic_margin=BIC_MARGIN,
+                    min_gain=MIN_VARIANCE_GAIN)
+
+
+@pytest.fixture(scope="module")
+def drag_found(light_rig):
+    return discovery_of(light_rig, record(lambda t, th, w: -DRAG * w * abs(w), seed=3))
+
+
+# --- the model carries the torque -----------------------------------------------------------------
+
+VALUES = {"mu_k": 0.05, "viscous": 0.02, "discovered:w_abs_w": -0.02, "discovered:sin_2theta": 0.3,
+          "discovered:sign_exp_0.15": 0.05, "discovered:time": 0.01}
+
+
+@pytest.mark.parametrize("backend,user_function", [("exudyn", "python"), pytest.param(
+    "compiled", "auto", marks=pytest.mark.skipif(not compiler_works(), reason="no working C compiler"))])
+def test_every_backend_runs_the_same_discovered_torque(light_rig, backend, user_function):
+    effects = EFFECTS + ("discovered_torque",)
+    symbolic = simulate(light_rig, effects, VALUES, t_end=2.0, backend="exudyn", user_function="symbolic")
+    other = simulate(light_rig, effects, VALUES, t_end=2.0, backend=backend, user_function=user_function)
+    without = simulate(light_rig, EFFECTS, VALUES, t_end=2.0, backend="exudyn", user_function="symbolic")
+    assert np.max(np.abs(other.measured - symbolic.measured)) < 1e-9
+    assert np.max(np.abs(without.measured - symbolic.measured)) > 1e-3  # the torque acts
+
+
+def test_a_constant_discovered_torque_moves_the_rest_angle_to_where_it_balances_the_weight(light_rig):
+    T0 = 2.0  # N m; the weight's largest moment is M g L = 14.7 N m
+    r = simulate(light_rig, ("viscous_friction", "discovered_torque"), {"viscous": 2.0, "discovered:constant": T0},
+                 t_end=8.0, backend="fast")
+    rest = math.asin(T0 / (PENDULUM["mass"] * 9.81 * PENDULUM["com_distance"]))
+    # inside the stick band (|w| < 1e-3 rad/s, no friction holds) the viscous term is off, so the swing
+    # ends as an undamped wobble of about w0 / omega = 0.2 mrad: its centre is the rest angle
+    last = r.measured[r.t > 6.0]
+    assert 0.5 * (last.max() + last.min()) == pytest.approx(rest, abs=5e-6)
+
+
+def test_a_discovered_torque_is_refused_where_no_equation_carries_it(light_rig, tmp_path):
+    values = {**VALUES, "discovered:w_abs_w": -0.02}
+    with pytest.raises(ValueError, match="reference solve has no discovered torque"):
+        simulate(light_rig, EFFECTS + ("discovered_torque",), values, t_end=0.5, backend="reference")
+    cam = load_rig(write_rig(tmp_path, P.REFERENCE_CAM, "cam"))
+    with pytest.raises(ValueError, match="pendulum tests only"):
+        simulate(cam, ("coulomb_friction", "discovered_torque"), {"mu_k": 0.1, "discovered:constant": 1.0}, t_end=0.01)
+    with pytest.raises(ValueError, match="unknown discovered term"):
+        simulate(light_rig, ("discovered_torque",), {"discovered:w2": 1.0}, t_end=0.1)
+
+
+# --- sparse selection ------------------------------------------------------------------------------
+
+def test_the_regression_picks_the_term_that_made_the_target_and_drops_one_the_model_spans():
+    rng = np.random.default_rng(1)
+    n = 2000
+    w = rng.uniform(-3, 3, n)
+    th = rng.uniform(-0.8, 0.8, n)
+    X = np.column_stack([w * np.abs(w), w**3, np.sin(2 * th), th, w])
+    names = ["w_abs_w", "w3", "sin_2theta", "theta", "w_again"]
+    Z = w[:, None]  # the model's own direction (viscous friction)
+    y = -0.02 * w * np.abs(w) + 0.05 * w + rng.normal(0, 0.01, n)
+    sel = select(names, X, y, Z, ["viscous"])
+    assert sel.order[0] == "w_abs_w"
+    assert "w_again" in sel.aliased
+    assert sel.coefficients[0]["w_abs_w"] == pytest.approx(-0.02, rel=0.05)
+    assert sel.base_shift["viscous"] != 0.0 and sel.model_shifts[0]["viscous"] == pytest.approx(0.05, rel=0.1)
+
+
+# --- on independent synthetic records ---------------------------------------------------------------
+
+def test_air_drag_is_discovered_with_its_coefficient_and_reading(drag_found):
+    d = drag_found
+    assert d.found and [t.name for t in d.terms] == ["w_abs_w"]
+    term = d.terms[0]
+    assert abs(term.coefficient - (-DRAG)) < max(3 * term.stderr, 0.1 * DRAG)
+    assert "air" in term.reading or "aerodynamic" in term.reading
+    assert d.rms_before > 1.5 * d.noise and d.rms_after < 1.1 * d.noise  # the gap closes to the noise
+    row = next(r for r in d.tried if r["kept"])
+    assert row["delta_bic"] > BIC_MARGIN and row["variance_gain"] >= MIN_VARIANCE_GAIN
+    js = d.to_json()
+    assert js["terms"][0]["status"] == "discovered, not registered" and js["found"] is True
+    assert "discovered, not registered" in d.report() and "w_abs_w" in d.message
+
+
+def test_a_record_the_registered_model_explains_yields_nothing(light_rig):
+    d = discovery_of(light_rig, record(lambda t, th, w: 0.0, seed=4))
+    assert not d.found and d.terms == [] and d.after is None
+    assert d.message.startswith("the library holds nothing that fits")
+
+
+def test_a_torque_outside_the_library_is_reported_as_nothing_found(light_rig):
+    d = discovery_of(light_rig, record(lambda t, th, w: 0.1 * math.sin(2 * math.pi * 1.9 * t), seed=5))
+    assert d.rms_before > 2 * d.noise  # a structured residual is there
+    assert not d.found and "nothing that fits" in d.message
+    assert d.rms_after == d.rms_before

@@ -1,0 +1,274 @@
+"""Discovery of a torque no registered effect describes, in named steps:
+
+1. :func:`.force.missing_torque`: the missing torque on the aligned, smoothed record;
+2. :func:`.library.columns` / :func:`.library.model_columns`: the candidate terms and the model's own
+   directions on that state;
+3. :func:`.regression.select`: nested sparse supports (lasso path, BIC-bounded);
+4. :func:`.refit.refit`: each support added to the model as a discovered torque and refitted to
+   the whole record;
+5. :func:`.judge.evidence`: kept only with the evidence a registered effect needs (each further
+   term must earn it again over the smaller support).
+
+Each discovered form is reported as *discovered, not registered*, with its coefficient, standard
+error and physical reading; when nothing earns the evidence, the report says the library holds
+nothing that fits.
+"""
+from __future__ import annotations
+
+import math
+import time
+from collections.abc import Sequence
+from dataclasses import dataclass, field
+
+from ...errors import SimulationError
+from ...experiments import experiment_of
+from ...model.effects import MACHINERY as MODEL_MACHINERY
+from ...records.signals import noise_estimate_floored, quantisation_step
+from ..fit import Dataset, FitAborted, FitResult
+from ..nuisance import record_setup
+from .force import ForceEstimate, missing_torque
+from .judge import evidence, scoring_noise
+from .library import DEFAULT_LIBRARY, columns, model_columns, reading, unit
+from .refit import MACHINERY, profile, refit, terms_of
+from .regression import Selection, select
+
+
+#: Profiles of a coefficient taken at most (each one whose parabola's lowest point lies away from the
+#: value refits from there; the next profile is taken around the new value).
+PROFILE_ROUNDS = 3
+
+
+@dataclass
+class DiscoveredTerm:
+    """One term of a discovered torque: ``coefficient`` and ``stderr`` in ``unit`` (so that
+    coefficient x term is N m), and what a torque of this form usually is. ``stderr`` is the larger
+    of the fit's (``stderr_jacobian``) and the chi^2 profile's (``stderr_profile``)."""
+
+    name: str
+    coefficient: float
+    stderr: float | None
+    unit: str
+    reading: str
+    stderr_jacobian: float | None = None
+    stderr_profile: float | None = None
+
+    def to_json(self) -> dict:
+        return {"term": self.name, "coefficient": self.coefficient, "stderr": self.stderr, "unit": self.unit,
+                "stderr_jacobian": self.stderr_jacobian, "stderr_profile": self.stderr_profile,
+                "reading": self.reading, "status": "discovered, not registered"}
+
+
+@dataclass
+class Discovery:
+    """What discovery found on one record. ``found``: a discovered torque earned the evidence;
+    ``terms`` its terms; ``before`` the best registered fit (the one given, or the registered model
+    refitted from the regression's start when that is better), ``after`` the fit with the kept
+    terms (None when nothing was kept); rms in the measured channel's unit (``unit``), the
+    noise level ``noise`` (the same unit); ``tried``: every support refitted with its evidence."""
+
+    found: bool
+    terms: list
+    before: FitResult
+    after: FitResult | None
+    noise: float
+    unit: str
+    message: str
+    tried: list = field(default_factory=list)
+    selection: Selection | None = None
+    estimate: ForceEstimate | None = None
+    bic_margin: float = 0.0
+    min_gain: float = 0.0
+    seconds: float = 0.0
+    given: FitResult | None = None  # the registered fit discovery started from
+    alternatives: list = field(default_factory=list)  # other bases tried (discover_among)
+
+    @property
+    def rms_before(self) -> float:
+        return self.before.rms
+
+    @property
+    def rms_after(self) -> float:
+        return (self.after or self.before).rms
+
+    def to_json(self) -> dict:
+        sel = self.selection
+        return {"found": self.found, "message": self.message, "terms": [t.to_json() for t in self.terms],
+                "rms_before": self.rms_before, "rms_after": self.rms_after, "noise": self.noise, "unit": self.unit,
+                "bic_margin": self.bic_margin, "min_variance_gain": self.min_gain, "tried": self.tried,
+                "regression": None if sel is None else {
+                    "order": sel.order, "terms_by_bic": sel.n_bic, "aliased_with_model": sel.aliased,
+                    "samples": sel.samples, "explained_share": [round(e, 4) for e in sel.explained]},
+                "smoothing_window_s": None if self.estimate is None else self.estimate.window_s,
+                "base_effects": list(self.before.effects), "refitted_effects": list((self.after or self.before).effects),
+                "fitted": {k: float(f"{v:.6g}") for k, v in (self.after or self.before).model_values.items()},
+                "alternatives": self.alternatives,
+                "seconds": round(self.seconds, 2)}
+
+    def report(self) -> str:
+        u = self.unit
+        lines = [f"  discovery: {self.message}",
+                 f"    rms {self.rms_before:.3g} -> {self.rms_after:.3g} {u} (noise {self.noise:.3g} {u})"]
+        for t in self.terms:
+            err = f" +- {t.stderr:.2g}" if t.stderr is not None else ""
+            lines.append(f"    {t.name}: {t.coefficient:.4g}{err} {t.unit} (discovered, not registered): {t.reading}")
+        for row in self.tried:
+            lines.append(f"    tried {' + '.join(row['terms'])}: dBIC {row['delta_bic']:.1f}, variance gain "
+                         f"{row['variance_gain']:.3f}, rms {row['rms']:.3g} {u}" + (" (kept)" if row["kept"] else ""))
+        return "\n".join(lines)
+
+
+def record_dataset(rig, measurement) -> tuple[Dataset, float, float]:
+    """(dataset, high-frequency noise level, quantisation step) of a record, set up as the diagnosis does."""
+    y = measurement.channel(experiment_of(rig.experiment).measured_channel)
+    q = quantisation_step(y)
+    sigma = noise_estimate_floored(y, q)
+    return Dataset(rig, measurement, record_setup(rig, measurement, sigma)), sigma, q
+
+
+def _nothing(fit, noise, unit_, message, **kw) -> Discovery:
+    return Discovery(False, [], fit, None, noise, unit_, message, **kw)
+
+
+def discover(rig, measurement, fit: FitResult, *, bic_margin: float, min_gain: float, dataset: Dataset | None = None,
+             sigma: float | None = None, quantisation: float | None = None, pool=None,
+             library: Sequence[str] = DEFAULT_LIBRARY, should_stop=None) -> Discovery:
+    """Search ``library`` for the torque ``fit`` (the best registered model of ``measurement``)
+    lacks (module docstring). ``bic_margin`` and ``min_gain`` are the evidence a registered
+    effect must give (the diagnosis's); ``dataset``, ``sigma`` (measured unit) and
+    ``quantisation``: the diagnosis's own (built from the record when not given)."""
+    started = time.monotonic()
+    rec = experiment_of(rig.experiment)
+    if dataset is None:
+        dataset, sigma0, q0 = record_dataset(rig, measurement)
+        sigma = sigma if sigma is not None else sigma0
+        quantisation = quantisation if quantisation is not None else q0
+    quantisation = quantisation or 0.0
+    kw = {"bic_margin": bic_margin, "min_gain": min_gain, "given": fit}
+    if rig.experiment not in MODEL_MACHINERY[MACHINERY].experiments:
+        return _nothing(fit, sigma, rec.unit, f"not tried: discovery covers {', '.join(MODEL_MACHINERY[MACHINERY].experiments)} "
+                        f"tests, not a {rig.experiment} test", **kw)
+    est = missing_torque(rig, dataset, fit)
+    names = list(library)
+    used = est.used
+    z_names, Z = model_columns(fit, est)
+    sel = select(names, columns(names, est)[used], est.torque[used], Z[used], z_names)
+    out = _search(dataset, fit, sel, sigma, quantisation, pool, should_stop, kw)
+    out.selection, out.estimate, out.seconds = sel, est, time.monotonic() - started
+    return out
+
+
+def _registered_best(dataset, fit, sel, sigma, pool, should_stop) -> FitResult:
+    """``fit``, or the registered model refitted from the regression's start for its own values when
+    that is better: a term is credited only with what the registered model cannot do, not with
+    the distance its fit stopped short of its own best (the friction forms share a long valley)."""
+    try:
+        again = refit(dataset, fit, {}, sel.base_shift, sigma=sigma, pool=pool, should_stop=should_stop)
+    except (SimulationError, FitAborted):
+        return fit
+    return again if again.chi2 < fit.chi2 else fit
+
+
+def _terms(dataset, after, names, noise, sigma, pool, should_stop) -> tuple[list, FitResult]:
+    """The kept terms with their stated errors (the largest of the fit's, from its Jacobian, and the
+    chi^2 profiles'), and the fit polished along each term's profile."""
+    errors = {}
+    for name in names:
+        errors[name] = None
+        for _ in range(PROFILE_ROUNDS):
+            try:
+                error, polished = profile(dataset, after, name, noise, sigma=sigma, pool=pool, should_stop=should_stop)
+            except (SimulationError, FitAborted):
+                break
+            errors[name] = max((e for e in (errors[name], error) if e is not None), default=None)
+            if polished is after:
+                break
+            after = polished
+    terms = []
+    for name in names:
+        p = after.parameters["discovered:" + name]
+        stated = [e for e in (p.stderr, errors[name]) if e is not None]
+        terms.append(DiscoveredTerm(name, p.value, max(stated) if stated else None, unit(name), reading(name), p.stderr,
+                                    errors[name]))
+    return terms, after
+
+
+def _search(dataset, fit, sel, sigma, quantisation, pool, should_stop, kw) -> Discovery:
+    """Refit the nested supports; keep the largest whose every step earned the evidence over the
+    best registered fit."""
+    unit_ = experiment_of(dataset.rig.experiment).unit
+    given, fit = fit, _registered_best(dataset, fit, sel, sigma, pool, should_stop)
+    fits = []
+    for coefficients, shifts in zip(sel.coefficients, sel.model_shifts):
+        try:
+            fits.append(refit(dataset, given, coefficients, shifts, sigma=sigma, pool=pool, should_stop=should_stop,
+                              also=fit if fit is not given else None))
+        except (SimulationError, FitAborted):
+            break
+    noise = scoring_noise([fit] + fits, sigma, quantisation)
+    tried, kept, previous = [], None, fit
+    for support, f in zip(sel.supports, fits):
+        ev = evidence(fit, f, noise, sigma, kw["bic_margin"], kw["min_gain"])
+        step = evidence(previous, f, noise, sigma, kw["bic_margin"], kw["min_gain"])
+        ok = ev["earned"] and step["earned"] and (kept is not None or previous is fit)
+        tried.append({"terms": list(support), "delta_bic": ev["delta_bic"], "variance_gain": ev["variance_gain"],
+                      "delta_bic_over_smaller": step["delta_bic"], "rms": f.rms, "kept": False,
+                      "coefficients": terms_of(f)})
+        if not ok:
+            break
+        kept, previous = (len(tried) - 1, f), f
+    level = sigma
+    if kept is None:
+        best = tried[0] if tried else None
+        why = ("the library holds nothing that fits: " + (
+            f"its best term, {best['terms'][0]}, lowers BIC by {best['delta_bic']:.1f} (margin {kw['bic_margin']:g}) "
+            f"and removes {best['variance_gain']:.3f} of the noise variance (needed {kw['min_gain']:g})"
+            if best else "no term could be refitted"))
+        return _nothing(fit, level, unit_, why, tried=tried, **kw)
+    index, after = kept
+    tried[index]["kept"] = True
+    terms, after = _terms(dataset, after, sel.supports[index], noise, sigma, pool, should_stop)
+    tried[index]["rms_polished"] = after.rms
+    text = "; ".join(f"{t.reading} ({t.name} = {t.coefficient:.4g} {t.unit})" for t in terms)
+    message = (f"discovered, not registered: {text}; rms {fit.rms:.3g} -> {after.rms:.3g} {unit_} "
+               f"(noise {level:.3g}), delta BIC {tried[index]['delta_bic']:.1f}")
+    return Discovery(True, terms, fit, after, level, unit_, message, tried, **kw)
+
+
+def excess(rms: float, noise: float) -> float:
+    """The residual's rms in excess of the noise, sqrt(rms^2 - noise^2) (measured unit)."""
+    return math.sqrt(max(rms * rms - noise * noise, 0.0))
+
+
+def discover_among(rig, measurement, fits: Sequence[FitResult], **options) -> Discovery:
+    """Discovery on each registered model of ``fits`` (e.g. the diagnosis's final model and its
+    starting model; ``options`` as :func:`discover`), keeping the one whose resulting model (with
+    its discovered torque, or without when none earned it) has the lowest BIC under one noise model.
+    A registered effect the diagnosis added can be a stand-in for the torque it could not name
+    (a Stribeck curve bent to follow air drag): with the torque found, the simpler base can win."""
+    results = []
+    for f in fits:
+        if all(f is not r.given for r in results):
+            results.append(discover(rig, measurement, f, **options))
+    if len(results) == 1:
+        return results[0]
+    sigma = options.get("sigma") or min(r.noise for r in results)
+    noise = scoring_noise([r.after or r.before for r in results], sigma, options.get("quantisation") or 0.0)
+    best = min(results, key=lambda r: (r.after or r.before).bic_with(noise))
+    if best.given is not fits[0]:
+        others = ", ".join(sorted(set(fits[0].effects) - set(best.before.effects)))
+        best.message += (f" (on the model without {others}: with the discovered torque "
+                         f"{'that effect is not needed' if others else 'this base fits better'})")
+    best.alternatives = [{"base_effects": list(r.given.effects), "found": r.found, "terms": [t.name for t in r.terms],
+                          "bic": (r.after or r.before).bic_with(noise)} for r in results]
+    return best
+
+
+def discovery_step(rig, measurement, final: FitResult, starting: FitResult | None, explained: bool,
+                   **options) -> Discovery | None:
+    """The diagnosis's discover step: None when the final model explains the record (nothing to
+    look for), else :func:`discover_among` on the final model and the starting model (with its own
+    alignment). ``options``: :func:`discover`'s (the diagnosis passes its dataset, noise level,
+    quantisation, pool and its evidence threshold)."""
+    if explained:
+        return None
+    return discover_among(rig, measurement, [final] + ([starting] if starting is not None else []), **options)

@@ -1,0 +1,60 @@
+"""The candidate terms of a discovered torque: their names, columns on a measured state, physical
+readings, and the directions the fitted model itself can still move in.
+
+The terms are the law's (:data:`vcbmodel.laws.discovered.TERMS`): a column is a term evaluated
+with :class:`~vcbmodel.laws.friction.ArrayOps` on the smoothed record, so the regression sees
+exactly the function the refitted model then integrates.
+"""
+from __future__ import annotations
+
+from collections.abc import Sequence
+from dataclasses import replace
+
+import numpy as np
+
+from ...laws.discovered import TERMS, term
+from ...laws.friction import ArrayOps
+from .force import ForceEstimate, model_acceleration
+
+#: The library discovery searches by default: every term of the law.
+DEFAULT_LIBRARY = tuple(TERMS)
+#: Relative step of the finite differences of the model's torque in its own parameters.
+PARAMETER_STEP = 1e-4
+
+
+def columns(names: Sequence[str], est: ForceEstimate) -> np.ndarray:
+    """(samples, terms) matrix: each term (its unit's torque per unit coefficient) on the estimate's state."""
+    cols = []
+    with np.errstate(all="ignore"):
+        for name in names:
+            v = term(name).value(est.t, est.theta, est.w, ArrayOps)
+            cols.append(np.broadcast_to(np.asarray(v, float), est.t.shape))
+    return np.column_stack(cols) if cols else np.zeros((est.t.size, 0))
+
+
+def reading(name: str) -> str:
+    """What a torque of this term's form usually is (a physical reading)."""
+    return term(name).reading
+
+
+def unit(name: str) -> str:
+    """The unit of the term's coefficient (coefficient x term is N m)."""
+    return term(name).unit
+
+
+def model_columns(fit, est: ForceEstimate) -> tuple[list[str], np.ndarray]:
+    """(names, (samples, k) matrix): how the model's torque I alpha_model (N m) changes per unit of
+    each of its varied parameters, on the estimate's state. A missing torque is regressed with
+    these free (the refit moves the model's values too), so a term is not credited with what a
+    registered parameter already does (viscous friction's w, Coulomb's sign(w))."""
+    names, cols = [], []
+    base = model_acceleration(est.rig, fit, est.t, est.theta, est.w)
+    for p in fit.parameters.values():
+        if p.kind != "model" or not p.vary:
+            continue
+        h = PARAMETER_STEP * max(abs(p.value), 1e-3)
+        moved = replace(fit, parameters={**fit.parameters, p.name: replace(p, value=p.value + h)})
+        acc = model_acceleration(est.rig, moved, est.t, est.theta, est.w)
+        names.append(p.name)
+        cols.append(est.inertia * (acc - base) / h)
+    return names, (np.column_stack(cols) if cols else np.zeros((est.t.size, 0)))
