@@ -363,12 +363,39 @@ def test_the_starting_model_is_refitted_on_the_final_alignment(monkeypatch):
 
 # --- discover, report ---------------------------------------------------------------------------
 
-def test_discover_is_a_slot_that_changes_no_fit():
-    current = fit_of(noise() + bump())
-    state = State(current=current, final=current)
-    discover_step.discover(ctx_of(), state)
-    assert state.discovery == discover_step.NO_DISCOVERY and not state.discovery["attempted"]
+def test_discover_searches_only_an_unexplained_record_and_changes_no_fit(monkeypatch):
+    current, start = fit_of(noise() + bump()), fit_of(noise() + 2 * bump())
+    seen = {}
+
+    class Found:
+        message = "discovered, not registered: ..."
+
+        def to_json(self):
+            return {"found": True, "terms": [{"term": "w_abs_w"}]}
+
+        def report(self):
+            return "  discovery: ..."
+
+    def step(rig, measurement, final, starting, explained, **options):
+        seen.update(final=final, starting=starting, margin=options["bic_margin"], gain=options["min_gain"])
+        return Found()
+
+    monkeypatch.setattr(discover_step, "discovery_step", step)
+    state = State(current=current, final=current, own_alignment=start, verdict={"explained": True})
+    discover_step.discover(ctx_of(measurement=None), state)
+    assert not state.discovery["attempted"] and not seen  # explained: nothing to look for
+    state.verdict = {"explained": False}
+    discover_step.discover(ctx_of(measurement=None, pool=None), state)
+    assert state.discovery["attempted"] and state.discovery["found"] and state.discovery["report"]
+    assert seen["final"] is current and seen["starting"] is start  # both bases, the diagnosis's threshold
+    assert seen["margin"] == BIC_MARGIN and seen["gain"] > 0
     assert state.final is current
+    monkeypatch.setattr(discover_step, "discovery_step", lambda *a, **k: (_ for _ in ()).throw(ValueError("no")))
+    discover_step.discover(ctx_of(measurement=None, pool=None), state)
+    assert not state.discovery["attempted"] and "failed" in state.discovery["reason"]
+    state.discovery = {}
+    discover_step.discover(ctx_of(measurement=None, over=lambda f=0.8: True), state)
+    assert state.discovery["reason"] == "time budget"
 
 
 def test_report_window_and_timing():

@@ -52,4 +52,4 @@ def report(ctx, state) -> None:
             f"{spent['simulations']} simulations")
     state.diagnosis = Diagnosis(ctx.rig, ctx.measurement, ctx.noise, baseline, state.candidates, state.missing, final,
                                 where, signature, evidence, stopped, state.verdict, nuisance, spent, state.selection,
-                                state.own_alignment)
+                                state.own_alignment, state.discovery, state.discovered)

@@ -33,6 +33,9 @@ class Diagnosis:
     #: the starting model with the record's nuisance fitted to it (``baseline`` is the starting
     #: model on the final model's alignment of the record: see judge.on_final_alignment)
     baseline_own_alignment: FitResult = None
+    #: the discover step's report (:mod:`.discover`): a torque outside the registry, or why none
+    discovered: dict = field(default_factory=dict)
+    discovery: object = None  # its Discovery (vcbmodel.analysis.discovery), when it searched
 
     @property
     def missing_effect(self) -> str | None:
@@ -85,6 +88,7 @@ class Diagnosis:
             "at_bound": [p.name for p in f.parameters.values() if p.at_bound()],
             "nuisance": self.nuisance, "verdict": self.verdict,
             "signature": self.signature, "evidence": self.evidence, "timing": self.timing,
+            "discovered": {k: v for k, v in self.discovered.items() if k != "report"},
         }
 
     def report(self) -> str:
@@ -109,5 +113,7 @@ class Diagnosis:
                          f"{tie['delta_bic_between']:.1f} apart, margin {BIC_MARGIN:g})")
         lines.append(f"  rms {self.baseline.rms:.3g} -> {self.final.rms:.3g} {u}; explained: {self.explained}")
         lines.append("  " + self.evidence)
+        if self.discovered.get("report"):
+            lines.append(self.discovered["report"])
         lines.append(self.final.report())
         return "\n".join(lines)

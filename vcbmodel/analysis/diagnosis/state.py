@@ -55,4 +55,5 @@ class State:
     missing: list = field(default_factory=list)
     own_alignment: FitResult = None  # the baseline before judge put it on the final alignment
     discovery: dict = field(default_factory=dict)
+    discovered: object = None  # the discover step's Discovery (vcbmodel.analysis.discovery), when it searched
     diagnosis: object = None  # report
