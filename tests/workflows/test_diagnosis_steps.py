@@ -382,19 +382,22 @@ def test_discover_searches_only_an_unexplained_record_and_changes_no_fit(monkeyp
 
     monkeypatch.setattr(discover_step, "discovery_step", step)
     state = State(current=current, final=current, own_alignment=start, verdict={"explained": True})
-    discover_step.discover(ctx_of(measurement=None), state)
+    pendulum = SimpleNamespace(experiment="pendulum")
+    discover_step.discover(ctx_of(measurement=None, rig=pendulum), state)
     assert not state.discovery["attempted"] and not seen  # explained: nothing to look for
     state.verdict = {"explained": False}
-    discover_step.discover(ctx_of(measurement=None, pool=None), state)
+    discover_step.discover(ctx_of(measurement=None, pool=None), state)  # a cam drop: no search
+    assert not state.discovery["attempted"] and "pendulum records only" in state.discovery["reason"] and not seen
+    discover_step.discover(ctx_of(measurement=None, pool=None, rig=pendulum), state)
     assert state.discovery["attempted"] and state.discovery["found"] and state.discovery["report"]
     assert seen["final"] is current and seen["starting"] is start  # both bases, the diagnosis's threshold
     assert seen["margin"] == BIC_MARGIN and seen["gain"] > 0
     assert state.final is current
     monkeypatch.setattr(discover_step, "discovery_step", lambda *a, **k: (_ for _ in ()).throw(ValueError("no")))
-    discover_step.discover(ctx_of(measurement=None, pool=None), state)
+    discover_step.discover(ctx_of(measurement=None, pool=None, rig=pendulum), state)
     assert not state.discovery["attempted"] and "failed" in state.discovery["reason"]
     state.discovery = {}
-    discover_step.discover(ctx_of(measurement=None, over=lambda f=0.8: True), state)
+    discover_step.discover(ctx_of(measurement=None, over=lambda f=0.8: True, rig=pendulum), state)
     assert state.discovery["reason"] == "time budget"
 
 

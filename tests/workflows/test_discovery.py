@@ -11,7 +11,7 @@ from conftest import write_rig
 from vcbmodel import parameters as P
 from vcbmodel.analysis import fit as fitting
 from vcbmodel.analysis.diagnose import BIC_MARGIN, MIN_VARIANCE_GAIN
-from vcbmodel.analysis.discovery import discover
+from vcbmodel.analysis.discovery import covers, discover
 from vcbmodel.analysis.discovery.regression import select
 from vcbmodel.compiled import compiler_works
 from vcbmodel.experiments.loading import load_rig
@@ -93,6 +93,7 @@ def test_a_discovered_torque_is_refused_where_no_equation_carries_it(light_rig, 
         simulate(cam, ("coulomb_friction", "discovered_torque"), {"mu_k": 0.1, "discovered:constant": 1.0}, t_end=0.01)
     with pytest.raises(ValueError, match="unknown discovered term"):
         simulate(light_rig, ("discovered_torque",), {"discovered:w2": 1.0}, t_end=0.1)
+    assert covers("pendulum") and not covers("cam_drop") and not covers("vcb_closing")
 
 
 # --- sparse selection ------------------------------------------------------------------------------

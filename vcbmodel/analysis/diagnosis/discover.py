@@ -8,7 +8,7 @@ reported beside them (``discovered`` in the JSON), each term as *discovered, not
 from __future__ import annotations
 
 from ...errors import SimulationError
-from ..discovery import discovery_step
+from ..discovery import covers, discovery_step
 from ..fit import FitAborted
 from .scores import BIC_MARGIN, min_gain
 
@@ -23,6 +23,9 @@ def discover(ctx, state) -> None:
     ``state.discovered`` (the :class:`~vcbmodel.analysis.discovery.Discovery`); changes no fit."""
     if state.verdict.get("explained"):
         state.discovery = skipped("the registered model explains the record")
+        return
+    if not covers(ctx.rig.experiment):
+        state.discovery = skipped(f"discovery searches pendulum records only, not a {ctx.rig.experiment} record")
         return
     if ctx.over(0.95):
         state.discovery = skipped("time budget")

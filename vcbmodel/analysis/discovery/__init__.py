@@ -3,6 +3,6 @@ model (:mod:`.force`), a library of candidate terms (:mod:`.library`), sparse se
 (:mod:`.regression`, scikit-learn), the model refitted with the discovered torque (:mod:`.refit`)
 and the evidence it must earn (:mod:`.judge`); :func:`discover` runs them in order
 (:mod:`.discover`)."""
-from .discover import DiscoveredTerm, Discovery, discover, discover_among, discovery_step, excess, record_dataset
+from .discover import DiscoveredTerm, Discovery, covers, discover, discover_among, discovery_step, excess, record_dataset
 
-__all__ = ["DiscoveredTerm", "Discovery", "discover", "discover_among", "discovery_step", "excess", "record_dataset"]
+__all__ = ["DiscoveredTerm", "Discovery", "covers", "discover", "discover_among", "discovery_step", "excess", "record_dataset"]

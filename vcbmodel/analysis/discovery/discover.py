@@ -129,6 +129,11 @@ def _nothing(fit, noise, unit_, message, **kw) -> Discovery:
     return Discovery(False, [], fit, None, noise, unit_, message, **kw)
 
 
+def covers(experiment: str) -> bool:
+    """Whether discovery can search this experiment's records (its equations carry a discovered torque)."""
+    return experiment in MODEL_MACHINERY[MACHINERY].experiments
+
+
 def discover(rig, measurement, fit: FitResult, *, bic_margin: float, min_gain: float, dataset: Dataset | None = None,
              sigma: float | None = None, quantisation: float | None = None, pool=None,
              library: Sequence[str] = DEFAULT_LIBRARY, should_stop=None) -> Discovery:
@@ -144,7 +149,7 @@ def discover(rig, measurement, fit: FitResult, *, bic_margin: float, min_gain: f
         quantisation = quantisation if quantisation is not None else q0
     quantisation = quantisation or 0.0
     kw = {"bic_margin": bic_margin, "min_gain": min_gain, "given": fit}
-    if rig.experiment not in MODEL_MACHINERY[MACHINERY].experiments:
+    if not covers(rig.experiment):
         return _nothing(fit, sigma, rec.unit, f"not tried: discovery covers {', '.join(MODEL_MACHINERY[MACHINERY].experiments)} "
                         f"tests, not a {rig.experiment} test", **kw)
     est = missing_torque(rig, dataset, fit)
@@ -245,6 +250,8 @@ def discover_among(rig, measurement, fits: Sequence[FitResult], **options) -> Di
     its discovered torque, or without when none earned it) has the lowest BIC under one noise model.
     A registered effect the diagnosis added can be a stand-in for the torque it could not name
     (a Stribeck curve bent to follow air drag): with the torque found, the simpler base can win."""
+    if not covers(rig.experiment):
+        return discover(rig, measurement, fits[0], **options)
     results = []
     for f in fits:
         if all(f is not r.given for r in results):
