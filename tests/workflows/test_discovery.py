@@ -3,6 +3,7 @@ carries a discovered torque on every backend; the sparse regression picks the ri
 independent synthetic records (vcbmodel.reference.torque_truth) air drag is found with its
 coefficient, and a record of pure noise and one with a torque outside the library give "nothing"."""
 import math
+from types import SimpleNamespace
 
 import numpy as np
 import pytest
@@ -12,6 +13,7 @@ from vcbmodel import parameters as P
 from vcbmodel.analysis import fit as fitting
 from vcbmodel.analysis.diagnose import BIC_MARGIN, MIN_VARIANCE_GAIN
 from vcbmodel.analysis.discovery import covers, discover
+from vcbmodel.analysis.discovery.force import missing_torque
 from vcbmodel.analysis.discovery.regression import select
 from vcbmodel.compiled import compiler_works
 from vcbmodel.experiments.loading import load_rig
@@ -94,6 +96,29 @@ def test_a_discovered_torque_is_refused_where_no_equation_carries_it(light_rig, 
     with pytest.raises(ValueError, match="unknown discovered term"):
         simulate(light_rig, ("discovered_torque",), {"discovered:w2": 1.0}, t_end=0.1)
     assert covers("pendulum") and not covers("cam_drop") and not covers("vcb_closing")
+
+
+# --- the missing torque ---------------------------------------------------------------------------
+
+def test_the_missing_torque_of_a_record_the_model_made_is_nil_on_the_fits_alignment(light_rig):
+    values = {"mu_k": 0.05, "viscous": 0.01}
+    t = np.arange(4001) / 1000.0
+    release, offset, gain, scale = 0.3, 0.01, 1.02, 1.003
+    tau = (t - release) * scale
+    y = offset + gain * simulate(light_rig, EFFECTS, values, sample_times=np.clip(tau, 0.0, None), backend="fast").measured
+    dataset = SimpleNamespace(setup=SimpleNamespace(release=release), mask=lambda: np.ones(t.size, bool), t=t, y=y)
+
+    def fit_with(clock):
+        return SimpleNamespace(values={"release_time_0": release, "sensor_offset_0": offset, "sensor_gain_0": gain,
+                                       "time_scale_0": clock, **values}, model_values=values, effects=EFFECTS,
+                               spring_model=light_rig.model.spring_model, parameters={})
+    est = missing_torque(light_rig, dataset, fit_with(scale))
+    weight = PENDULUM["mass"] * 9.81 * PENDULUM["com_distance"]  # N m
+    # the equations' response to a unit torque: 1/I, less the friction's share through the reaction (1e-4)
+    assert est.used.sum() > 2000 and est.inertia == pytest.approx(PENDULUM["inertia"], rel=1e-3)
+    assert np.max(np.abs(est.torque[est.used])) < 1e-4 * weight
+    wrong = missing_torque(light_rig, dataset, fit_with(1.0))  # the clock's 0.3 % ignored
+    assert np.max(np.abs(wrong.torque[wrong.used])) > 100 * np.max(np.abs(est.torque[est.used]))
 
 
 # --- sparse selection ------------------------------------------------------------------------------

@@ -1,6 +1,6 @@
 """The missing generalized force: what the record's motion needs beyond the fitted model.
 
-The record is read in the model's coordinate with the fit's own alignment (release time, sensor
+The record is read in the model's coordinate with the fit's own alignment (release time, clock scale, sensor
 offset and gain; rig values the fit estimated), smoothed with a Savitzky-Golay filter to the
 shaft angle theta (rad), speed w (rad/s) and acceleration alpha (rad/s^2) (:func:`measured_state`:
 the fitted model's trajectory plus the smoothed difference of the record from it). On that measured
@@ -23,6 +23,7 @@ from ...experiments import experiment_of
 from ...experiments.simulation import model_spec, simulate
 from ...laws.friction import ArrayOps
 from ...rig.paths import loaded_with
+from ..fit.dataset import model_time, time_scale_name
 
 if TYPE_CHECKING:
     from ...rig.data import Rig
@@ -116,11 +117,12 @@ def measured_state(rig, dataset, fit) -> tuple:
     release = values.get("release_time_0", setup.release if setup is not None else 0.0)
     offset = values.get("sensor_offset_0", 0.0)
     gain = values.get("sensor_gain_0", 1.0)
-    dt = float(np.median(np.diff(t_rec)))
+    scale = values.get(time_scale_name(0), 1.0)  # a record's clock a fraction of a percent off
+    dt = float(np.median(np.diff(t_rec))) * scale
     n = smoothing_points(rig, dt)
     if n >= y.size:
         raise ValueError(f"the record's window holds {y.size} samples: too few to smooth over {n}")
-    tau = t_rec - release
+    tau = model_time(t_rec, release, scale)
     sim = simulate(rig, fit.effects, fit.model_values, spring_model=fit.spring_model,
                    sample_times=np.clip(tau, 0.0, None), backend="fast")
     theta_m, w_m = sim.measured, sim.channels["shaft_velocity"]
