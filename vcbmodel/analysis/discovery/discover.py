@@ -214,11 +214,11 @@ def _search(dataset, fit, sel, sigma, quantisation, pool, should_stop, kw) -> Di
     for support, f in zip(sel.supports, fits):
         ev = evidence(fit, f, noise, sigma, kw["bic_margin"], kw["min_gain"])
         step = evidence(previous, f, noise, sigma, kw["bic_margin"], kw["min_gain"])
-        ok = ev["earned"] and step["earned"] and (kept is not None or previous is fit)
+        ok = ev["earned"] and step["earned"]
         tried.append({"terms": list(support), "delta_bic": ev["delta_bic"], "variance_gain": ev["variance_gain"],
                       "delta_bic_over_smaller": step["delta_bic"], "rms": f.rms, "kept": False,
                       "coefficients": terms_of(f)})
-        if not ok:
+        if not ok:  # nested: a larger support is tried only over a kept smaller one
             break
         kept, previous = (len(tried) - 1, f), f
     level = sigma
