@@ -173,15 +173,19 @@ def markdown(cases, summaries):
         disc, g = case["discovery"], s["gap"]
         found = "; ".join(f"{t.name} = {t.coefficient:.4g} +- {t.stderr:.2g} {t.unit}" if t.stderr else t.name
                           for t in disc.terms) or "nothing"
-        rows.append([case["truth"]["extra"], ", ".join(s["diagnosis"]["missing_effects"]) or "none",
+        verdict = "explained" if s["diagnosis"]["explained"] else "not explained"
+        rows.append([case["truth"]["extra"], (", ".join(s["diagnosis"]["missing_effects"]) or "none") + f" ({verdict})",
                      f"{1e3 * g['rms_registered_rad']:.3f}", f"{1e3 * g['rms_discovered_rad']:.3f}",
                      f"{1e3 * g['noise_rad']:.3f}", found,
                      f"{case['seconds']['diagnosis with discovery']:.0f} ({case['seconds']['discovery']:.0f})"])
-    md.append(markdown_table(["truth's extra torque", "registered effects named", "rms registered [mrad]",
+    md.append(markdown_table(["truth's extra torque", "registered effects named (verdict)", "rms registered [mrad]",
                               "rms with discovery [mrad]", "noise [mrad]", "discovered (not registered)",
-                              "time [s]: diagnosis (of it discovery)"], rows))
+                              "time [s]: diagnosis (discovery)"], rows))
     for case, s in zip(cases, summaries):
-        md.append(f"## {case['truth']['extra']}\n\n{case['discovery'].message}\n")
+        searched = ("The diagnosis's discover step ran (its verdict: not explained)." if case["seconds"]["diagnosis_searched"]
+                    else "The diagnosis called the record explained, so its discover step did not run; discovery was "
+                    "run after it on the diagnosis's final and starting models.")
+        md.append(f"## {case['truth']['extra']}\n\n{searched}\n\n{case['discovery'].message}\n")
         check = s["discovery"].get("truth_check")
         if check:
             md.append(f"Coefficient {check['found']:.4g} +- {check['stderr']:.2g} against the truth {check['truth']:.4g}: "
