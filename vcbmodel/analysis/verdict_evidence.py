@@ -4,7 +4,8 @@ not shape (issue 20): what the diagnosis' judge step calls.
 1. Sensor artefacts (:mod:`.sensor_artefacts`): steady narrow lines above the mechanism's band
    (:func:`mechanism_band`) are fitted and removed from the residual and reported as nuisance
    (mains pickup, with the record's clock as the line reads it); a timing jitter (noise growing
-   with the model's speed) is estimated and the residual brought to the noise level at rest.
+   with the model's speed) is estimated and the residual brought to the noise level at rest (not on
+   a rounded record, whose rounding error also grows with the speed).
 2. The noise model (:mod:`.noise`) is fitted to what remains and the residual tested against it
    (whitened residual white, level as the record's; a quantised record's rounding band), the
    high-frequency level of a rounded record taken from the rms of its third differences.
@@ -79,7 +80,9 @@ def judge_residual(times: Sequence[np.ndarray], residuals: Sequence[np.ndarray],
     main = np.asarray(residuals[0], float)
     lines = find_lines(t0, main, band_hz) if band_hz else []
     first = remove_lines(t0, main, lines) if lines else main
-    jitter = timing_jitter(t0, first, model) if model is not None else None
+    # not on a rounded record: its rounding error stays put while the reading rests on one level and
+    # alternates when it moves, so it too grows with the speed
+    jitter = timing_jitter(t0, first, model) if model is not None and not quantisation else None
     if jitter:
         first = first * jitter_weights(t0, model, jitter)
     cleaned = [first] + [np.asarray(r, float) for r in residuals[1:]]
