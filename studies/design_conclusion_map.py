@@ -4,8 +4,8 @@ spring's motion?
 At each point of a grid of closing-spring mass (0.2-1.5 kg; the paper: "each spring about 1 kg")
 and shaft friction mu_k (0.05-0.2), the reference breaker closes three times
 (vcbmodel.analysis.design.conclusion_effects): the full model (shaft friction + lumped-2 spring in
-the paper's convention, as studies/vcb_closing.py), without the shaft friction, and with a
-massless spring. The ratio (effect of dropping the friction) / (effect of a massless spring) is
+the `exact` convention, the reference breaker's, as studies/vcb_closing.py), without the shaft friction,
+and with a massless spring. The ratio (effect of dropping the friction) / (effect of a massless spring) is
 taken on the follower displacement (rms change against the full model over the closing) and on
 the closing time (|change|); ratio > 1: friction matters more, as the paper concludes. mu_s
 follows mu_k where it would fall below it. All runs go through the sweep on all cores.
@@ -31,12 +31,12 @@ RATIOS = [("ratio_rms", "follower displacement (rms change)"), ("ratio_closing_t
 
 
 def base_rig():
-    """The reference breaker with the full model of the closing study: lumped-2, paper convention."""
+    """The reference breaker with the full model of the closing study: lumped-2, exact convention."""
     data = copy.deepcopy(P.REFERENCE_BREAKER)
     effects = list(data["model"]["effects"])
     if "spring_mass" not in effects:
         effects.append("spring_mass")
-    data["model"] = {"effects": effects, "spring_model": "lumped-2", "lumped_convention": "paper"}
+    data["model"] = {"effects": effects, "spring_model": "lumped-2", "lumped_convention": "exact"}
     return data
 
 
@@ -60,7 +60,7 @@ def main():
     args = parse_args(__doc__)
     out = Path(args.out)
     data = base_rig()
-    rig = rig_from_data(data, "REFERENCE_BREAKER (lumped-2, paper)")
+    rig = rig_from_data(data, "REFERENCE_BREAKER (lumped-2, exact)")
     nm, nk = GRID_QUICK if args.quick else GRID_FULL
     table = design([f"closing_spring.mass={MASS[0]}:{MASS[1]}:{nm}", f"friction.mu_k={MU_K[0]}:{MU_K[1]}:{nk}"])
     table["friction.mu_s"] = np.maximum(rig.friction.get("mu_s", 0.0), table["friction.mu_k"])
@@ -103,10 +103,10 @@ def main():
                "reference": ref, "runs": int(len(df)), "closings": 3 * int(len(df)),
                "failed": int((df.status != "ok").sum()), "quick": bool(args.quick),
                "definition": "ratio = (change when the shaft friction is dropped) / (change when the spring is made "
-                             "massless), each against the full model (friction + lumped-2 paper)",
+                             "massless), each against the full model (friction + lumped-2 exact)",
                "maps": {col: grids[col].tolist() for col in CONCLUSION_COLUMNS}, "holds": {}}
     md = ["# The paper's conclusion as a map\n",
-          f"{summary['definition']}; on the follower displacement (rms over the 45 ms run) and on the closing time. "
+          f"{summary['definition']}; on the follower displacement (rms over the {1e3 * P.BREAKER_T_END:.0f} ms run) and on the closing time. "
           f"Grid: {len(masses)} spring masses x {len(mus)} mu_k, {summary['closings']} closings "
           f"({summary['failed']} points failed).{' **Quick mode: a coarse grid.**' if args.quick else ''}\n"]
     for col, name in RATIOS:

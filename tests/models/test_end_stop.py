@@ -1,7 +1,8 @@
 """The closing end stop and the holding latch (rig sections ``breaker.end_stop``,
 ``breaker.hold_latch``; laws in vcbmodel.laws.breaker): what stops the cam after the closing.
 
-The test breaker is the reference breaker (parameters.py) with an end stop at 210 deg and a
+The test breaker is the reference breaker before issue 19 (FORMER_REFERENCE_BREAKER in
+parameters.py, which has neither; the resized REFERENCE_BREAKER has its own) with an end stop at 210 deg and a
 holding latch at 205 deg: after the touch (176 deg) and on the cam's rise, so the cam's travel into
 the stop shows in the follower's travel. The values are this test's own (a buffer of 8e7 N/m and
 2e4 N s/m at 0.1 m: about 0.4 of its critical damping on the cam's inertia), not a design: the
@@ -33,7 +34,7 @@ needs_compiler = pytest.mark.skipif(not compiler_works(), reason="no working C c
 
 
 def stopped(end_stop=None, hold_latch=None):
-    d = copy.deepcopy(P.REFERENCE_BREAKER)
+    d = copy.deepcopy(P.FORMER_REFERENCE_BREAKER)
     d["breaker"]["end_stop"] = dict(END_STOP, **(end_stop or {}))
     d["breaker"]["hold_latch"] = dict(HOLD_LATCH, **(hold_latch or {}))
     return d
@@ -137,7 +138,7 @@ def test_a_stop_the_cam_never_reaches_changes_nothing(tmp_path):
     numbers as the rig without them (the forces are exactly zero out of contact)."""
     far = stopped({"angle": math.radians(330.0)}, {"angle": math.radians(320.0)})
     a = simulate(load_rig(write_rig(tmp_path, far, "far")), backend="compiled")
-    b = simulate(load_rig(write_rig(tmp_path, P.REFERENCE_BREAKER, "plain")), backend="compiled")
+    b = simulate(load_rig(write_rig(tmp_path, P.FORMER_REFERENCE_BREAKER, "plain")), backend="compiled")
     assert np.array_equal(a.channels["cam_angle"], b.channels["cam_angle"])
     assert np.array_equal(a.measured, b.measured)
 
@@ -245,7 +246,7 @@ def test_check_says_whether_the_stop_and_latch_are_modelled(tmp_path, capsys):
 
     for rig_dict, expected in ((stopped(), ("end stop: at cam angle 3.66519 rad (210.0 deg)",
                                             "holding latch: at cam angle 3.57792 rad (205.0 deg)")),
-                               (P.REFERENCE_BREAKER, ("end stop: not modelled (no breaker.end_stop section)",
+                               (P.FORMER_REFERENCE_BREAKER, ("end stop: not modelled (no breaker.end_stop section)",
                                                       "holding latch: not modelled (no breaker.hold_latch section)"))):
         assert main(["check", str(write_rig(tmp_path, rig_dict, "checked"))]) == 0
         out = capsys.readouterr().out

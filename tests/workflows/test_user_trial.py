@@ -29,7 +29,13 @@ def test_simulate_summary_gives_the_sweeps_figures(breaker, tmp_path, capsys):
 
 
 def test_a_datasheet_field_that_changes_nothing_is_not_swept(breaker, tmp_path, capsys):
-    assert main(["sweep", str(breaker), "--vary", "closing_spring.active_coils=13:17:3",
+    # a rig that gives the spring's stiffness and mass only (the reference breaker also gives its wire and
+    # coil diameters, for check's stress: with those, active_coils would complete a datasheet)
+    data = json.loads(breaker.read_text())
+    for key in ("wire_diameter", "coil_diameter"):
+        data["closing_spring"].pop(key, None)
+    plain = write_rig(tmp_path, data, "plain")
+    assert main(["sweep", str(plain), "--vary", "closing_spring.active_coils=13:17:3",
                  "-o", str(tmp_path / "s.csv")]) == 2
     err = capsys.readouterr().err.strip().splitlines()
     assert len(err) == 1 and "closing_spring.active_coils" in err[0] and "not used" in err[0]

@@ -84,3 +84,23 @@ def cam_loads(theta: Scalar, omega: Scalar, cam, spring_force_x: Scalar, spring_
 def cam_inertia(cam, pin_mass: float = 0.0) -> float:
     """Inertia (kg m^2) of the cam about A with the springs' pin mass: I_c + m_c l_g^2 + m_pin l_AB^2."""
     return cam.inertia_pivot + pin_mass * cam.arm_length**2
+
+
+def shaft_torsional_stiffness(diameter: Scalar, shear_modulus: Scalar, bore: Scalar = 0.0) -> Scalar:
+    """G J (N m^2) of a round shaft: J = pi (d^4 - d_i^4) / 32 (diameter d and bore d_i in m, G in Pa)."""
+    return shear_modulus * 3.141592653589793 * (diameter**4 - bore**4) / 32.0
+
+
+def main_shaft_twist(pole_torques: list[float], pitch: float, diameter: float, shear_modulus: float,
+                     bore: float = 0.0) -> list[float]:
+    """Twist (rad) of each pole lever on a main shaft relative to the first lever, the shaft driven at
+    the first lever's side (the worst case): the shaft between levers i and i+1 (``pitch`` m apart)
+    carries the torques (N m) of the poles beyond it, so it twists by (sum of those) pitch / (G J)
+    (:func:`shaft_torsional_stiffness`). A lever's travel error at the pole is its twist times the
+    lever arm."""
+    gj = shaft_torsional_stiffness(diameter, shear_modulus, bore)
+    twist, out = 0.0, [0.0]
+    for i in range(1, len(pole_torques)):
+        twist += sum(pole_torques[i:]) * pitch / gj
+        out.append(twist)
+    return out
