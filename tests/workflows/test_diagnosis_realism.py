@@ -16,7 +16,7 @@ from vcbmodel import parameters as P
 from vcbmodel.analysis.diagnose import BIC_MARGIN, diagnose
 from vcbmodel.analysis.noise import consistency, fit_noise
 from vcbmodel.analysis.nuisance import record_setup
-from vcbmodel.analysis.realistic import realistic_record
+from vcbmodel.analysis.realistic import draw_cases, friction_truth_cases, realistic_record
 from vcbmodel.analysis.synthetic import random_case
 from vcbmodel.errors import InputError
 from vcbmodel.experiments.loading import load_pair, load_record, load_rig
@@ -285,3 +285,60 @@ def test_gap_before_is_measured_on_the_final_alignment(tmp_path):
     assert j["rms_before_own_alignment"] < 2.5 * j["rms_after"]  # what the nuisance hid
     assert j["rms_before"] > 4 * j["rms_after"]  # the gap on one alignment of the record
     assert j["rms_before"] >= j["rms_before_own_alignment"]
+
+
+# --- friction truths from outside the fitted family (issue 20) -------------------------------------
+
+def folder(tmp_path, name):
+    (tmp_path / name).mkdir()
+    return tmp_path / name
+
+
+def measured(meas_path):
+    rig, meas = load_pair(meas_path)
+    return meas.channel("cam_angle" if rig.experiment == "cam_drop" else "pendulum_angle")
+
+
+def test_default_friction_truth_keeps_the_records(tmp_path):
+    """friction_truth="hybrid" (the default) is the record of earlier versions; another truth
+    draws the same rig, complications and noise (its own values come from a separate stream)."""
+    a = realistic_record("pend_visc", 5, folder(tmp_path, "a"), ("offset",), t_end=2.0)
+    b = realistic_record("pend_visc", 5, folder(tmp_path, "b"), ("offset",), t_end=2.0, friction_truth="hybrid")
+    c = realistic_record("pend_visc", 5, folder(tmp_path, "c"), ("offset",), t_end=2.0, friction_truth="position_torque")
+    assert a[1].read_bytes() == b[1].read_bytes() and a[0].read_text() == b[0].read_text()
+    assert c[0].read_text() == a[0].read_text()
+    assert c[2]["complications"] == a[2]["complications"]
+    ya, yc = measured(a[1]), measured(c[1])
+    assert np.max(np.abs(ya - yc)) > 4 * a[2]["noise_sigma"]  # the same noise: the truths differ
+    assert c[2]["friction_truth"] == "position_torque" and c[2]["answer"] is None and not c[2]["in_family"]
+
+
+@pytest.mark.parametrize("kind", ["tustin", "lugre", "dahl"])
+def test_out_of_family_truth_records(tmp_path, kind):
+    """Each out-of-family truth makes a pendulum record off the hybrid truth's by more than the
+    noise; its expected answer is the nearest registered effects."""
+    hyb = realistic_record("pend_visc", 7, folder(tmp_path, "h"), t_end=3.0)
+    rec = realistic_record("pend_visc", 7, folder(tmp_path, kind), t_end=3.0, friction_truth=kind)
+    y0, y1 = measured(hyb[1]), measured(rec[1])
+    assert np.max(np.abs(y0 - y1)) > 4 * rec[2]["noise_sigma"]  # the same noise: the truths differ
+    truth = rec[2]
+    assert truth["answer"] == (["stribeck", "viscous_friction"] if kind != "dahl" else ["viscous_friction"])
+    assert truth["registered"] and not truth["in_family"]
+    assert truth["static_load"] == pytest.approx(json.loads(rec[0].read_text())["pendulum"]["mass"] * 9.81)
+
+
+def test_cam_drop_friction_truth(tmp_path):
+    rig, meas, truth = realistic_record("cam_coul", 3, tmp_path, friction_truth="lugre")
+    assert truth["answer"] == ["coulomb_friction"] and truth["truth_friction"]["sigma0"] == P.LUGRE_SIGMA0
+    assert np.all(np.isfinite(measured(meas)))
+
+
+def test_friction_truths_refuse_cases_they_do_not_cover(tmp_path):
+    assert "pend_unregistered" not in friction_truth_cases("tustin")
+    assert "cam_mass" not in friction_truth_cases("lugre") and "cam_none" in friction_truth_cases("lugre")
+    with pytest.raises(ValueError, match="no tustin friction truth for case 'cam_mass'"):
+        realistic_record("cam_mass", 1, tmp_path, friction_truth="tustin")
+    with pytest.raises(ValueError, match="unknown friction truth"):
+        realistic_record("pend_visc", 1, tmp_path, friction_truth="coulomb")
+    cases = {c for c, _ in draw_cases("clean", 20, 3, friction_truth="dahl")}
+    assert cases <= set(friction_truth_cases("dahl")) and len(cases) > 3

@@ -11,7 +11,12 @@ records carry, and their truth is structurally different from every candidate mo
   ``paper``) and the 8-element ANCF spring;
 - an **unregistered effect**: position-dependent journal friction (a bearing with a defect:
   mu_k (1 + a sin(2 pi theta / lambda))), integrated here with its own event-driven sticking;
-  no registered effect has this form.
+  no registered effect has this form;
+- optionally (``friction_truth``) **friction from outside the fitted family** for the pendulum
+  and the massless cam drop (:mod:`vcbmodel.reference.truth_friction`): Tustin's exponential
+  Stribeck curve, LuGre (micrometres of pre-sliding), Dahl, or Coulomb and viscous friction with a
+  position-dependent (cogging) torque. The default ``hybrid`` is the fitted law itself, from the
+  independent reference; its records are those of earlier versions, seed for seed.
 
 Complications (each drawn at random within the stated range, or chosen):
 
@@ -54,7 +59,7 @@ from ..experiments.simulation import simulate
 from ..laws.breaker import pole_gaps
 from ..records.analyser import figures_of_merit as analyser_figures
 from ..records.measurement import Measurement, write_measurement
-from ..reference.truths import position_dependent_pendulum
+from ..reference.truths import FRICTION_TRUTHS, friction_truth_angle, position_dependent_pendulum, static_load
 
 COMPLICATIONS = ("pre_trigger", "initial_angle", "offset", "gain", "correlated", "hand_start", "quantised",
                  "time_base", "period", "mains", "logger_12bit")
@@ -73,6 +78,15 @@ HIDDEN = {
     "cam_mass": ("cam_drop", ("coulomb_friction",), ("coulomb_friction", "spring_mass")),
     "cam_two": ("cam_drop", (), ("coulomb_friction", "spring_mass")),
 }
+#: Friction truths: ``hybrid`` (the fitted law, by the independent reference) or one from outside
+#: the family (:data:`vcbmodel.reference.truths.FRICTION_TRUTHS`).
+FRICTION_TRUTH_CHOICES = ("hybrid",) + FRICTION_TRUTHS
+#: Registered effects an out-of-family pendulum truth resembles beyond Coulomb and viscous
+#: friction (the diagnosis' nearest right answer): the fall from mu_s to mu_k of Tustin's and
+#: LuGre's curves is what ``stribeck`` describes. Dahl has no static peak; the position torque
+#: resembles nothing registered. A cam drop passes the Stribeck range within its first
+#: microseconds: its nearest answer is the case's own.
+NEAREST_EXTRA = {"tustin": ("stribeck",), "lugre": ("stribeck",), "dahl": (), "position_torque": ()}
 QUANTUM = math.radians(0.09)  # encoder step (4000 counts per revolution)
 #: A 12-bit logger's step on a single-turn potentiometer: the pot's 340 deg electrical span over
 #: the logger's full scale of 4096 counts (1.45 mrad, about three times a pendulum pot's noise).
@@ -93,12 +107,26 @@ for _name, (_start, _truth) in CLOSING.items():
     HIDDEN[_name] = ("vcb_closing", _start, _truth)
 
 
-def hidden_answer(case: str) -> list[str] | None:
-    """The effects the diagnosis should name, in no particular order (None: an unregistered one)."""
-    _, start, truth = HIDDEN[case]
-    if "position_dependent_friction" in truth:
+def hidden_answer(case: str, friction_truth: str = "hybrid") -> list[str] | None:
+    """The effects the diagnosis should name, in no particular order (None: an unregistered one).
+    With an out-of-family ``friction_truth``, the nearest registered ones (:data:`NEAREST_EXTRA`)."""
+    experiment, start, truth = HIDDEN[case]
+    if "position_dependent_friction" in truth or friction_truth == "position_torque":
         return None
-    return sorted(e for e in truth if e not in start)
+    shown = set(truth)
+    if friction_truth != "hybrid" and experiment == "pendulum":
+        shown |= set(NEAREST_EXTRA[friction_truth])
+    return sorted(e for e in shown if e not in start)
+
+
+def friction_truth_cases(friction_truth: str) -> list[str]:
+    """The hidden-effect cases a friction truth applies to: every case for ``hybrid``; else the
+    pendulum's and the massless cam drop's (not the unregistered friction, the spring's mass or
+    the closing)."""
+    if friction_truth not in FRICTION_TRUTH_CHOICES:
+        raise ValueError(f"unknown friction truth {friction_truth!r} (known: {', '.join(FRICTION_TRUTH_CHOICES)})")
+    return [c for c, (e, _, truth) in HIDDEN.items() if friction_truth == "hybrid" or (
+        e in ("pendulum", "cam_drop") and not {"position_dependent_friction", "spring_mass"} & set(truth))]
 
 
 def _draw_complications(record, rng, complications):
@@ -169,7 +197,8 @@ def realistic_closing(case: str, seed: int, folder: str | Path, complications: S
                                        enumerate(gaps, start=1)], res.channels["follower_displacement"])
     truth = {"case": case, "answer": hidden_answer(case), "truth_effects": list(truth_effects),
              "truth_values": truth_values, "truth_spring_model": "ancf (16 elements)", "complications": drawn,
-             "release_time": pre, "noise_sigma": rec.noise_sigma, "registered": True, "figures_of_merit": figs}
+             "release_time": pre, "noise_sigma": rec.noise_sigma, "registered": True, "figures_of_merit": figs,
+             "friction_truth": "hybrid", "in_family": True}
     return rig_path, meas_path, truth
 
 
@@ -260,12 +289,16 @@ def _noise(rng, n, sigma, phi):
 
 def realistic_record(case: str, seed: int, folder: str | Path, complications: Sequence[str] = (),
                      t_end: float | None = None, values: Mapping[str, Any] | None = None,
-                     small: bool = False) -> tuple[Path, Path, dict]:
+                     small: bool = False, friction_truth: str = "hybrid") -> tuple[Path, Path, dict]:
     """A rig file and a realistic record for hidden-effect ``case`` (:data:`HIDDEN`) with the
     listed ``complications`` (:data:`COMPLICATIONS`; random values from the seed, or ``values``
     name -> value). ``small``: a small laboratory pendulum (``Experiment.random_rig``, 20 s).
+    ``friction_truth``: :data:`FRICTION_TRUTH_CHOICES` (:func:`friction_truth_cases` says where).
     Returns (rig path, record path, truth dict)."""
     experiment, start, truth_effects = HIDDEN[case]
+    if case not in friction_truth_cases(friction_truth):
+        raise ValueError(f"no {friction_truth} friction truth for case {case!r} "
+                         f"(it applies to {', '.join(friction_truth_cases(friction_truth))})")
     rec = experiment_of(experiment)
     if rec.random_rig is None:  # no rig to draw: the reference breaker, recorded by an analyser
         return realistic_closing(case, seed, folder, complications, values=values)
@@ -282,18 +315,48 @@ def realistic_record(case: str, seed: int, folder: str | Path, complications: Se
     rig["name"] = _record_name(case, seed, complications)
     truth_rig = _truth_rig(rec, rig, drawn)  # the rig as it really is
     t_rec, tau, tau_grid, lead = _record_times(rng, rec, drawn, t_end)
-    theta, spring = _true_angle(rng, truth_rig, folder, friction, truth_effects, tau_grid, drawn)
+    if friction_truth == "hybrid":
+        theta, spring = _true_angle(rng, truth_rig, folder, friction, truth_effects, tau_grid, drawn)
+    else:
+        law_values = _friction_truth_values(friction_truth, friction, truth_effects, truth_rig, seed)
+        theta, spring = friction_truth_angle(friction_truth, truth_rig, law_values, tau_grid), None
     y = np.interp(np.clip(tau, 0.0, None), tau_grid, theta)
     if drawn.get("hand_start"):
         _hand_start(y, tau, drawn["hand_start"], truth_rig["pendulum"]["initial_angle"])
     y, sigma_used = _sensor(rng, y, drawn, rec.noise_sigma, tau + lead)
+    law = "" if friction_truth == "hybrid" else f", friction truth {friction_truth}"
     rig_path, meas_path = _write_record(folder, rig, t_rec, {rec.measured_channel: y},
-                                        f"SYNTHETIC (realistic): case {case}, seed {seed}, complications "
+                                        f"SYNTHETIC (realistic): case {case}, seed {seed}{law}, complications "
                                         f"{json.dumps(drawn, default=float)}")
-    truth = {"case": case, "answer": hidden_answer(case), "truth_effects": list(truth_effects),
-             "truth_friction": friction, "truth_spring_model": spring or "massless", "complications": drawn,
-             "release_time": lead, "noise_sigma": sigma_used, "registered": "position_dependent_friction" not in truth_effects}
+    answer = hidden_answer(case, friction_truth)
+    truth = {"case": case, "answer": answer, "truth_effects": list(truth_effects),
+             "truth_friction": friction if friction_truth == "hybrid" else law_values,
+             "truth_spring_model": spring or "massless", "complications": drawn, "release_time": lead,
+             "noise_sigma": sigma_used, "registered": answer is not None, "friction_truth": friction_truth,
+             "in_family": answer is not None and friction_truth == "hybrid",
+             "static_load": static_load(truth_rig), "radius": truth_rig["shaft"]["radius"]}
     return rig_path, meas_path, truth
+
+
+def _friction_truth_values(kind: str, friction: Mapping[str, float], truth_effects: Sequence[str], truth_rig: dict,
+                           seed: int) -> dict:
+    """The out-of-family law's values: the drawn mu_s, mu_k and Stribeck (Tustin: decay) velocity,
+    the viscous coefficient where the case's truth has viscous friction, the bristles' from
+    :mod:`vcbmodel.parameters`, and the position torque drawn from its own stream of ``seed`` (the
+    record's other draws are those of the hybrid truth)."""
+    values = {"mu_s": friction["mu_s"], "mu_k": friction["mu_k"], "stribeck_velocity": friction["stribeck_velocity"],
+              "viscous": friction["viscous"] if "viscous_friction" in truth_effects else 0.0}
+    if kind == "lugre":
+        values.update(sigma0=P.LUGRE_SIGMA0, sigma1=P.LUGRE_SIGMA1)
+    elif kind == "dahl":
+        values.update(sigma0=P.DAHL_SIGMA0)
+    elif kind == "position_torque":
+        rng = np.random.default_rng([seed, FRICTION_TRUTH_CHOICES.index(kind)])
+        fraction = float(rng.uniform(*P.POSITION_TORQUE_FRACTION))
+        torque = friction["mu_k"] * truth_rig["shaft"]["radius"] * static_load(truth_rig)
+        values.update(amplitude=fraction * torque, phase=float(rng.uniform(0.0, 2 * math.pi)),
+                      wavenumber=float(rng.integers(P.POSITION_TORQUE_WAVENUMBER[0], P.POSITION_TORQUE_WAVENUMBER[1] + 1)))
+    return values
 
 
 def _draw_friction(rng: np.random.Generator) -> dict:
@@ -410,11 +473,14 @@ GROUPS = {
 }
 
 
-def draw_cases(group: str, n: int, seed: int, include_unregistered: bool = True) -> list[tuple[str, int]]:
+def draw_cases(group: str, n: int, seed: int, include_unregistered: bool = True,
+               friction_truth: str = "hybrid") -> list[tuple[str, int]]:
     """``n`` (case, seed) draws for a complication group: hidden-effect cases of the group's
-    experiments, cycled in a seeded random order (the unregistered effect among them)."""
+    experiments that ``friction_truth`` applies to, cycled in a seeded random order (the
+    unregistered effect among them)."""
     _, experiments = GROUPS[group]
-    cases = [c for c, (e, _, truth) in HIDDEN.items() if e in experiments
+    allowed = friction_truth_cases(friction_truth)
+    cases = [c for c, (e, _, truth) in HIDDEN.items() if e in experiments and c in allowed
              and (include_unregistered or "position_dependent_friction" not in truth)]
     rng = np.random.default_rng(seed)
     order = list(rng.permutation(cases))

@@ -22,6 +22,10 @@ from __future__ import annotations
 from .fit.dataset import TIME_SCALE_SPAN, time_scale_name
 from .fit.parameters import Parameter
 
+#: Smallest clock error the time-base nuisance is kept for (relative): a crystal clock is good to
+#: about 1e-4, so a fitted scale closer to 1 than this is the refit finding better values of the
+#: physics, not a clock (the air-drag demo's refit gave 3e-5 and would have passed it for one).
+MIN_CLOCK_ERROR = 2e-4
 #: A mains grid holds its frequency to about this fraction (continental grids: +-0.2 Hz at worst,
 #: usually within 0.05 Hz of 50 Hz): the uncertainty of a clock read off a mains line.
 GRID_TOLERANCE = 0.001

@@ -16,7 +16,7 @@ from ...errors import SimulationError
 from ...records.signals import disagreement_window, dominant_frequency, lag1_autocorrelation
 from ..fit import FitAborted, FitResult
 from ..fit.dataset import time_scale_name
-from ..time_base import clock_from_lines
+from ..time_base import MIN_CLOCK_ERROR, clock_from_lines
 from ..verdict_evidence import gather_witnesses, judge_residual, mechanism_band
 from .fits import fit_record, parameters
 from .period import period_fields_fitted
@@ -51,8 +51,8 @@ def time_base(ctx, state) -> None:
     current model is refitted with the time scale as a nuisance: read off a mains line when the
     residual holds one (the grid's frequency is known), else fitted within +-1 % (not where the
     rig's inertia is fitted too: a clock and an inertia error change a swing alike). Kept if it
-    lowers the whitened BIC by more than the margin and stays inside its bounds (a scale at +-1 %
-    stands in for something else)."""
+    lowers the whitened BIC by more than the margin, stays inside its bounds (a scale at +-1 %
+    stands in for something else) and is a clock's error at all (MIN_CLOCK_ERROR)."""
     current = state.current
     if ctx.over() or ctx.time_scale is not None:
         return
@@ -78,7 +78,7 @@ def time_base(ctx, state) -> None:
     noise = noise_of_best(ctx, state.all_fits)
     gain = current.bic_with(noise) - timed.bic_with(noise)
     scale = timed.parameters[time_scale_name(0)]
-    if gain <= BIC_MARGIN or scale.at_bound():
+    if gain <= BIC_MARGIN or scale.at_bound() or abs(scale.value - 1.0) < MIN_CLOCK_ERROR:
         ctx.say(f"time base: scale {scale.value:.5f}, rms {timed.rms:.3g} {ctx.record.unit}, delta BIC {gain:.1f}: "
                 "not kept")
         ctx.time_scale = None
