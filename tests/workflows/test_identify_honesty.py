@@ -15,6 +15,7 @@ from vcbmodel.app.cli import main
 from vcbmodel.experiments.loading import rig_from_data
 from vcbmodel.experiments.simulation import simulate
 from vcbmodel.records.measurement import Measurement, write_measurement
+from vcbmodel.reference.truths import position_dependent_pendulum
 
 TRUTH = {"mu_s": 0.18, "mu_k": 0.12, "stick_velocity": 1e-3, "stribeck_velocity": 0.1, "viscous": 0.5}
 EFFECTS = ("coulomb_friction", "stribeck", "viscous_friction")
@@ -72,3 +73,42 @@ def test_a_tie_under_the_margin_is_reported_with_what_would_separate_it():
     assert lo <= 0.7 <= hi and ties[0]["delta_bic_between"] == pytest.approx(3.0)
     rival.delta_bic = 25.0  # 15 apart: settled
     assert D._ties(ctx, path, [kept, rival, far]) == []
+
+
+def test_on_a_record_the_law_describes_the_stated_errors_are_the_white_noise_ones():
+    """In family, at the noise: no warning; the stated errors (sandwich) equal the white-noise
+    ones within their sampling error; the JSON names the method and keeps the correlations."""
+    rig, meas, _ = pendulum_record(6.0, 1000.0, seed=3)
+    r = identify([(rig, meas)], verbose=False)
+    j = r.to_json()
+    assert r.warning is None and j["warning"] is None
+    for name in ("mu_k", "mu_s", "viscous"):
+        assert j["stderr_naive"][name] <= j["stderr"][name] <= 1.3 * j["stderr_naive"][name], name
+    assert "sandwich" in j["stderr_method"]
+    assert j["correlations"]["mu_k~viscous"] < -0.5  # dry and viscous friction trade off
+    assert "[[Correlations]]" in r.report() and "C(mu_k, viscous)" in r.report()
+
+
+def test_on_an_out_of_family_record_identify_warns_and_its_errors_widen(tmp_path, capsys):
+    """Friction that varies with the shaft angle (no registered law): one warning line on stderr,
+    the JSON says the law does not describe the record and the errors are inflated; the stated
+    errors are many times the white-noise ones and hold the truth, which the naive ones miss."""
+    rig, _, data = pendulum_record(0.1, 1000.0)
+    truth = {"mu_k": 0.13, "viscous": 0.6}
+    t = np.arange(0.0, 6.0, 1e-3)
+    theta = position_dependent_pendulum(data["pendulum"], data["gravity"], data["shaft"]["radius"], truth, 0.5,
+                                        0.0738, 2.86, t)
+    meas = Measurement("p.csv", t, {"pendulum_angle": theta + np.random.default_rng(18).normal(0, 5e-4, t.size)})
+    (tmp_path / "d.rig.json").write_text(json.dumps(data))
+    write_measurement(meas, tmp_path / "d.csv")
+    assert main(["identify", str(tmp_path / "d.csv"), "--json"]) == 0
+    out, err = capsys.readouterr()
+    report = json.loads(out)
+    warnings = [line for line in err.splitlines() if line.startswith("vcbmodel: warning:")]
+    assert len(warnings) == 1 and "inflated" in warnings[0]
+    assert report["residual_to_noise"] > WARN_RATIO and "does not describe" in report["warning"]
+    for name in ("mu_k", "viscous"):
+        stated, naive = report["stderr"][name], report["stderr_naive"][name]
+        assert stated > 5 * naive
+        miss = abs(report[name] - truth[name])
+        assert 1.96 * naive < miss <= 1.96 * stated, name

@@ -10,7 +10,11 @@ Two laws, as in the paper:
 
 The fit is staged: trust-region least squares from several starts derived from the
 measured swing (the pendulum record's ``start_guesses``), then the paper's simplex
-(Nelder-Mead) from the best point; standard errors come from the Jacobian at the optimum.
+(Nelder-Mead) from the best point. The stated standard errors cover model-form error: a sandwich
+covariance from the residual's own correlation (:mod:`.fit.covariance`), the white-noise ones kept
+as ``stderr_naive``; when the residual stands above the record's own noise the result warns that
+the law does not describe the record and that its errors are those of a wrong law, inflated by the
+misfit.
 The error measure is the paper's: max |error| as a percentage of the first peak amplitude
 after release.
 """
@@ -112,8 +116,9 @@ class IdentifyResult:
         if r <= WARN_RATIO:
             return None
         return (f"the residual is {r:.1f} times the records' own noise: the {self.law} law does not describe these "
-                "records fully (another friction behaviour, a rig value off, or a sensor artefact); the values and "
-                "their standard errors are those of the best fit of a wrong model. Try vcbmodel diagnose")
+                "records to their noise (another friction behaviour, a rig value off, or a sensor artefact); the values "
+                "are those of the best fit of a wrong model, and their stated errors are inflated by the misfit "
+                f"({self.fit.stderr_method}): read them as such. Try vcbmodel diagnose")
 
     def zeta(self) -> float:
         p, rig = self.datasets[0].rig.pendulum, self.datasets[0].rig
@@ -125,6 +130,9 @@ class IdentifyResult:
                 "stribeck_velocity": v["stribeck_velocity"], "viscous": v["viscous"], "zeta": self.zeta(),
                 "rms": self.fit.rms, "max_error_percent": self.max_error_percent(),
                 "stderr": {p.name: p.stderr for p in self.fit.parameters.values() if p.vary},
+                "stderr_naive": {p.name: p.stderr_naive for p in self.fit.parameters.values() if p.vary},
+                "stderr_method": self.fit.stderr_method,
+                "correlations": {f"{a}~{b}": c for (a, b), c in self.fit.correlations.items()},
                 "units": {"mu_s": "-", "mu_k": "-", "stick_velocity": "rad/s", "stribeck_velocity": "rad/s",
                           "viscous": "N m s/rad", "zeta": "-", "rms": "rad", "noise_estimate": "rad",
                           "max_error_percent": "%", "residual_to_noise": "-"},
@@ -195,7 +203,8 @@ def identify(pairs: Sequence[tuple[Rig, Measurement]], law: str = "hybrid", verb
                        label=f"{law} (simplex polish)", max_simulations=SIMPLEX_BUDGET)
         if polished.chi2 <= result.chi2:
             for name, p in polished.parameters.items():
-                p.stderr = result.parameters[name].stderr
+                p.stderr, p.stderr_naive = result.parameters[name].stderr, result.parameters[name].stderr_naive
+            polished.covariance = result.covariance
             polished.nfev += result.nfev
             result = polished
     peaks = [first_peak_amplitude(d.t, d.y) for d in datasets]

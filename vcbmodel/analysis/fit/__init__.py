@@ -25,10 +25,12 @@ the record's t = 0 with the rig's initial state, the sensor reads the model chan
 Rooms, each importing only the ones before it: :mod:`.parameters` (parameters, noise level),
 :mod:`.options` (:class:`FitOptions`, :class:`FitAborted`), :mod:`.dataset` (records and the
 analyser's channels), :mod:`.pool` (simulations on worker processes), :mod:`.objective`
-(residuals and Jacobian), :mod:`.optimisers` (Levenberg-Marquardt, Nelder-Mead), :mod:`.result`
-(:class:`FitResult`, standard errors), :mod:`.starts` (start ranking, grid scans) and
-:mod:`.minimizer` (:func:`fit`, :func:`staged_fit`, :func:`refine`).
+(residuals and Jacobian), :mod:`.optimisers` (Levenberg-Marquardt, Nelder-Mead),
+:mod:`.covariance` (the parameters' errors: stated ones covering model-form error, and the
+white-noise ones), :mod:`.result` (:class:`FitResult`), :mod:`.starts` (start ranking, grid
+scans) and :mod:`.minimizer` (:func:`fit`, :func:`staged_fit`, :func:`refine`).
 """
+from .covariance import Covariance, parameter_covariance
 from .dataset import AlignedModel, Dataset, truncated
 from .minimizer import fit, noise_scales, refine, staged_fit
 from .objective import Curves, Objective
@@ -39,7 +41,7 @@ from .pool import SimJob, SimulationPool, dataset_pool, fit_step, run_job, scan_
 from .result import FitResult, jacobian_of
 from .starts import scan_starts
 
-__all__ = ["AlignedModel", "Curves", "Dataset", "FitAborted", "FitOptions", "FitResult", "Objective", "Parameter",
+__all__ = ["AlignedModel", "Covariance", "Curves", "Dataset", "FitAborted", "FitOptions", "FitResult", "Objective", "Parameter",
            "SimJob", "SimulationPool", "at_noise_level", "dataset_pool", "fit", "fit_step", "jacobian_of",
-           "levenberg_marquardt", "make_parameters", "nelder_mead", "noise_scales", "pooled_noise", "refine",
+           "levenberg_marquardt", "make_parameters", "nelder_mead", "noise_scales", "parameter_covariance", "pooled_noise", "refine",
            "run_job", "scan_starts", "scan_step", "staged_fit", "truncated", "user_function_for"]

@@ -31,12 +31,13 @@ class Parameter:
     vary: bool = True
     unit: str = ""
     log: bool = False
-    stderr: float | None = None
+    stderr: float | None = None  # the stated 1-sigma, covering model-form error (fit.covariance)
     tied_to: str | None = None  # value follows this parameter (lmfit's expr, for the simplest case)
     kind: str = "model"  # model | state | rig | release | offset | gain | time_scale
     dataset: int | None = None  # the record a nuisance belongs to (None: shared)
     path: str | None = None  # rig field of a "state" or "rig" parameter
     prior: tuple | None = None  # (mean, sd)
+    stderr_naive: float | None = None  # the white-noise 1-sigma s^2 (J^T J)^-1, for comparison
 
     def at_bound(self, rel: float = 1e-3) -> bool:
         span = (self.max - self.min) if math.isfinite(self.max - self.min) else max(abs(self.value), 1.0)

@@ -1,5 +1,6 @@
 """A fit's outcome (:class:`FitResult`): residuals, chi^2 and information criteria, standard
-errors from the Jacobian at the optimum, and an lmfit-like report."""
+errors from the Jacobian at the optimum (stated: covering model-form error, :mod:`.covariance`;
+``stderr_naive``: white noise), and an lmfit-like report with the correlations."""
 from __future__ import annotations
 
 import math
@@ -12,6 +13,7 @@ from ...errors import SimulationError
 from ...experiments import experiment_of
 from ...experiments.simulation import simulation_backend
 from ...rig.spring_model import SpringModel
+from .covariance import Covariance, parameter_covariance
 from .dataset import AlignedModel
 from .parameters import at_noise_level
 
@@ -40,6 +42,7 @@ class FitResult:
     prior_chi2: float = 0.0
     noise: object = None  # NoiseModel used for chi2 (None: white with sigma)
     label: str = ""
+    covariance: Covariance | None = None  # of the varied parameters (:mod:`.covariance`)
 
     @property
     def unit(self) -> str:
@@ -129,8 +132,23 @@ class FitResult:
                  f"    data points {self.n_data}, varied {self.n_varied}, noise sigma {self.sigma:.3g} {self.unit}",
                  f"    rms {self.rms:.4g} {self.unit}, max |error| {self.max_error:.4g} {self.unit}, reduced chi2 {self.reduced_chi2:.3f}",
                  f"    AIC {self.aic:.1f}, BIC {self.bic:.1f}", "[[Parameters]]"]
+        if self.covariance is not None:
+            lines.append(f"    (+/- is the stated 1-sigma, {self.stderr_method}; in brackets the white-noise one)")
         lines += [_report_line(p) for p in self.parameters.values()]
+        lines += _correlation_lines(self.correlations)
         return "\n".join(lines)
+
+    @property
+    def stderr_method(self) -> str:
+        """How the stated errors (``stderr``) were obtained."""
+        if self.covariance is None:
+            return ""
+        return f"{self.covariance.method}, lag window {self.covariance.bandwidth} samples"
+
+    @property
+    def correlations(self) -> dict[tuple[str, str], float]:
+        """Correlations of the varied parameters' errors (covering covariance)."""
+        return self.covariance.correlations() if self.covariance is not None else {}
 
 
 def _report_line(p) -> str:
@@ -138,16 +156,32 @@ def _report_line(p) -> str:
         how = f"tied to {p.tied_to}" if p.tied_to else "fixed"
         return f"    {p.name:18s} = {p.value:.6g} {p.unit} ({how})"
     err = f"+/- {p.stderr:.3g}" if p.stderr is not None and math.isfinite(p.stderr) else "+/- ?"
+    if p.stderr_naive is not None and math.isfinite(p.stderr_naive):
+        err += f" ({p.stderr_naive:.2g})"
     flag = "  AT BOUND [%g, %g]" % (p.min, p.max) if p.at_bound() else ""
     prior = f" prior {p.prior[0]:.4g} +/- {p.prior[1]:.2g}" if p.prior else ""
     return f"    {p.name:18s} = {p.value:.6g} {err} {p.unit} (bounds [{p.min:g}, {p.max:g}]){prior}{flag}"
+
+
+#: Correlations at least this large are listed in the report (lmfit's default).
+REPORTED_CORRELATION = 0.1
+
+
+def _correlation_lines(correlations: dict) -> list[str]:
+    """The report's [[Correlations]] section: pairs by decreasing |correlation|."""
+    big = sorted(((abs(c), a, b, c) for (a, b), c in correlations.items() if abs(c) >= REPORTED_CORRELATION),
+                 reverse=True)
+    if not big:
+        return []
+    return ["[[Correlations]] (unreported correlations are < %.1f)" % REPORTED_CORRELATION] + [
+        f"    C({a}, {b}) = {c:+.3f}" for _, a, b, c in big]
 
 
 def build_result(obj, x, jac, sigma: float, success: bool, message: str, method: str) -> FitResult:
     """The :class:`FitResult` of objective ``obj`` at internal coordinates ``x`` (one more
     simulation unless cached), with standard errors from ``jac`` (None: a new Jacobian)."""
     values = obj.values(x)
-    fitted = {name: replace(p, value=values[name], stderr=None) for name, p in obj.params.items()}
+    fitted = {name: replace(p, value=values[name], stderr=None, stderr_naive=None) for name, p in obj.params.items()}
     residuals, sims, times, extra = _aligned_outputs(obj, values)
     prior_chi2 = float(sum(((values[p.name] - p.prior[0]) / p.prior[1]) ** 2 for p in obj.varied if p.prior))
     result = FitResult(tuple(obj.effects), obj.spring_model, fitted, residuals, sims, sigma, obj.nfev, success, message,
@@ -182,29 +216,35 @@ def _aligned_outputs(obj, values):
 
 
 def standard_errors(result: FitResult, obj, x, jac=None) -> None:
-    """stderr from the Jacobian of the scaled residuals at the optimum: cov = s^2 (J^T J)^-1,
-    s^2 the reduced chi^2 (the Jacobian of the last least-squares step when there is one).
-    Sets each varied parameter's ``stderr`` (its unit) in ``result``."""
+    """The varied parameters' errors (:mod:`.covariance`) from the Jacobian of the scaled residuals
+    at the optimum (the last least-squares step's when there is one): ``stderr`` the covering
+    (sandwich) 1-sigma, ``stderr_naive`` the white-noise one, s^2 (J^T J)^-1 with s^2 the reduced
+    chi^2 (each in the parameter's unit); the covariance itself in ``result.covariance``."""
     if jac is None:
         jac = obj.prior_jacobian_fix(obj.jacobian(x), x)
-    J = np.asarray(jac)
-    r0 = obj.residual(x)
-    dof = max(1, r0.size - len(x))
-    s2 = float(np.dot(r0, r0)) / dof
+    vals = obj.values(x)
+    parts = obj.residual_parts(vals, obj.curves([vals])[0])
+    n_priors = sum(1 for p in obj.varied if p.prior)
+    segments = [part.size for part in (parts[:-1] if n_priors else parts)]
+    r0 = np.concatenate(parts)
     try:
-        # by the singular values of J: a direction the data do not determine gets the huge
-        # variance it has (a pseudo-inverse would set it to zero and report false precision)
-        _, sv, vt = np.linalg.svd(J, full_matrices=False)
+        cov = parameter_covariance([p.name for p in obj.varied], np.asarray(jac, float), r0, segments,
+                                   r0.size - len(x))
     except np.linalg.LinAlgError:
         return
-    inv = np.where(sv > 1e-300, 1.0 / np.maximum(sv, 1e-300) ** 2, np.inf)
-    cov = (vt.T * inv) @ vt * s2
+    result.covariance = cov
+    covering, naive = cov.standard_errors("covering"), cov.standard_errors("naive")
     for i, p in enumerate(obj.varied):
-        var = cov[i, i]
-        if not (var >= 0 and math.isfinite(var)):
-            continue
-        sd = math.sqrt(var)
-        result.parameters[p.name].stderr = result.parameters[p.name].value * sd if p.log else sd
+        fitted = result.parameters[p.name]
+        if math.isfinite(naive[i]):
+            fitted.stderr_naive = _in_unit(p, fitted.value, naive[i])
+        if math.isfinite(covering[i]):
+            fitted.stderr = _in_unit(p, fitted.value, covering[i])
+
+
+def _in_unit(p, value: float, sd: float) -> float:
+    """A 1-sigma error of internal coordinate ``sd`` in the parameter's own unit."""
+    return float(value * sd if p.log else sd)
 
 
 def jacobian_of(result: FitResult) -> tuple:
