@@ -530,3 +530,23 @@ def test_diagnosis_finds_a_hidden_effect_in_a_closing(tmp_path, starting, truth,
     if missing == "coulomb_friction":
         assert d.baseline.rms > 10 * d.final.rms
         assert d.final.rms < 1.3 * d.noise
+
+
+def test_reference_closest_point_found_where_newton_from_the_roller_angle_fails(rig):
+    """The independent solve's closest point on the pitch curve: from the roller's own polar
+    angle, Newton leaves this start (the resized breaker at its start angle, the roller centre
+    where the solver's first trial state put it); the fallback starts from the nearest of 720
+    points around the curve and lands on the curve's global closest point (checked by a dense
+    scan), instead of failing the whole solve."""
+    import vcbmodel.reference.breaker_distance as distance
+    from vcbmodel.reference.breaker_geometry import Geometry
+
+    geo = Geometry(rig)
+    theta, C = rig.cam.initial_angle, (0.36240433273383427, 0.021070594560513876)
+    start = math.atan2(C[1] - geo.A[1], C[0] - geo.A[0])
+    _, step = distance._newton_closest(geo, theta, C, start)
+    assert abs(step) > 1e-11  # the plain Newton start does not converge here
+    beta = distance.closest_pitch_angle(geo, theta, C)
+    scan = np.linspace(0.0, 2.0 * math.pi, 20001)
+    d2 = np.array([distance._distance_squared(geo, theta, C, b) for b in scan])
+    assert distance._distance_squared(geo, theta, C, beta) <= d2.min() + 1e-15

@@ -28,9 +28,32 @@ DISTANCES = ("exact", "first_order")
 
 def closest_pitch_angle(geo: Geometry, theta: float, C: tuple[float, float]) -> float:
     """Polar angle beta (rad, from A) of the pitch curve's point closest to C at cam angle theta:
-    Newton on (P - C) . dP/dbeta = 0 from C's own polar angle, steps clipped to 0.05 rad."""
-    beta = math.atan2(C[1] - geo.A[1], C[0] - geo.A[0])
-    for _ in range(60):  # Newton on (P - C) . dP/dbeta = 0
+    Newton on (P - C) . dP/dbeta = 0 from C's own polar angle, steps clipped to 0.05 rad. Where
+    that start lies on a stretch that Newton leaves (a trial state of the solver far off the
+    cam, or near a flank's turning point), Newton starts again from the closest of 720 points
+    around the whole pitch curve; a point that still does not converge is an error."""
+    start = math.atan2(C[1] - geo.A[1], C[0] - geo.A[0])
+    beta, step = _newton_closest(geo, theta, C, start)
+    if abs(step) > 1e-11:
+        samples = [start + 2.0 * math.pi * k / 720 for k in range(720)]
+        nearest = min(samples, key=lambda b: _distance_squared(geo, theta, C, b))
+        beta, step = _newton_closest(geo, theta, C, nearest)
+    if abs(step) > 1e-11:
+        raise SimulationError("independent breaker reference: the closest point on the cam did not "
+                              f"converge (theta = {theta:.6g} rad, last step {step:.3g} rad)")
+    return beta
+
+
+def _distance_squared(geo: Geometry, theta: float, C: tuple[float, float], beta: float) -> float:
+    """Squared distance (m^2) from C to the pitch curve's point at polar angle beta."""
+    P = geo.pitch_point(beta, theta)[0]
+    return (P[0] - C[0]) ** 2 + (P[1] - C[1]) ** 2
+
+
+def _newton_closest(geo: Geometry, theta: float, C: tuple[float, float], beta: float) -> tuple[float, float]:
+    """Newton on (P - C) . dP/dbeta = 0 from beta (steps clipped to 0.05 rad): (beta, last step)."""
+    step = 0.0
+    for _ in range(60):
         P, dP, ddP, rho, rb = geo.pitch_point(beta, theta)
         dx, dy = P[0] - C[0], P[1] - C[1]
         fval = dx * dP[0] + dy * dP[1]
@@ -39,11 +62,7 @@ def closest_pitch_angle(geo: Geometry, theta: float, C: tuple[float, float]) -> 
         beta -= step
         if abs(step) < 1e-14:
             break
-    else:
-        if abs(step) > 1e-11:
-            raise SimulationError("independent breaker reference: the closest point on the cam did not "
-                                  f"converge (theta = {theta:.6g} rad, last step {step:.3g} rad)")
-    return beta
+    return beta, step
 
 
 def roller_contact(geo: Geometry, theta: float, omega: float, phi: float, phid: float, distance: str = "exact"):
