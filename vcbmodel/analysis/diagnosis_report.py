@@ -10,9 +10,20 @@ from ..records.analyser import figures_of_merit
 from ..records.signals import dominant_frequency, lag1_autocorrelation
 
 
-def nuisance_report(ctx, final, period) -> dict:
+#: What a nuisance value read by a model that does not explain the record is worth: the release
+#: time, the period and the time base then absorb the model's error as readily as the record's
+#: (a friction law outside the registered ones pausing at each reversal passes for a pre-trigger
+#: and a period error), so they support no conclusion about the rig or the record.
+UNEXPLAINED_CAVEAT = ("the final model does not explain the record: the nuisance values (pre-trigger, period, "
+                      "time base) may absorb its error (e.g. friction outside the registered laws) and support no "
+                      "conclusion about the rig or the record")
+
+
+def nuisance_report(ctx, final, period, explained: bool = True) -> dict:
     """The record's nuisance as the diagnosis estimated it: values, standard errors, what was pinned,
-    the fit window, the pre-trigger (s), notes, the rig values taken as uncertain, units."""
+    the fit window, the pre-trigger (s), notes, the rig values taken as uncertain, units; with
+    ``conclusive`` false and :data:`UNEXPLAINED_CAVEAT` when the final model does not explain
+    the record (``explained``)."""
     s = ctx.setup
     vals = {}
     stderr = {}
@@ -33,7 +44,26 @@ def nuisance_report(ctx, final, period) -> dict:
                      "sensor_gain": "-"}}
     if period:
         out["period_mismatch"] = period
+    out["conclusive"] = bool(explained)
+    if not explained:
+        out["caveat"] = UNEXPLAINED_CAVEAT
     return out
+
+
+def period_sentence(ctx, period: dict, explained: bool) -> str:
+    """The swing period's mismatch in words: what it says of the rig or the record's clock, only
+    when the final model explains the record; otherwise a friction-model error explains the
+    mismatch as well, and the sentence says so and concludes nothing."""
+    text = (f" The record's swing period differs from the model's by {100 * period['relative']:+.2f} % "
+            f"(+-{100 * period['stderr']:.2f} %)")
+    if not explained:
+        return (text + ": as the final model does not explain the record, the rig's I/(M g L), the record's time "
+                "base or friction outside the registered laws (pauses at reversals) could each cause it; "
+                "no conclusion is drawn about the rig or the record.")
+    return (text + f": the rig's I/(M g L) is about {200 * period['relative']:+.1f} % off or the record's time base "
+            f"{100 * period['relative']:+.2f} %; "
+            + ("the period was fitted as a nuisance (pendulum inertia)." if ctx.implied else
+               "the rig marks the period's fields uncertain, so they were fitted."))
 
 
 def describe_signature(ctx, baseline, final=None) -> dict:
@@ -96,11 +126,7 @@ def evidence_text(ctx, baseline, final, missing, window, signature, verdict, per
                  f"its dominant frequency is {signature['residual_dominant_frequency_hz']:.0f} Hz "
                  f"(spring surge {signature['spring_surge_frequency_hz']:.0f} Hz).")
     if period and period["significant"]:
-        text += (f" The record's swing period differs from the model's by {100 * period['relative']:+.2f} % "
-                 f"(+-{100 * period['stderr']:.2f} %): the rig's I/(M g L) is about {200 * period['relative']:+.1f} % "
-                 f"off or the record's time base {100 * period['relative']:+.2f} %; "
-                 + ("the period was fitted as a nuisance (pendulum inertia)." if ctx.implied else
-                    "the rig marks the period's fields uncertain, so they were fitted."))
+        text += period_sentence(ctx, period, verdict["explained"])
     if missing:
         text += (f" Forward selection keeps {', '.join(missing)} (each lowering the whitened BIC by more than "
                  f"{margin:g}); the rms goes {baseline.rms:.3g} -> {final.rms:.3g} {unit} "

@@ -37,7 +37,7 @@ def report(ctx, state) -> None:
     stopped = sorted(state.stopped - {c.effect for c in state.candidates})
     where = window(ctx, baseline)
     signature = describe_signature(ctx, baseline, final)
-    nuisance = nuisance_report(ctx, final, state.period)
+    nuisance = nuisance_report(ctx, final, state.period, state.verdict["explained"])
     nuisance.update(sensor_nuisance(state.verdict, ctx.quantisation, ctx.sigma_hf, ctx.record.unit))
     if ctx.time_scale is not None and time_scale_name(0) in final.parameters:
         p = final.parameters[time_scale_name(0)]

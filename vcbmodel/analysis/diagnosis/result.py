@@ -83,6 +83,8 @@ class Diagnosis:
                  "already explains the data within the noise"} for name in self.stopped or []],
             "fitted": rounded(f.model_values), "fitted_before": rounded(b.model_values),
             "stderr": {p.name: p.stderr for p in f.parameters.values() if p.vary and p.kind == "model"},
+            "stderr_naive": {p.name: p.stderr_naive for p in f.parameters.values() if p.vary and p.kind == "model"},
+            "stderr_method": f.stderr_method,
             "fitted_units": {p.name: p.unit or "-" for fit in (b, f) for p in fit.parameters.values()
                              if p.kind == "model"},
             "at_bound": [p.name for p in f.parameters.values() if p.at_bound()],
@@ -99,7 +101,8 @@ class Diagnosis:
                  + (f", quantised in steps of {nz.quantisation:.3g} {u}" if nz.quantisation else "") + ")",
                  f"  baseline {', '.join(self.baseline.effects) or '(none)'} [{self.baseline.spring_model_label}]: "
                  f"rms {self.baseline.rms:.3g} {u}",
-                 "  nuisance: " + ", ".join(f"{k} {v:.5g}" for k, v in self.nuisance.get("values", {}).items()),
+                 "  nuisance: " + ", ".join(f"{k} {v:.5g}" for k, v in self.nuisance.get("values", {}).items())
+                 + (f" ({self.nuisance['caveat']})" if self.nuisance.get("caveat") else ""),
                  f"  disagreement largest in t = [{self.window[0]:.4g}, {self.window[1]:.4g}] s",
                  "  candidates (delta BIC of the whitened residual, positive = better):"]
         for c in self.candidates:
