@@ -252,3 +252,25 @@ def test_check_says_whether_the_stop_and_latch_are_modelled(tmp_path, capsys):
         out = capsys.readouterr().out
         for line in expected:
             assert line in out, out
+
+
+@needs_compiler
+def test_simulate_summary_says_when_the_cam_meets_the_stop_and_where_it_rests(rig, tmp_path):
+    """The summary's stop lines read the cam angle: the stop is met when the cam first passes its
+    angle, the latch engages when the cam first passes the latch's (before the stop's), and at the
+    end the cam rests on the latch (205 deg); a rig without them has no such lines."""
+    from vcbmodel.experiments.summaries import closing_summary
+
+    r = simulate(rig, t_end=T_END, backend="compiled")
+    lines = {what: value for what, value, _ in closing_summary(r, rig)}
+    theta = r.channels["cam_angle"]
+    step = float(r.t[1] - r.t[0])
+    assert lines["cam meets the end stop at"] == pytest.approx(r.t[np.argmax(theta > END_STOP["angle"])], abs=step)
+    assert lines["holding latch engaged at"] < lines["cam meets the end stop at"]
+    into = END_STOP["arm"] * (theta.max() - END_STOP["angle"])
+    assert lines["cam's travel into the end stop (at its arm)"] == pytest.approx(into, rel=1e-6)
+    assert lines["cam angle at the end of the run"] == pytest.approx(205.0, abs=0.05)
+    plain = load_rig(write_rig(tmp_path, P.FORMER_REFERENCE_BREAKER, "plain"))
+    short = simulate(plain, t_end=0.005, backend="compiled")
+    names = {what for what, _, _ in closing_summary(short, plain)}
+    assert not names & {"cam meets the end stop at", "holding latch engaged at", "cam angle at the end of the run"}

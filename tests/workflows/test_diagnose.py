@@ -1,5 +1,6 @@
 """Layer 4: the discrepancy workflow on measurements with a hidden effect (made here, random)."""
 import json
+from pathlib import Path
 
 import numpy as np
 import pytest
@@ -73,6 +74,10 @@ def test_report_contents(tmp_path):
     # the disagreement of a frictionless model grows with travel: the window is late in the drop
     assert t1 > 0.02
     assert j["noise_estimate"] == pytest.approx(2e-3, rel=0.15)
+    # every field the JSON gives is documented in docs/cli.md (top level, verdict and nuisance)
+    doc = (Path(__file__).resolve().parents[2] / "docs" / "cli.md").read_text()
+    keys = set(j) | set(j["verdict"]) | set(j["verdict"]["tests"]) | set(j["nuisance"]) | set(j["discovered"])
+    assert {k for k in keys if f"`{k}`" not in doc} == set()
 
 
 def test_noise_estimate_recovers_sigma():

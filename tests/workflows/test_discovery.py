@@ -166,3 +166,14 @@ def test_a_torque_outside_the_library_is_reported_as_nothing_found(light_rig):
     assert d.rms_before > 2 * d.noise  # a structured residual is there
     assert not d.found and "nothing that fits" in d.message
     assert d.rms_after == d.rms_before
+
+
+def test_the_note_on_another_base_names_what_it_leaves_out_or_that_it_is_the_starting_fit():
+    """When discovery's best base is not the final model, its message says why; with the same
+    effects (the final model is a wider search's refit of the starting one) it names no empty
+    effect ("the model without :", as a LuGre record once read)."""
+    from vcbmodel.analysis.discovery.discover import base_note
+
+    assert "without stribeck:" in base_note(EFFECTS + ("stribeck",), EFFECTS)
+    same = base_note(EFFECTS, EFFECTS)
+    assert "without" not in same and "starting model's fit" in same

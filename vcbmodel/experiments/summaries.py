@@ -67,6 +67,26 @@ def closing_summary(result: SimulationResult, rig: Rig) -> list[tuple]:
               ("rebound (follower travel back below its final position after the peak)", fom["rebound_m"], "m"),
               ("follower travel settled (within 0.05 mm of its final position)", fom["travel_settled_s"], "s"),
               ("peak cam-roller force", fom["peak_cam_roller_force_N"], "N")]
+    return lines + stop_summary(result, rig)
+
+
+def stop_summary(result: SimulationResult, rig: Rig) -> list[tuple]:
+    """[(what, value, unit)] for the rig's end stop and holding latch (none without them): when the
+    cam first meets the stop (its force first positive) and how far it goes into it (m at the
+    stop's arm), when the latch engages, and the cam angle at the end of the run (deg); ``never``
+    when the run ends first (a longer ``--t-end`` shows it)."""
+    ch, t, b = result.channels, result.t, rig.breaker
+    lines = []
+    if b.end_stop is not None:
+        hit = ch["end_stop_force"] > 0.0
+        lines += [("cam meets the end stop at", float(t[np.argmax(hit)]) if hit.any() else None, "s"),
+                  ("cam's travel into the end stop (at its arm)",
+                   float(np.max(ch["end_stop_penetration"])) if hit.any() else None, "m")]
+    if b.hold_latch is not None:
+        engaged = ch["hold_latch_engaged"] > 0.5
+        lines.append(("holding latch engaged at", float(t[np.argmax(engaged)]) if engaged.any() else None, "s"))
+    if lines:
+        lines.append(("cam angle at the end of the run", float(np.degrees(ch["cam_angle"][-1])), "deg"))
     return lines
 
 

@@ -262,12 +262,20 @@ def discover_among(rig, measurement, fits: Sequence[FitResult], **options) -> Di
     noise = scoring_noise([r.after or r.before for r in results], sigma, options.get("quantisation") or 0.0)
     best = min(results, key=lambda r: (r.after or r.before).bic_with(noise))
     if best.given is not fits[0]:
-        others = ", ".join(sorted(set(fits[0].effects) - set(best.before.effects)))
-        best.message += (f" (on the model without {others}: with the discovered torque "
-                         f"{'that effect is not needed' if others else 'this base fits better'})")
+        best.message += base_note(fits[0].effects, best.before.effects)
     best.alternatives = [{"base_effects": list(r.given.effects), "found": r.found, "terms": [t.name for t in r.terms],
                           "bic": (r.after or r.before).bic_with(noise)} for r in results]
     return best
+
+
+def base_note(final_effects: Sequence[str], base_effects: Sequence[str]) -> str:
+    """The message's note when discovery's best base is not the diagnosis's final model: the
+    effects the base leaves out, or, with the same effects, that it is the starting model's fit."""
+    others = ", ".join(sorted(set(final_effects) - set(base_effects)))
+    if others:
+        return f" (on the model without {others}: with the discovered torque that effect is not needed)"
+    return (" (on the starting model's fit of the same effects, not the final one's: with the discovered "
+            "torque its values fit better)")
 
 
 def discovery_step(rig, measurement, final: FitResult, starting: FitResult | None, explained: bool,
