@@ -449,3 +449,17 @@ def test_align_then_start_on_a_synthetic_cam_drop(tmp_path):
     assert state.baseline.effects == tuple(rig.model.effects) and ctx.fits == 1
     assert state.baseline.rms < 1.2 * ctx.sigma_hf  # the starting model is the truth's family
     assert math.isfinite(ctx.noise.marginal_sd)
+
+
+@pytest.mark.parametrize("finer", [True, False])
+def test_the_evidence_calls_a_spring_model_too_coarse_only_when_the_new_one_is_finer(finer):
+    """The spring-model refinement tries the best other lumped chain, which can have fewer masses
+    (a closing record went lumped-2 -> lumped-1 and read "lumped-2 was too coarse")."""
+    current = fit_of(noise(), effects=("coulomb_friction",))
+    ctx = ctx_of(record=SimpleNamespace(unit="m"), implied={})
+    to = "lumped-3 (paper)" if finer else "lumped-1 (paper)"
+    verdict = {"explained": True, "spring_model_refined": {"from": "lumped-2 (paper)", "to": to, "delta_bic": 143.0,
+                                                           "finer": finer}}
+    text = evidence_text(ctx, current, current, [], (0.0, 1.0), {}, verdict, None)
+    assert ("lumped-2 (paper) was too coarse" in text) == finer
+    assert f"with {to} the whitened BIC drops by 143" in text

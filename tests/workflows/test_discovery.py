@@ -177,3 +177,19 @@ def test_the_note_on_another_base_names_what_it_leaves_out_or_that_it_is_the_sta
     assert "without stribeck:" in base_note(EFFECTS + ("stribeck",), EFFECTS)
     same = base_note(EFFECTS, EFFECTS)
     assert "without" not in same and "starting model's fit" in same
+
+
+@pytest.mark.parametrize("coefficient", [-2.0, 2.0])
+def test_a_sign_exp_term_reads_as_a_breakaway_peak_only_when_it_opposes_the_motion(coefficient):
+    """The discovered torque adds to the applied torque: a breakaway peak opposes the motion near
+    zero speed (coefficient x term < 0 for w > 0); a term that aids it there is not read as one
+    (a LuGre record's discovery once read +2.1 N m as "friction falling from breakaway")."""
+    from vcbmodel.analysis.discovery.library import reading
+    from vcbmodel.laws.discovered import TERMS
+    from vcbmodel.laws.friction import NumericOps
+
+    opposes = coefficient * TERMS["sign_exp_0.05"].value(0.0, 0.0, 0.01, NumericOps) < 0.0
+    text = reading("sign_exp_0.05", coefficient)
+    assert ("falling from breakaway" in text) == opposes
+    assert ("lower near zero speed" in text) == (not opposes)
+    assert reading("w_abs_w", coefficient) == TERMS["w_abs_w"].reading

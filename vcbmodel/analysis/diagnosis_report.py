@@ -150,7 +150,9 @@ def evidence_text(ctx, baseline, final, missing, window, signature, verdict, per
                  "test, would separate them.")
     refined = verdict.get("spring_model_refined")
     if refined:
-        text += (f" The spring model {refined['from']} was too coarse for this record: with {refined['to']} the "
+        how = ("was too coarse for this record" if refined.get("finer", True) else
+               f"fitted this record less well than {refined['to']}, which is not a finer chain")
+        text += (f" The spring model {refined['from']} {how}: with {refined['to']} the "
                  f"whitened BIC drops by {refined['delta_bic']:.0f} (a model fidelity issue, not a missing effect).")
     if verdict["explained"]:
         text += " The final residual is consistent with the noise (white once whitened, at the record's level): explained."

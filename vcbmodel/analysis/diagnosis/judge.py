@@ -177,7 +177,9 @@ def judge(ctx, state) -> None:
     if state.coarse_spring is not None:
         state.verdict["spring_model_refined"] = {
             "from": state.coarse_spring.spring_model_label, "to": final.spring_model_label,
-            "delta_bic": state.coarse_spring.bic_with(ctx.noise) - final.bic_with(ctx.noise)}
+            "delta_bic": state.coarse_spring.bic_with(ctx.noise) - final.bic_with(ctx.noise),
+            # the best other chain can have fewer masses (or another convention): finer only with more
+            "finer": final.spring_model.masses > state.coarse_spring.spring_model.masses}
     state.own_alignment = state.baseline
     if final is not state.baseline and not ctx.stop.is_set():
         state.baseline = on_final_alignment(ctx, state.baseline, final)

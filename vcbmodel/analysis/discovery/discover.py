@@ -192,7 +192,7 @@ def _terms(dataset, after, names, noise, sigma, pool, should_stop) -> tuple[list
     for name in names:
         p = after.parameters["discovered:" + name]
         stated = [e for e in (p.stderr, errors[name]) if e is not None]
-        terms.append(DiscoveredTerm(name, p.value, max(stated) if stated else None, unit(name), reading(name), p.stderr,
+        terms.append(DiscoveredTerm(name, p.value, max(stated) if stated else None, unit(name), reading(name, p.value), p.stderr,
                                     errors[name]))
     return terms, after
 

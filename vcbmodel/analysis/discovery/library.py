@@ -32,9 +32,16 @@ def columns(names: Sequence[str], est: ForceEstimate) -> np.ndarray:
     return np.column_stack(cols) if cols else np.zeros((est.t.size, 0))
 
 
-def reading(name: str) -> str:
-    """What a torque of this term's form usually is (a physical reading)."""
-    return term(name).reading
+def reading(name: str, coefficient: float | None = None) -> str:
+    """What a torque of this term's form usually is (a physical reading). With the fitted
+    ``coefficient``: a ``sign_exp`` term adds to the applied torque, so only a negative one opposes
+    the motion near zero speed (a breakaway peak); a positive one aids it there, which the reading says."""
+    text = term(name).reading
+    if name.startswith("sign_exp_") and coefficient is not None and coefficient > 0:
+        speed = name.removeprefix("sign_exp_")
+        text = (f"with this sign, friction lower near zero speed than above {speed} rad/s (the term aids the "
+                "motion there: no breakaway peak; it offsets another term or the registered friction)")
+    return text
 
 
 def unit(name: str) -> str:
