@@ -276,29 +276,3 @@ def test_timing_jitter_is_found_and_a_smooth_error_is_not_taken_for_it():
     assert found is not None and abs(found["jitter_s"] - 2e-5) < 3 * found["stderr_s"]
     assert timing_jitter(t, rng.normal(0, 2e-3, t.size), model) is None
     assert timing_jitter(t, rng.normal(0, 2e-3, t.size) + 0.02 * (v / v.min()) ** 2, model) is None
-
-
-def test_short_correlated_pre_trigger_is_read_with_the_noise_correlation():
-    """The variance of a short segment of AR(1) noise with its mean removed shows only part of
-    the noise's variance (Monte Carlo against segment_variance_share); a pre-trigger witness is
-    corrected and loses degrees of freedom when the noise is more correlated than its own few
-    samples show, and is left as it is otherwise."""
-    from vcbmodel.analysis.noise_evidence import Witness, correlated_witness, segment_variance_share
-
-    rng = np.random.default_rng(7)
-    phi, n, runs = 0.83, 17, 20000
-    e = rng.normal(size=(runs, n + 200))
-    x = np.zeros_like(e)
-    x[:, 0] = e[:, 0] / np.sqrt(1 - phi**2)
-    for k in range(1, x.shape[1]):
-        x[:, k] = phi * x[:, k - 1] + e[:, k]
-    seg = x[:, -n:]
-    measured = np.mean(np.var(seg, axis=1, ddof=1)) / (1 / (1 - phi**2))
-    assert abs(measured - segment_variance_share(n, phi)) < 0.03
-    assert abs(segment_variance_share(n, 0.0) - 1.0) < 1e-12
-    w = Witness("pre_trigger", 1.0, 15.0, True, 0.2, "17 samples", 17)
-    read = correlated_witness(w, phi)
-    assert read.sigma > 1.2 and read.dof < 5 and read.lag1 == phi
-    assert correlated_witness(w, 0.1) is w  # less correlated than the segment shows: unchanged
-    stated = Witness("rig", 1.0, float("inf"), True)
-    assert correlated_witness(stated, phi) is stated

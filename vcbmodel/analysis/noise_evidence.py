@@ -68,7 +68,6 @@ class Witness:
     level: bool
     lag1: float | None = None
     detail: str = ""
-    samples: int = 0  # a pre-trigger's samples (its mean removed); 0: not a segment of the record
 
     def to_json(self) -> dict:
         return {"witness": self.name, "sigma": self.sigma, "dof": self.dof if math.isfinite(self.dof) else None,
@@ -135,33 +134,7 @@ def pre_trigger_witness(t: np.ndarray, y: np.ndarray, release: float, quantisati
     var = max(var, quantisation**2 / 12.0)
     dof = variance_dof(n - 1, lag1)
     return Witness("pre_trigger", math.sqrt(var), dof, True, lag1,
-                   f"{n} samples before the release at {release:.4g} s", n)
-
-
-def segment_variance_share(n: int, lag1: float) -> float:
-    """Expected share of AR(1) noise's variance that the variance of ``n`` samples with their
-    mean removed (ddof 1) shows, lag-1 correlation ``lag1``: (1 - Var(mean) / s^2) n / (n - 1),
-    Var(mean) = s^2 (1 + 2 sum_k (1 - k/n) phi^k) / n; 1 for white noise. A short segment of
-    strongly correlated noise shows much less than the noise's variance (17 samples at 0.83: 0.6)."""
-    phi = min(max(float(lag1), 0.0), 0.98)
-    k = np.arange(1, n)
-    mean_share = (1.0 + 2.0 * float(np.sum((1.0 - k / n) * phi**k))) / n
-    return max((1.0 - mean_share) * n / (n - 1), 1e-3)
-
-
-def correlated_witness(witness: Witness, lag1: float) -> Witness:
-    """A pre-trigger witness read with the noise's lag-1 correlation ``lag1`` when that is larger
-    than what its own few samples show (their estimate is biased low): its level corrected for
-    the variance its removed mean takes (:func:`segment_variance_share`) and its degrees of
-    freedom counted with that correlation. A short pre-trigger of strongly correlated noise is a
-    weak witness; read with its own correlation it understated the noise (a camera cam drop with
-    noise correlation 0.83: 2.2x its level left, a false alarm)."""
-    if not witness.samples or witness.lag1 is None or lag1 <= witness.lag1:
-        return witness
-    share = segment_variance_share(witness.samples, lag1)
-    return Witness(witness.name, witness.sigma / math.sqrt(share), variance_dof(witness.samples - 1, lag1),
-                   witness.level, float(lag1), witness.detail + f"; read with the noise's lag-1 correlation {lag1:.2f}",
-                   witness.samples)
+                   f"{n} samples before the release at {release:.4g} s")
 
 
 def _after_release(t: np.ndarray | None, r: np.ndarray, release: float | None) -> np.ndarray:
@@ -200,7 +173,7 @@ def judge_against_witnesses(residual: np.ndarray, witnesses: list[Witness], lag1
     decide (only the high-frequency level, exceeded: explained only if the sensor's noise is that
     correlated). ``decided_by`` names the witnesses that decided."""
     r = _after_release(t, np.asarray(residual, float), release)
-    checks = [check_witness(correlated_witness(w, lag1), r, lag1) for w in witnesses if w is not None and w.sigma > 0]
+    checks = [check_witness(w, r, lag1) for w in witnesses if w is not None and w.sigma > 0]
     failed = [c["witness"] for c in checks if c["holds"] is False]
     level_ok = [c["witness"] for c in checks if c["holds"] is True and c["bounds_whole_level"]]
     if failed:
