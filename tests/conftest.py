@@ -1,6 +1,8 @@
 import json
+import math
 from pathlib import Path
 
+import numpy as np
 import pytest
 
 from vcbmodel import parameters as P
@@ -29,3 +31,13 @@ def cam_rig(tmp_path):
 
 def examples_available():
     return (EXAMPLES / "answers.json").exists()
+
+
+def ar1(rng, n, sigma, phi):
+    """``n`` samples of stationary AR(1) noise: standard deviation ``sigma``, lag-1 correlation ``phi``."""
+    e = np.empty(n)
+    e[0] = rng.normal(0, sigma)
+    u = rng.normal(0, sigma * math.sqrt(1 - phi**2), n)
+    for i in range(1, n):
+        e[i] = phi * e[i - 1] + u[i]
+    return e

@@ -11,7 +11,7 @@ import math
 import numpy as np
 import pytest
 
-from conftest import write_rig
+from conftest import ar1, write_rig
 from vcbmodel import parameters as P
 from vcbmodel.analysis.diagnose import BIC_MARGIN, diagnose
 from vcbmodel.analysis.noise import consistency, fit_noise
@@ -23,15 +23,6 @@ from vcbmodel.experiments.loading import load_pair, load_record, load_rig
 from vcbmodel.records.analyser import figures_of_merit
 from vcbmodel.records.signals import (ar_fit, ljung_box, noise_estimate, noise_estimate_floored,
                                       quantisation_step)
-
-
-def ar1(rng, n, sigma, phi):
-    e = np.empty(n)
-    e[0] = rng.normal(0, sigma)
-    u = rng.normal(0, sigma * math.sqrt(1 - phi**2), n)
-    for i in range(1, n):
-        e[i] = phi * e[i - 1] + u[i]
-    return e
 
 
 # --- noise -------------------------------------------------------------------------------------------

@@ -25,17 +25,9 @@ from vcbmodel.analysis.verdict_evidence import judge_residual
 from vcbmodel.experiments.simulation import simulate
 from vcbmodel.records.measurement import Measurement
 from vcbmodel.records.signals import noise_estimate
+from conftest import ar1
 
 SIGMA = 5e-4  # rad, a potentiometer's noise
-
-
-def ar1(rng, n, sigma, phi):
-    e = np.empty(n)
-    e[0] = rng.normal(0, sigma)
-    u = rng.normal(0, sigma * math.sqrt(1 - phi**2), n)
-    for i in range(1, n):
-        e[i] = phi * e[i - 1] + u[i]
-    return e
 
 
 def record_with_pre_trigger(rng, phi, error=0.0, n_pre=400, n=6000, fs=1000.0):
