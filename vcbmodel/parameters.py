@@ -38,6 +38,14 @@ STEEL_DENSITY = 7850.0
 DEFAULT_SHEAR_MODULUS = 79.3e9
 DEFAULT_YOUNGS_MODULUS = 206e9
 
+# --- records ------------------------------------------------------------------------------
+#: Largest relative error of a record's clock the diagnosis's time-scale nuisance may take (its
+#: bounds): a camera's frame rate or a logger's crystal is off by a fraction of a percent (crystals
+#: 20-100 ppm; cheap cameras' nominal rates up to about 0.5 %); beyond 1 % the record is not what
+#: its file says and the user should fix its time stamps. A rig's ``uncertain.record.time_base``
+#: may be at most half of it (a prior wider than the bounds would be cut silently).
+TIME_SCALE_SPAN = 0.01
+
 # --- integration ------------------------------------------------------------------------
 #: Fixed RK4 step for the pendulum (s), sized for accuracy alone (the passive stuck state catches
 #: a reversing shaft whatever the step): against the independent event-driven reference, a 6 s

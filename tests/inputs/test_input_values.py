@@ -10,7 +10,7 @@ import pytest
 
 from vcbmodel.app.cli import main, results_only_on_stdout
 from vcbmodel.errors import InputError
-from vcbmodel.experiments.loading import load_pair
+from vcbmodel.experiments.loading import load_pair, load_rig
 from vcbmodel.records.measurement import load_measurement
 from vcbmodel.rig.reader import read_json
 
@@ -183,3 +183,18 @@ def test_ambiguous_or_wrong_csv_variants_name_the_cause(text, words, tmp_path):
         load_measurement(f, "cam_angle", units={"cam_angle": "rad"})
     for w in words:
         assert w in str(e.value)
+
+
+def test_a_clock_uncertainty_wider_than_the_fit_allows_is_refused(tmp_path, capsys):
+    """uncertain.record.time_base is a prior on the record's clock; the fit bounds the clock to
+    +-TIME_SCALE_SPAN, so a wider prior would be cut silently: refused, naming the field."""
+    from vcbmodel import parameters as P
+
+    data = json.loads(PENDULUM_RIG.read_text())
+    data["uncertain"] = {"record.time_base": 0.5}
+    f = tmp_path / "x.rig.json"
+    f.write_text(json.dumps(data))
+    refused(capsys, ["check", str(f)], "uncertain.record.time_base", f"at most {P.TIME_SCALE_SPAN / 2:g}")
+    data["uncertain"] = {"record.time_base": 0.002}
+    f.write_text(json.dumps(data))
+    assert load_rig(f).uncertain == {"record.time_base": 0.002}

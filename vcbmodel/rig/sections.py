@@ -76,6 +76,9 @@ def read_uncertain(rd: Reader, data: dict) -> dict[str, float]:
         value = rd.number(u, path, "uncertain.", positive=True)
         if value >= 1.0:
             rd.fail(f"uncertain.{path}", f"a relative standard deviation below 1 (0.05 for +-5 %), got {value:g}")
+        if path == "record.time_base" and value > P.TIME_SCALE_SPAN / 2:
+            rd.fail(f"uncertain.{path}", f"at most {P.TIME_SCALE_SPAN / 2:g} (the fit bounds a record's clock error "
+                    f"to +-{100 * P.TIME_SCALE_SPAN:g} %), got {value:g}")
         if path in UNCERTAIN_RECORD:  # the sensor's gain, the record's clock: estimated with this uncertainty
             out[path] = value
             continue

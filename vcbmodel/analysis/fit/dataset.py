@@ -7,6 +7,7 @@ from dataclasses import dataclass, replace
 
 import numpy as np
 
+from ... import parameters as P
 from ...experiments import experiment_of
 
 #: Channels whose sensor offset and gain carry the short names (``sensor_offset_i``).
@@ -137,8 +138,8 @@ def time_scale_name(i: int) -> str:
 
 
 #: Largest relative error of a record's clock the time-scale nuisance may take (bounds of
-#: ``time_scale_i``): a camera's frame rate or a logger's clock a fraction of a percent off.
-TIME_SCALE_SPAN = 0.01
+#: ``time_scale_i``; the number and its reason live in :mod:`vcbmodel.parameters`).
+TIME_SCALE_SPAN = P.TIME_SCALE_SPAN
 
 
 def model_time(t: np.ndarray, release: float, time_scale: float = 1.0) -> np.ndarray:
