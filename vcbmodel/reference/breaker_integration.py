@@ -167,10 +167,7 @@ class ClosingRun:
         engaged its contact begins or ends."""
         mech, evs, kinds = self.mech, [], []
         if mech.stop:
-            def stop(tt, yy):
-                return mech.stop_penetrations(yy[0])[0]
-            stop.terminal, stop.direction = True, -1.0 if self.stop_closed else 1.0
-            evs.append(stop)
+            evs.append(self._penetration_event(0, self.stop_closed))
             kinds.append(("end_stop", 0))
         if mech.hold and not mech.engaged:
             def engage(tt, yy):
@@ -179,12 +176,19 @@ class ClosingRun:
             evs.append(engage)
             kinds.append(("engage", 0))
         elif mech.hold:
-            def hold(tt, yy):
-                return mech.stop_penetrations(yy[0])[1]
-            hold.terminal, hold.direction = True, -1.0 if self.hold_closed else 1.0
-            evs.append(hold)
+            evs.append(self._penetration_event(1, self.hold_closed))
             kinds.append(("hold_latch", 0))
         return evs, kinds
+
+    def _penetration_event(self, k: int, closed: bool) -> Callable:
+        """The event where the stop's (k = 0) or the engaged latch's (k = 1) penetration crosses
+        zero: closing when it is open, opening when it is closed."""
+        mech = self.mech
+
+        def contact(tt, yy):
+            return mech.stop_penetrations(yy[0])[k]
+        contact.terminal, contact.direction = True, -1.0 if closed else 1.0
+        return contact
 
     # -- integration --------------------------------------------------------------------------
     def integrate(self) -> None:
