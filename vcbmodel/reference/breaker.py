@@ -31,7 +31,9 @@ Equations (SI units; angles counter-clockwise; gravity along -y)
 ----------------------------------------------------------------
 Coordinates: cam angle theta (direction of A->B), the closing springs' chain points p_k (``count``
 identical springs lumped as one chain of ``count`` times the masses and stiffnesses), follower
-angle phi (direction pivot->roller centre), pole travels z_i.
+angle phi (direction pivot->roller centre), pole travels z_i and, with an elastic main shaft
+(rig section ``breaker.main_shaft``), the angles psi_j of the pole levers other than the drive
+pole's.
 
 * Cam (with the chain's pin mass m_pin riding on B): I_A theta'' = T_c - T_f,
   I_A = I_c + m_c l_g^2 + count m_pin l_AB^2; T_c = r_AB x F_spring + cam and pin weight torques +
@@ -40,6 +42,12 @@ angle phi (direction pivot->roller centre), pole travels z_i.
   friction T_f (spec law with Karnopp band, Stribeck branch, viscous term) takes F_n = |R|.
 * Chain point k: m_k p_k'' = (pulls of its two springs) (+ weight if ``closing_spring.weight``).
 * Follower: I_f phi'' = torques of the roller force, the opening spring and the push rods.
+* Main shaft (when the rig has ``breaker.main_shaft``; :mod:`.breaker_shaft`): pole i's lever
+  angle a_i is phi at the drive pole, psi_i elsewhere; the segment between levers j and j+1 acts
+  with T = k (a_j - a_{j+1}) + c (a_j' - a_{j+1}') (+T on lever j+1, -T on lever j),
+  k = G pi (d^4 - d_i^4) / 32 / pitch. Follower: (I_f - (n-1) I_l) phi'' = roller, opening
+  spring, the drive pole's rod and the segment on the drive lever; lever j: I_l psi_j'' = its rod
+  + its segments. Without the section every lever is the follower (the rigid shaft, I_f whole).
 * Pole i: m z_i'' = (rod force along F->pin)_y - contact force + bellows force - m g.
 * Cam profile: pitch radius rho(u) = r_b + r_r + lift s, s the 4-5-6-7 polynomial
   35x^4 - 84x^5 + 70x^6 - 20x^7 on the rise, 1 - s on the return; the roller at polar angle beta
@@ -48,8 +56,9 @@ angle phi (direction pivot->roller centre), pole travels z_i.
   of length l: delta(mm) = 3.84e-5 Q^0.9 / l(mm)^0.8; damping Lankarani-Nikravesh
   (1 + 3 (1 - e^2)/4 delta'/max(v_impact, v_floor)) or Hunt-Crossley (1 + alpha delta'), clipped
   at zero force.
-* Push rod: compression s = L_rod - |pin - F|; force k_rod s below the wipe preload, preload +
-  k_wipe (s - s0) above, plus c_rod s'. Opening spring: from its anchor below F0 to F.
+* Push rod: compression s = L_rod - |pin - F|, F the output point of the pole's own lever (the
+  follower's output geometry at the lever's angle); force k_rod s below the wipe preload,
+  preload + k_wipe (s - s0) above, plus c_rod s'. Opening spring: from its anchor below F0 to F.
 * Latch: torque T_h (1 - t / t_r) for 0 < t < t_r as a force T / arm perpendicular to A->L at the
   latch point L = A + arm (cos(theta + angle), sin(theta + angle)).
 * End stop and holding latch (when the rig has them): at arm a on A->B, perpendicular to it, a
@@ -59,7 +68,13 @@ angle phi (direction pivot->roller centre), pole travels z_i.
   them, and keeps the engagement as memory from the step's start). Shared with the model: this
   reading of the rig's fields, nothing else.
 * Start: the static rest held by the latch (follower on the base circle, rods at their rest
-  compression, latch torque balancing the cam).
+  compression, latch torque balancing the cam); with an elastic shaft every free lever in balance
+  between its rod and the segments, and the follower's balance with the shaft's torque on the
+  drive lever (a fixed point of the static shaft, not the model's initial state). Shared with the
+  model for the shaft: the reading of ``breaker.main_shaft`` (linear segments k = G J / pitch
+  with J of the hollow circle, damping c per segment, the drive pole's lever rigid with the
+  follower, the follower keeping I_f - (n-1) I_l of the whole assembly's inertia, levers in pole
+  order ``pole_pitch`` apart), nothing else.
 
 Modules
 -------
@@ -67,6 +82,7 @@ Modules
 * :mod:`.breaker_geometry`: the cam profile, the follower and the rest geometry (kinematics);
 * :mod:`.breaker_distance`: the roller-to-profile distance (exact and first-order);
 * :mod:`.breaker_closing`: the closing's parameters, forces, friction coupling and rest state;
+* :mod:`.breaker_shaft`: the elastic main shaft between the pole levers (segments, static rest);
 * :mod:`.breaker_integration`: the event-driven integration (modes, events, sampling).
 
 Public API: :func:`solve_closing`.
@@ -111,7 +127,9 @@ def solve_closing(rig: Any, spec: Any, t_eval: ArrayLike, chain: Any = None, *, 
     ``cam_roller_force`` (N), ``cam_roller_penetration`` (m), ``friction_torque`` (N m),
     ``normal_force`` (N); ``touch_times`` and ``touch_speeds`` (per pole, first contact, from the
     events; s, m/s), ``events`` (list of (t, kind)), ``initial`` (follower angle rad, pole
-    travels m, holding torque N m).
+    travels m, holding torque N m; with an elastic shaft ``lever_angle``, rad per free pole);
+    with an elastic main shaft also ``pole_j_lever_angle`` (rad) and ``pole_j_lever_velocity``
+    (rad/s) for every pole j but the drive pole (the model's channel names).
     """
     mech = Closing(rig, spec, chain, distance)
     t_eval = _check_times(t_eval)

@@ -2,7 +2,8 @@
 
 Holds :class:`Closing`, the closing's mechanism as :mod:`.breaker` integrates it: the parameters
 read from the loaded rig and the model spec (cam and lumped closing-spring chain, shaft friction,
-follower, poles and push rods, opening spring, contacts, latch), the forces (chain, cam-roller
+follower, poles and push rods, opening spring, contacts, latch, and the elastic main shaft of
+:mod:`.breaker_shaft` when the rig has one: each push rod then acts on its own pole lever), the forces (chain, cam-roller
 and pole contacts, push rods, opening spring, latch ramp, and when the rig has them the closing end
 stop and the holding latch), everything on the cam but friction as
 T_c and the shaft reaction R = R0 + R1 theta'', the friction law in speed regimes with the
@@ -16,7 +17,9 @@ springs lumped as one chain of ``count`` times the masses and stiffnesses), the 
 (Hertz or Palmgren line stiffness, Lankarani-Nikravesh or Hunt-Crossley damping, the impact-speed
 floor), the latch ramp T_h (1 - t / t_r) and the planar layout; for the end stop and the holding
 latch, the reading of their rig fields: a linear spring and damper at ``arm`` on A->B,
-perpendicular to it, never pulling, and a latch that engages on reaching its angle.
+perpendicular to it, never pulling, and a latch that engages on reaching its angle; for the main
+shaft, the reading of ``breaker.main_shaft`` (linear segments k = G J / pitch, damping per segment,
+the drive pole's lever rigid with the follower, the inertia split I_f - (n-1) I_l and I_l).
 
 Units: SI. Lengths in m, masses in kg, inertias in kg m^2, angles in rad (counter-clockwise),
 forces in N, torques in N m, stiffnesses in N/m (N/m^n for a Hertz law), gravity in m/s^2 along -y.
@@ -32,6 +35,7 @@ from scipy.optimize import brentq
 from ..errors import SimulationError
 from .breaker_distance import DISTANCES, roller_contact
 from .breaker_geometry import Geometry
+from .breaker_shaft import Shaft
 
 #: Palmgren's steel-on-steel line-contact compliance, delta (mm) = C Q^0.9 / l^0.8 (N, mm).
 PALMGREN = 3.84e-5
@@ -41,7 +45,8 @@ class Closing(Geometry):
     """Parameters, the rest state and the forces of the closing (:mod:`.breaker`'s docstring).
 
     State vector y: theta, theta', the chain points (x, y) and their velocities, phi, the pole
-    travels z_i, phi', z_i' (rad, rad/s, m, m/s).
+    travels z_i, phi', z_i', and with an elastic main shaft (``shaft``, :mod:`.breaker_shaft`)
+    the free pole levers' angles psi_j and speeds psi_j' in pole order (rad, rad/s, m, m/s).
     """
 
     def __init__(self, rig: Any, spec: Any, chain: Any = None, distance: str = "exact"):
@@ -54,6 +59,9 @@ class Closing(Geometry):
         self._friction(spec, rig.shaft_radius)
         self.If = rig.breaker.follower.inertia
         self._poles_and_springs(rig.breaker, spec)
+        self.shaft = Shaft.of(rig.breaker, self.n, self.If)
+        self.nl = len(self.shaft.free) if self.shaft else 0  # free pole levers
+        self.lev = 2 + 4 * self.nm + 2 + 2 * self.n  # their first index in y
         self._contacts(rig.breaker, spec)
         self._latch(rig.breaker)
         self._stops(rig.breaker)
@@ -261,23 +269,38 @@ class Closing(Geometry):
         R1 = (-self.mc * rg[1] - self.mpin * rb[1], self.mc * rg[0] + self.mpin * rb[0])
         return Tc, R0, R1, (pen, rate, f, (nx, ny), C)
 
-    def others(self, t: float, y: np.ndarray, roller: tuple) -> tuple[list[tuple[float, float]], float, list[float]]:
-        """Rates of the chain, follower and poles at state y (roller: its contact state)."""
-        theta = y[0]
+    def lever_state(self, y: np.ndarray) -> tuple[list[float], list[float]]:
+        """Every pole lever's angle (rad) and speed (rad/s): the follower's with a rigid shaft."""
+        j, n, lev, nl = 2 + 4 * self.nm, self.n, self.lev, self.nl
+        phi, phid = y[j], y[j + 1 + n]
+        if self.shaft is None:
+            return [phi] * n, [phid] * n
+        return self.shaft.angles(phi, y[lev:lev + nl]), self.shaft.angles(phid, y[lev + nl:lev + 2 * nl])
+
+    def others(self, t: float, y: np.ndarray, roller: tuple) -> tuple[list[tuple[float, float]], float, list[float], list[float]]:
+        """Rates of the chain, follower, poles and free pole levers at state y (roller: its contact
+        state). Pole i's push rod acts on its own lever (the follower with a rigid shaft)."""
         nm, n = self.nm, self.n
         pts = [(y[2 + 2 * k], y[3 + 2 * k]) for k in range(nm)]
-        acc, _ = self.chain_forces(theta, pts)
+        acc, _ = self.chain_forces(y[0], pts)
         j = 2 + 4 * nm
-        phi, phid = y[j], y[j + 1 + n]
         z, zd = y[j + 1:j + 1 + n], y[j + 2 + n:j + 2 + 2 * n]
+        a, w = self.lever_state(y)
         _, _, f, (nx, ny), C = roller
-        t_fol = (C[0] - self.P[0]) * (f * ny) - (C[1] - self.P[1]) * (f * nx) + self.opening_torque(phi)
-        zacc = []
+        t_fol = (C[0] - self.P[0]) * (f * ny) - (C[1] - self.P[1]) * (f * nx) + self.opening_torque(y[j])
+        zacc, rods = [], []
         for i in range(n):
-            push, torque, _ = self.rod(phi, phid, z[i], zd[i])
-            t_fol += torque
+            push, torque, _ = self.rod(a[i], w[i], z[i], zd[i])
+            rods.append(torque)
             zacc.append((push - self.pole_force(i, z[i], zd[i]) + self.pole_push) / self.mp)
-        return acc, t_fol / self.If, zacc
+        if self.shaft is None:
+            for torque in rods:
+                t_fol += torque
+            return acc, t_fol / self.If, zacc, []
+        on_lever = [r + s for r, s in zip(rods, self.shaft.torques(a, w))]
+        t_fol += on_lever[self.shaft.drive]
+        return (acc, t_fol / self.shaft.follower_inertia, zacc,
+                [on_lever[i] / self.shaft.lever_inertia for i in self.shaft.free])
 
     # -- friction -----------------------------------------------------------------------------
     def regime_split(self, regime: int, w: float, s: float) -> tuple[float, float]:
@@ -316,33 +339,43 @@ class Closing(Geometry):
         return a, math.hypot(R0[0] + R1[0] * a, R0[1] + R1[1] * a)
 
     # -- rest state ---------------------------------------------------------------------------
-    def rest(self) -> tuple[float, list[float], float]:
-        """Static rest held by the latch: (follower angle, pole travels, holding torque)."""
+    def rest(self) -> tuple[float, list[float], float, list[float]]:
+        """Static rest held by the latch: (follower angle, pole travels, holding torque, free lever
+        angles). Each rod carries its pole's rest force; with an elastic shaft every free lever is
+        in balance between its rod and the segments (they twist under the rods' torques), and the
+        follower's balance includes the shaft's torque on the drive lever."""
         n = self.n
         force = -self.pole_push  # the rod holds the pole's weight minus the bellows force
         comp = force / self.krod if force <= self.pre else self.s0 + (force - self.pre) / self.kwipe
 
-        def travel(phi):
-            F = self.output_point(phi)
+        def travel(a):
+            F = self.output_point(a)
             L = self.Lrod - comp
             return F[1] + math.sqrt(L * L - (self.pin_x - F[0]) ** 2) - self.pin_y0
 
+        def load(a):  # the rod's torque on a lever at angle a, its pole at rest
+            return self.rod(a, 0.0, travel(a), 0.0)[1]
+
         def torque(phi):
-            z = travel(phi)
             pen, rate, (nx, ny), C = self.roller_contact(self.theta0, 0.0, phi, 0.0)
             f = self.roller_force(pen, 0.0)
             t = (C[0] - self.P[0]) * (f * ny) - (C[1] - self.P[1]) * (f * nx) + self.opening_torque(phi)
-            return t + n * self.rod(phi, 0.0, z, 0.0)[1]
+            if self.shaft is None:
+                return t + n * self.rod(phi, 0.0, travel(phi), 0.0)[1]
+            a = self.shaft.rest_angles(phi, load)
+            return t + load(phi) + self.shaft.torques(a, [0.0] * n)[self.shaft.drive]
 
         phi = brentq(torque, self.phi_geo - 1e-3, self.phi_geo + 1e-3, xtol=1e-15)
-        z = [travel(phi)] * n
-        y = self.initial_vector(phi, z)
+        a = [phi] * n if self.shaft is None else self.shaft.rest_angles(phi, load)
+        z = [travel(x) for x in a]
+        levers = [a[i] for i in self.shaft.free] if self.shaft else []
+        y = self.initial_vector(phi, z, levers)
         self.holding = 0.0
         Tc, _, _, _ = self.cam_applied(-1.0, y)  # with holding = 0: the torque the latch must balance
         self.holding = -Tc
-        return phi, z, -Tc
+        return phi, z, -Tc, levers
 
-    def initial_vector(self, phi: float, z: Sequence[float]) -> np.ndarray:
+    def initial_vector(self, phi: float, z: Sequence[float], levers: Sequence[float] = ()) -> np.ndarray:
         B = self.pin(self.theta0)
         compliance = [1.0 / k for k in self.ks]
         total, acc, pts = sum(compliance), 0.0, []
@@ -350,4 +383,5 @@ class Closing(Geometry):
             acc += compliance[k]
             f = acc / total
             pts += [self.O[0] + f * (B[0] - self.O[0]), self.O[1] + f * (B[1] - self.O[1])]
-        return np.array([self.theta0, 0.0] + pts + [0.0] * (2 * self.nm) + [phi] + list(z) + [0.0] + [0.0] * self.n)
+        return np.array([self.theta0, 0.0] + pts + [0.0] * (2 * self.nm) + [phi] + list(z) + [0.0] + [0.0] * self.n
+                        + list(levers) + [0.0] * len(levers))

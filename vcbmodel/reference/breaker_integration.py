@@ -8,7 +8,9 @@ start and end of each pole contact and (Lankarani-Nikravesh damping) of the cam-
 whose impact speed is the exact approach speed at that instant; with the rig's closing end stop
 and holding latch, the start and end of the stop's contact, the latch's engagement (the cam
 reaching its angle: exact, where the model keeps it as memory from the start of its step) and,
-once engaged, the start and end of the latch's contact. The model instead latches impact
+once engaged, the start and end of the latch's contact. With an elastic main shaft the free pole
+levers' angles and speeds follow in the state (no events: their segments are smooth), and each
+segment starts with a step of a tenth of the levers' fastest period. The model instead latches impact
 speeds at the start of the RK4 step and catches sticking with a widened band; this module shares
 no code with the model.
 
@@ -31,7 +33,7 @@ MAX_SEGMENTS = 10_000
 
 def rhs(mech: Closing, mode: tuple) -> Callable[[float, np.ndarray], np.ndarray]:
     """Right-hand side in a mode: ('stuck',) or ('slip', s, regime)."""
-    nm, n = mech.nm, mech.n
+    nm, n, lev, nl = mech.nm, mech.n, mech.lev, mech.nl
     j = 2 + 4 * nm
 
     def f(t, y):
@@ -41,7 +43,7 @@ def rhs(mech: Closing, mode: tuple) -> Callable[[float, np.ndarray], np.ndarray]
         else:
             k, v = mech.regime_split(mode[2], y[1], mode[1])
             th_acc = mech.slip_acceleration(Tc, R0, R1, k, v)[0]
-        acc, phi_acc, zacc = mech.others(t, y, roller)
+        acc, phi_acc, zacc, lever_acc = mech.others(t, y, roller)
         dy = np.empty_like(y)
         dy[0] = 0.0 if mode[0] == "stuck" else y[1]
         dy[1] = th_acc
@@ -52,6 +54,9 @@ def rhs(mech: Closing, mode: tuple) -> Callable[[float, np.ndarray], np.ndarray]
         dy[j + 1:j + 1 + n] = y[j + 2 + n:j + 2 + 2 * n]
         dy[j + 1 + n] = phi_acc
         dy[j + 2 + n:j + 2 + 2 * n] = zacc
+        if nl:
+            dy[lev:lev + nl] = y[lev + nl:lev + 2 * nl]
+            dy[lev + nl:lev + 2 * nl] = lever_acc
         return dy
 
     return f
@@ -67,14 +72,15 @@ def friction_state(mech: Closing, t: float, y: np.ndarray, mode: tuple) -> tuple
     return k * fn + v, fn
 
 
-def state_scale(size: int, nm: int, n: int, atol: float) -> np.ndarray:
+def state_scale(size: int, nm: int, n: int, atol: float, nl: int = 0) -> np.ndarray:
     """Absolute tolerance per state: ``atol`` for angles and lengths (rad, m), 1e3 ``atol`` for
-    their rates (rad/s, m/s)."""
+    their rates (rad/s, m/s); ``nl`` free pole levers' angles and speeds at the end."""
     j = 2 + 4 * nm
     scale = np.full(size, atol)
     scale[1] = atol * 1e3  # rad/s
     scale[2 + 2 * nm:2 + 4 * nm] = atol * 1e3
-    scale[j + 1 + n:] = atol * 1e3
+    scale[j + 1 + n:j + 2 + 2 * n] = atol * 1e3
+    scale[size - nl:] = atol * 1e3
     return scale
 
 
@@ -87,12 +93,12 @@ class ClosingRun:
 
     def __init__(self, mech: Closing, t_end: float, rtol: float, atol: float):
         self.mech = mech
-        self.phi0, self.z0, self.holding = mech.rest()
-        self.y = mech.initial_vector(self.phi0, self.z0)
+        self.phi0, self.z0, self.holding, self.levers0 = mech.rest()
+        self.y = mech.initial_vector(self.phi0, self.z0, self.levers0)
         nm, n = mech.nm, mech.n
         self.j = 2 + 4 * nm
         self.t_end, self.rtol = t_end, rtol
-        self.scale = state_scale(len(self.y), nm, n, atol)
+        self.scale = state_scale(len(self.y), nm, n, atol, mech.nl)
         self.events, self.segments, self.touches, self.touch_speeds = [], [], [None] * n, [None] * n
         self.t = 0.0
         # a torque below round-off of the latch's balance (1e-12 of the holding torque) is no torque:
@@ -205,8 +211,11 @@ class ClosingRun:
         evs, kinds = self.friction_events()
         cevs, ckinds = self.contact_events()
         evs, kinds = evs + cevs, kinds + ckinds
+        # with an elastic shaft, DOP853's first step from a state at rest would be blind to the
+        # levers' twisting: start each segment at a tenth of its fastest period
+        first = None if mech.shaft is None else min(0.1 * mech.shaft.period(), self.t_end - t)
         sol = solve_ivp(rhs(mech, mode), (t, self.t_end), self.y, method="DOP853", rtol=self.rtol, atol=self.scale,
-                        events=evs, dense_output=True)
+                        events=evs, dense_output=True, first_step=first)
         if sol.status < 0:
             raise SimulationError(f"independent breaker reference: {sol.message} at t = {sol.t[-1]:.6g} s")
         self.segments.append((t, sol.t[-1], mode, sol.sol, list(mech.impact), mech.engaged))
@@ -306,4 +315,10 @@ class ClosingRun:
         for i in range(n):
             out[f"pole_{i + 1}_travel"] = Y[:, j + 1 + i]
             out[f"pole_{i + 1}_velocity"] = Y[:, j + 2 + n + i]
+        if mech.shaft is not None:
+            lev, nl = mech.lev, mech.nl
+            out["initial"]["lever_angle"] = dict(zip((f"pole_{i + 1}" for i in mech.shaft.free), self.levers0))
+            for k, i in enumerate(mech.shaft.free):
+                out[f"pole_{i + 1}_lever_angle"] = Y[:, lev + k]
+                out[f"pole_{i + 1}_lever_velocity"] = Y[:, lev + nl + k]
         return out
