@@ -213,7 +213,7 @@ class ClosingRun:
         evs, kinds = evs + cevs, kinds + ckinds
         # with an elastic shaft, DOP853's first step from a state at rest would be blind to the
         # levers' twisting: start each segment at a tenth of its fastest period
-        first = None if mech.shaft is None else min(0.1 * mech.shaft.period(), self.t_end - t)
+        first = min(0.1 * mech.shaft.period(), self.t_end - t) if mech.nl else None
         sol = solve_ivp(rhs(mech, mode), (t, self.t_end), self.y, method="DOP853", rtol=self.rtol, atol=self.scale,
                         events=evs, dense_output=True, first_step=first)
         if sol.status < 0:
