@@ -5,7 +5,8 @@ import math
 import numpy as np
 import pytest
 
-from vcbmodel.laws.discovered import HARMONICS, SIGN_EXP_SPEEDS, TERMS, discovered_torque, term
+from vcbmodel.laws.discovered import (HARMONICS, SIGN_EXP_SPEEDS, TERMS, WINDOW_CENTRES_DEG, WINDOW_KAPPA,
+                                      discovered_torque, term)
 from vcbmodel.laws.friction import ArrayOps, NumericOps
 
 
@@ -15,6 +16,8 @@ def test_terms_at_fixed_numbers():
     expected.update({f"sign_exp_{v:g}": -math.exp(-1.5 / v) for v in SIGN_EXP_SPEEDS})
     expected.update({f"sin_{k}theta": math.sin(k * th) for k in HARMONICS})
     expected.update({f"cos_{k}theta": math.cos(k * th) for k in HARMONICS})
+    expected.update({f"rub_{c}deg": -math.exp(WINDOW_KAPPA * (math.cos(th - math.radians(c)) - 1.0))
+                     for c in WINDOW_CENTRES_DEG})  # sign(w) = -1
     assert set(expected) == set(TERMS)
     for name, value in expected.items():
         assert term(name).value(t, th, w, NumericOps) == pytest.approx(value, rel=1e-12, abs=1e-15), name
@@ -30,7 +33,7 @@ def test_array_ops_give_the_numeric_values_sample_by_sample():
 
 
 def test_speed_terms_oppose_nothing_at_rest_and_are_odd_in_speed():
-    for name in ("w_abs_w", "w3", *(f"sign_exp_{v:g}" for v in SIGN_EXP_SPEEDS)):
+    for name in ("w_abs_w", "w3", *(f"sign_exp_{v:g}" for v in SIGN_EXP_SPEEDS), *(f"rub_{c}deg" for c in WINDOW_CENTRES_DEG)):
         f = term(name).value
         assert f(0.0, 0.2, 0.0, NumericOps) == 0.0
         assert f(0.0, 0.2, 0.7, NumericOps) == pytest.approx(-f(0.0, 0.2, -0.7, NumericOps))

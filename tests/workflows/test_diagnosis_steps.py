@@ -386,8 +386,9 @@ def test_discover_searches_only_an_unexplained_record_and_changes_no_fit(monkeyp
     discover_step.discover(ctx_of(measurement=None, rig=pendulum), state)
     assert not state.discovery["attempted"] and not seen  # explained: nothing to look for
     state.verdict = {"explained": False}
-    discover_step.discover(ctx_of(measurement=None, pool=None), state)  # a cam drop: no search
-    assert not state.discovery["attempted"] and "pendulum records only" in state.discovery["reason"] and not seen
+    closing = SimpleNamespace(experiment="vcb_closing")
+    discover_step.discover(ctx_of(measurement=None, pool=None, rig=closing), state)  # a closing: no search
+    assert not state.discovery["attempted"] and "does not search vcb_closing" in state.discovery["reason"] and not seen
     discover_step.discover(ctx_of(measurement=None, pool=None, rig=pendulum), state)
     assert state.discovery["attempted"] and state.discovery["found"] and state.discovery["report"]
     assert seen["final"] is current and seen["starting"] is start  # both bases, the diagnosis's threshold

@@ -92,9 +92,10 @@ class AncfOptions:
 
 
 def build_cam_drop_ancf(rig: Rig, law: FrictionLaw, user_function: str = "auto", options: AncfOptions | int | None = None,
-                        extra_loads: Callable | None = None) -> ExudynModel:
+                        extra_loads: Callable | None = None, discovered: tuple = ()) -> ExudynModel:
     """Cam drop with the closing springs as one ANCF cable (see module docstring);
-    ``options``: :class:`AncfOptions` (or an element count)."""
+    ``options``: :class:`AncfOptions` (or an element count); ``discovered``: a discovered torque on
+    the cam shaft (:func:`vcbmodel.builders.core.add_discovered_torque`)."""
     exu, it = exudyn_modules()
     opt = AncfOptions.of(options)
     cam, spring, g = rig.cam, rig.closing_spring, rig.gravity
@@ -140,7 +141,7 @@ def build_cam_drop_ancf(rig: Rig, law: FrictionLaw, user_function: str = "auto",
 
     if user_function == "symbolic":
         raise ValueError("the ANCF spring's friction needs the Python user function")
-    add_cam_friction(model, rig, law, body, pin_force, "python", extra_loads)
+    add_cam_friction(model, rig, law, body, pin_force, "python", extra_loads, discovered)
     return model
 
 

@@ -24,16 +24,19 @@ if TYPE_CHECKING:
 
 
 def build_cam_drop(rig: Rig, law: FrictionLaw, spring_model: SpringModel, chain: LumpedChain | None = None, user_function: str = "auto",
-                   extra_loads: Callable | None = None, ancf_elements: AncfOptions | int | None = None) -> ExudynModel:
+                   extra_loads: Callable | None = None, ancf_elements: AncfOptions | int | None = None,
+                   discovered: tuple = ()) -> ExudynModel:
     """The cam of eq. 11-13 pulled at pin B by the closing springs of ``spring_model``
     (:class:`vcbmodel.rig.spring_model.SpringModel`; ``chain``: the lumped chain,
     :class:`vcbmodel.laws.springs.LumpedChain`; ``ancf_elements``: the ANCF spring's element count
     or :class:`~vcbmodel.builders.ancf.AncfOptions`). ``extra_loads``: see
-    :func:`vcbmodel.builders.core.add_cam_friction`. Sensors: ``angle``, ``velocity``,
-    ``friction_torque``, ``spring_mass_k`` and ``spring_velocity_k`` (lumped) or
+    :func:`vcbmodel.builders.core.add_cam_friction`. ``discovered``: a discovered torque T_d on the
+    cam shaft, ((term, coefficient), ...) (:mod:`vcbmodel.laws.discovered`), part of the applied
+    torque the friction law sees. Sensors: ``angle``, ``velocity``, ``friction_torque``
+    (``discovered_torque`` with T_d), ``spring_mass_k`` and ``spring_velocity_k`` (lumped) or
     ``ancf_node_k`` (ANCF)."""
     if spring_model.kind == "ancf":
-        return build_cam_drop_ancf(rig, law, user_function, ancf_elements, extra_loads)
+        return build_cam_drop_ancf(rig, law, user_function, ancf_elements, extra_loads, discovered)
     exu, it = exudyn_modules()
     cam, spring = rig.cam, rig.closing_spring
     model = ExudynModel()
@@ -56,7 +59,7 @@ def build_cam_drop(rig: Rig, law: FrictionLaw, spring_model: SpringModel, chain:
         uf = "python" if user_function == "auto" else user_function
     if uf == "symbolic" and (chain is not None or extra_loads is not None):
         raise ValueError("a lumped spring's or the breaker's friction needs the Python user function")
-    add_cam_friction(model, rig, law, body, pin_force, uf, extra_loads)
+    add_cam_friction(model, rig, law, body, pin_force, uf, extra_loads, discovered)
     return model
 
 

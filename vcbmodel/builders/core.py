@@ -17,6 +17,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from ..errors import SimulationError
+from ..laws.discovered import discovered_torque
 from ..laws.friction import NumericOps, shaft_friction, symbolic_ops
 from ..laws.mechanics import cam_inertia, cam_loads
 
@@ -178,12 +179,13 @@ def add_cam_body(model, rig, pin_mass=0.0) -> CamBody:
     return CamBody(shaft, mPin, oGround, mAnchor, pin_mass)
 
 
-def add_cam_friction(model, rig, law, body: CamBody, pin_force, user_function, extra_loads=None):
+def add_cam_friction(model, rig, law, body: CamBody, pin_force, user_function, extra_loads=None, discovered: tuple = ()):
     """The cam shaft's friction connector (eq. 11-13): ``pin_force(theta, omega, ops)`` is the
     closing springs' pull (N) on pin B at the current Runge-Kutta stage; ``extra_loads(t, theta,
     omega)`` -> (torque about A in N m, Fx, Fy in N) adds other loads on the cam (the whole
     breaker's roller contact and latch) to the applied torque and the shaft reaction. The
-    springs' pin mass (``body.pin_mass``) rides on the cam: inertia, reaction, weight."""
+    springs' pin mass (``body.pin_mass``) rides on the cam: inertia, reaction, weight.
+    ``discovered``: a discovered torque T_d on the cam shaft (:func:`add_discovered_torque`)."""
     cam, g, pin, weight = rig.cam, rig.gravity, body.pin_mass, rig.closing_spring.weight
     inertia = cam_inertia(cam, pin)
 
@@ -193,6 +195,27 @@ def add_cam_friction(model, rig, law, body: CamBody, pin_force, user_function, e
         if extra_loads is not None:
             torque, ex, ey = extra_loads(t, theta, omega)
             Tc, R0x, R0y = Tc + torque, R0x - ex, R0y - ey
+        if discovered:
+            Tc = Tc + discovered_torque(t, theta, omega, discovered, ops)
         return shaft_friction(omega, Tc, R0x, R0y, R1x, R1y, inertia, law, ops)[0]
 
+    add_discovered_torque(model, body.shaft, discovered, user_function)
     add_friction_connector(model, body.shaft, friction_of_state, user_function)
+
+
+def add_discovered_torque(model, shaft: Shaft, discovered: tuple, user_function) -> None:
+    """A discovered torque T_d, ((term, coefficient), ...) (:mod:`vcbmodel.laws.discovered`), on
+    ``shaft`` by a connector of its own, recorded as ``discovered_torque`` (N m: the torque the
+    connector applies against the shaft, -T_d); nothing when ``discovered`` is empty. The shaft's
+    friction must count T_d in its applied torque (its caller's friction function adds it)."""
+    if not discovered:
+        return
+
+    def against_discovered(t, theta, omega, ops):  # a connector's torque opposes its coordinate
+        return -discovered_torque(t, theta, omega, discovered, ops)
+
+    kept = model.sensors.pop("friction_torque", None)
+    add_friction_connector(model, shaft, against_discovered, "python" if user_function == "none" else user_function)
+    model.sensors["discovered_torque"] = model.sensors.pop("friction_torque")
+    if kept is not None:
+        model.sensors["friction_torque"] = kept

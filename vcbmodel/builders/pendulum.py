@@ -6,7 +6,7 @@ from typing import TYPE_CHECKING
 from ..laws.discovered import discovered_torque
 from ..laws.friction import shaft_friction
 from ..laws.mechanics import pendulum_loads
-from .core import ExudynModel, add_friction_connector, add_shaft, exudyn_modules
+from .core import ExudynModel, add_discovered_torque, add_friction_connector, add_shaft, exudyn_modules
 
 if TYPE_CHECKING:
     from ..laws.friction import FrictionLaw
@@ -34,11 +34,6 @@ def build_pendulum(rig: Rig, law: FrictionLaw, user_function: str = "symbolic", 
             Tc = Tc + discovered_torque(t, theta, omega, discovered, ops)
         return shaft_friction(omega, Tc, R0x, R0y, R1x, R1y, p.inertia, law, ops)[0]
 
-    def against_discovered(t, theta, omega, ops):  # a connector's torque opposes its coordinate
-        return -discovered_torque(t, theta, omega, discovered, ops)
-
-    if discovered:
-        add_friction_connector(model, shaft, against_discovered, "python" if kind == "none" else kind)
-        model.sensors["discovered_torque"] = model.sensors.pop("friction_torque")
+    add_discovered_torque(model, shaft, discovered, kind)
     add_friction_connector(model, shaft, friction_of_state, kind)
     return model

@@ -53,6 +53,8 @@ def prepare_cam_drop(rig, spec, law, chain=None) -> OdeSetup:
     on the line O-B in static equilibrium (as the Exudyn builder places them)."""
     cam, spring = rig.cam, rig.closing_spring
     inputs = {"cam": cam, "spring": spring, "gravity": rig.gravity, "law": law}
+    if spec.discovered:  # only when carried: the other runs keep their compiled structure
+        inputs["discovered"] = tuple(spec.discovered)
     q0, v0, layout = [cam.initial_angle], [cam.initial_velocity], list(SHAFT)
     if chain is not None:
         inputs["chain"] = {"masses": chain.masses, "stiffnesses": chain.stiffnesses,
@@ -69,8 +71,13 @@ def prepare_cam_drop(rig, spec, law, chain=None) -> OdeSetup:
 def cam_drop_equations(t: Scalar, q: Sequence[Scalar], v: Sequence[Scalar], memory: list, inputs: dict,
                        ops: Ops) -> tuple[list[Scalar], dict[str, Scalar]]:
     """Paper eq. 9-13: the cam pulled at B by the closing springs (massless, eq. 9-10, or a
-    lumped chain, eq. 7-8 generalised), with the shaft friction of eq. 2-6 and eq. 13."""
-    accelerations, Tf = _cam_and_chain(t, q, v, inputs, ops, (0.0, 0.0, 0.0))
+    lumped chain, eq. 7-8 generalised), with the shaft friction of eq. 2-6 and eq. 13; a
+    discovered torque T_d (:mod:`vcbmodel.laws.discovered`, N m; none unless the model carries
+    one) joins the applied torque about A (a pure torque: no force on the shaft)."""
+    extra = (0.0, 0.0, 0.0)
+    if inputs.get("discovered"):
+        extra = (discovered_torque(t, q[0], v[0], inputs["discovered"], ops), 0.0, 0.0)
+    accelerations, Tf = _cam_and_chain(t, q, v, inputs, ops, extra)
     return accelerations, {"friction_torque": Tf}
 
 

@@ -30,7 +30,17 @@ if TYPE_CHECKING:
 
 def build(rig: Rig, spec: ModelSpec, law: FrictionLaw, chain: LumpedChain | None, user_function: str,
           ancf_elements: AncfOptions | int | None) -> ExudynModel:
-    return build_cam_drop(rig, law, spec.spring_model, chain, user_function, ancf_elements=ancf_elements)
+    return build_cam_drop(rig, law, spec.spring_model, chain, user_function, ancf_elements=ancf_elements,
+                          discovered=spec.discovered)
+
+
+def reference(rig: Rig, spec: ModelSpec, law: FrictionLaw, chain: LumpedChain | None, t_end: float,
+              method: str = "DOP853", step: float | None = None) -> tuple[dict[str, np.ndarray], dict]:
+    """The reference solve (:func:`vcbmodel.reference.solve.reference_cam_drop`); it has no
+    discovered torque, so a model that carries one is refused rather than solved without it."""
+    if spec.discovered:
+        raise ValueError("the reference solve has no discovered torque: use backend='exudyn' or 'compiled'")
+    return reference_cam_drop(rig, spec, law, chain, t_end, method, step)
 
 
 def channels(data: dict[str, np.ndarray], rig: Rig, spec: ModelSpec, info: dict) -> dict[str, np.ndarray]:
@@ -86,5 +96,5 @@ CAM_DROP = Experiment(
     # friction function: a 35 ms massless drop takes 0.15 s with it, 0.6-1.1 s with Exudyn's symbolic one (the
     # symbolic expression of the spring's pull does not share subexpressions)
     fit_step=fit_step, fit_user_function="python",
-    ode_model=OdeModel("cam_drop", prepare_cam_drop, cam_drop_equations), reference=reference_cam_drop,
+    ode_model=OdeModel("cam_drop", prepare_cam_drop, cam_drop_equations), reference=reference,
     sensor="camera", random_rig=cam_drop_random_rig)

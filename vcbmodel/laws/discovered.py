@@ -26,6 +26,16 @@ SIGN_EXP_SPEEDS = (0.05, 0.15, 0.5)
 #: Harmonics k of the ``sin(k theta)``, ``cos(k theta)`` terms: a torque periodic in the angle
 #: (k = 1 is the weight's own moment), up to the third harmonic.
 HARMONICS = (1, 2, 3)
+#: Centres (degrees) of the ``rub_<c>deg`` position windows, sign(w) exp(kappa (cos(theta - c) - 1)):
+#: a friction confined to part of a turn (a tight spot of the bearing, a part touching the cam). Every
+#: 30 degrees around the turn; a window is periodic in the angle, so it serves whatever turn the
+#: cam is released in.
+WINDOW_CENTRES_DEG = tuple(range(0, 360, 30))
+#: Concentration kappa of the windows: their half-width at half height is acos(1 - ln 2 / kappa) =
+#: 18.1 degrees (0.32 rad); a neighbour 30 degrees away stands at 0.15 of the peak, and the sum of
+#: all windows varies by 3 % around the turn, so one to three of them follow a rub of any centre
+#: that is at least about 0.4 rad wide.
+WINDOW_KAPPA = 14.0
 
 
 @dataclass(frozen=True)
@@ -42,6 +52,14 @@ class Term:
 def _sign_exp(v: float) -> Callable:
     def value(t, theta, w, ops):
         return ops.sign(w) * ops.pow(math.e, -ops.abs(w) / v)
+    return value
+
+
+def _window(centre_deg: int) -> Callable:
+    c = math.radians(centre_deg)
+
+    def value(t, theta, w, ops):
+        return ops.sign(w) * ops.pow(math.e, WINDOW_KAPPA * (ops.cos(theta - c) - 1.0))
     return value
 
 
@@ -79,6 +97,9 @@ def _terms() -> dict[str, Term]:
                    "torque in cos(theta): the centre of gravity off the link's line (a sideways unbalance)" if k == 1
                    else f"torque periodic in the angle, cos({k} theta): a cam, detent or unbalance on the shaft")
               for k in HARMONICS]
+    terms += [Term(f"rub_{c}deg", _window(c), "N m",
+                   f"friction confined to angles near {c} degrees (a window about 36 degrees wide): a tight spot of "
+                   "the bearing or a part rubbing the cam there") for c in WINDOW_CENTRES_DEG]
     return {term.name: term for term in terms}
 
 

@@ -227,7 +227,7 @@ class DiscoveredTorque:
 
     name = "discovered_torque"
     prefix = "discovered:"
-    experiments = ("pendulum",)  # the experiments whose equations carry the torque
+    experiments = ("pendulum", "cam_drop")  # the experiments whose equations carry the torque (on the shaft)
 
     def terms(self, values: dict) -> tuple:
         """((term name, coefficient), ...) from ``values``' ``discovered:<term>`` entries, sorted."""

@@ -25,7 +25,7 @@ def discover(ctx, state) -> None:
         state.discovery = skipped("the registered model explains the record")
         return
     if not covers(ctx.rig.experiment):
-        state.discovery = skipped(f"discovery searches pendulum records only, not a {ctx.rig.experiment} record")
+        state.discovery = skipped(f"discovery does not search {ctx.rig.experiment} records")
         return
     if ctx.over(0.95):
         state.discovery = skipped("time budget")

@@ -26,9 +26,9 @@ from ...model.effects import MACHINERY as MODEL_MACHINERY
 from ...records.signals import noise_estimate_floored, quantisation_step
 from ..fit import Dataset, FitAborted, FitResult
 from ..nuisance import record_setup
-from .force import ForceEstimate, missing_torque
+from .force import ForceEstimate, missing_torque, unread
 from .judge import evidence, scoring_noise
-from .library import DEFAULT_LIBRARY, columns, model_columns, reading, unit
+from .library import columns, library_for, model_columns, reading, unit
 from .refit import MACHINERY, profile, refit, terms_of
 from .regression import Selection, select
 
@@ -112,8 +112,10 @@ class Discovery:
             err = f" +- {t.stderr:.2g}" if t.stderr is not None else ""
             lines.append(f"    {t.name}: {t.coefficient:.4g}{err} {t.unit} (discovered, not registered): {t.reading}")
         for row in self.tried:
+            dropped = (f" ({row['dropped']} dropped: it lowers BIC by {row['dropped_delta_bic']:.1f} over the other terms)"
+                       if row.get("dropped") else "")
             lines.append(f"    tried {' + '.join(row['terms'])}: dBIC {row['delta_bic']:.1f}, variance gain "
-                         f"{row['variance_gain']:.3f}, rms {row['rms']:.3g} {u}" + (" (kept)" if row["kept"] else ""))
+                         f"{row['variance_gain']:.3f}, rms {row['rms']:.3g} {u}" + dropped + (" (kept)" if row["kept"] else ""))
         return "\n".join(lines)
 
 
@@ -136,9 +138,9 @@ def covers(experiment: str) -> bool:
 
 def discover(rig, measurement, fit: FitResult, *, bic_margin: float, min_gain: float, dataset: Dataset | None = None,
              sigma: float | None = None, quantisation: float | None = None, pool=None,
-             library: Sequence[str] = DEFAULT_LIBRARY, should_stop=None) -> Discovery:
-    """Search ``library`` for the torque ``fit`` (the best registered model of ``measurement``)
-    lacks (module docstring). ``bic_margin`` and ``min_gain`` are the evidence a registered
+             library: Sequence[str] | None = None, should_stop=None) -> Discovery:
+    """Search ``library`` (default: the experiment's, :func:`.library.library_for`) for the torque
+    ``fit`` (the best registered model of ``measurement``) lacks (module docstring). ``bic_margin`` and ``min_gain`` are the evidence a registered
     effect must give (the diagnosis's); ``dataset``, ``sigma`` (measured unit) and
     ``quantisation``: the diagnosis's own (built from the record when not given)."""
     started = time.monotonic()
@@ -152,8 +154,11 @@ def discover(rig, measurement, fit: FitResult, *, bic_margin: float, min_gain: f
     if not covers(rig.experiment):
         return _nothing(fit, sigma, rec.unit, f"not tried: discovery covers {', '.join(MODEL_MACHINERY[MACHINERY].experiments)} "
                         f"tests, not a {rig.experiment} test", **kw)
+    why = unread(rig, fit)
+    if why:
+        return _nothing(fit, sigma, rec.unit, f"not tried on this model: {why}", **kw)
     est = missing_torque(rig, dataset, fit)
-    names = list(library)
+    names = list(library_for(rig.experiment) if library is None else library)
     used = est.used
     z_names, Z = model_columns(fit, est)
     sel = select(names, columns(names, est)[used], est.torque[used], Z[used], z_names)
@@ -230,13 +235,44 @@ def _search(dataset, fit, sel, sigma, quantisation, pool, should_stop, kw) -> Di
             if best else "no term could be refitted"))
         return _nothing(fit, level, unit_, why, tried=tried, **kw)
     index, after = kept
+    support, after, index = _prune(dataset, fit, list(sel.supports[index]), after, index, noise, sigma, pool,
+                                   should_stop, kw, tried)
     tried[index]["kept"] = True
-    terms, after = _terms(dataset, after, sel.supports[index], noise, sigma, pool, should_stop)
+    terms, after = _terms(dataset, after, support, noise, sigma, pool, should_stop)
     tried[index]["rms_polished"] = after.rms
     text = "; ".join(f"{t.reading} ({t.name} = {t.coefficient:.4g} {t.unit})" for t in terms)
     message = (f"discovered, not registered: {text}; rms {fit.rms:.3g} -> {after.rms:.3g} {unit_} "
                f"(noise {level:.3g}), delta BIC {tried[index]['delta_bic']:.1f}")
     return Discovery(True, terms, fit, after, level, unit_, message, tried, **kw)
+
+
+def _prune(dataset, registered, support, after, index, noise, sigma, pool, should_stop, kw, tried) -> tuple:
+    """Each kept term must earn the evidence over the kept support without it; the nested search asks
+    it only of the last term to enter, and a term that entered before a better one can lose its place
+    to it (on a cam drop a position window entered before the second harmonic it stood in for). The
+    least needed such term is dropped (the rest refitted without it) until every term earns its place.
+    Returns (support, fit, index of its row in ``tried``)."""
+    while len(support) > 1:
+        weakest = None
+        for name in support:
+            rest = {k: v for k, v in terms_of(after).items() if k != name}
+            try:
+                without = refit(dataset, after, rest, None, sigma=sigma, pool=pool, should_stop=should_stop)
+            except (SimulationError, FitAborted):
+                continue
+            step = evidence(without, after, noise, sigma, kw["bic_margin"], kw["min_gain"])
+            if not step["earned"] and (weakest is None or step["delta_bic"] < weakest[1]["delta_bic"]):
+                weakest = (name, step, without)
+        if weakest is None:
+            break
+        name, step, after = weakest
+        support = [n for n in support if n != name]
+        ev = evidence(registered, after, noise, sigma, kw["bic_margin"], kw["min_gain"])
+        tried.append({"terms": list(support), "delta_bic": ev["delta_bic"], "variance_gain": ev["variance_gain"],
+                      "delta_bic_over_smaller": None, "rms": after.rms, "kept": False, "coefficients": terms_of(after),
+                      "dropped": name, "dropped_delta_bic": step["delta_bic"]})
+        index = len(tried) - 1
+    return support, after, index
 
 
 def excess(rms: float, noise: float) -> float:

@@ -33,6 +33,12 @@ if TYPE_CHECKING:
 #: a tenth of a period follows a sine to 0.2 % in its second derivative while averaging over
 #: about a hundred samples at 1 kHz (the acceleration's noise falls as the window^2.5).
 WINDOW_FRACTION = 0.1
+#: The same for a motion without a period (the cam drop, one stroke), as a fraction of the record's
+#: window (release to end): a 35 ms drop at 12 kHz is smoothed over 7 ms, 85 samples. A camera's
+#: 2 mrad at 12 kHz differentiated twice over a tenth of the stroke leaves an acceleration noise of
+#: the order of the cam's whole friction torque; over a fifth it is 5.7 times smaller, and a rub a
+#: few ms long is still located to within a window of the library (the refit to the record decides).
+STROKE_WINDOW_FRACTION = 0.2
 #: Polynomial order of the filter (cubic: the second derivative is a line across the window).
 POLYORDER = 3
 #: Samples slower than this fraction of the record's peak speed are not used: around a reversal
@@ -60,6 +66,16 @@ class ForceEstimate:
     window_s: float
     rig: object
     units: dict
+
+
+def unread(rig: Rig, fit: FitResult) -> str | None:
+    """Why the missing torque cannot be read on ``fit``'s model, or None: the closing springs'
+    masses (a lumped chain, an ANCF cable) move with states of their own that the record does not
+    hold, so the cam's acceleration on the measured state is read with massless springs only."""
+    if experiment_of(rig.experiment).has_closing_spring and fit.spring_model.kind != "massless":
+        return (f"the missing torque is read with massless closing springs; the {fit.spring_model.label} "
+                "springs' own state is not in the record")
+    return None
 
 
 def fitted_rig(rig: Rig, fit: FitResult) -> Rig:
@@ -95,11 +111,12 @@ def shaft_inertia(rig, fit, t: np.ndarray, theta: np.ndarray, w: np.ndarray) -> 
     return float(1.0 / (pushed[0] - base[0]))
 
 
-def smoothing_points(rig, dt: float) -> int:
-    """Odd number of samples of the filter's window (WINDOW_FRACTION of the swing period)."""
+def smoothing_points(rig, dt: float, duration: float) -> int:
+    """Odd number of samples of the filter's window: WINDOW_FRACTION of the swing period, or
+    STROKE_WINDOW_FRACTION of ``duration`` (s, the record's window) for a motion without one."""
     rec = experiment_of(rig.experiment)
-    period = 1.0 / rec.natural_frequency(rig) if rec.natural_frequency else 0.1
-    n = int(round(WINDOW_FRACTION * period / dt)) | 1
+    span = WINDOW_FRACTION / rec.natural_frequency(rig) if rec.natural_frequency else STROKE_WINDOW_FRACTION * duration
+    n = int(round(span / dt)) | 1
     return max(n, 2 * POLYORDER + 3)
 
 
@@ -119,10 +136,10 @@ def measured_state(rig, dataset, fit) -> tuple:
     gain = values.get("sensor_gain_0", 1.0)
     scale = values.get(time_scale_name(0), 1.0)  # a record's clock a fraction of a percent off
     dt = float(np.median(np.diff(t_rec))) * scale
-    n = smoothing_points(rig, dt)
+    tau = model_time(t_rec, release, scale)
+    n = smoothing_points(rig, dt, float(tau[-1] - max(float(tau[0]), 0.0)))
     if n >= y.size:
         raise ValueError(f"the record's window holds {y.size} samples: too few to smooth over {n}")
-    tau = model_time(t_rec, release, scale)
     sim = simulate(rig, fit.effects, fit.model_values, spring_model=fit.spring_model,
                    sample_times=np.clip(tau, 0.0, None), backend="fast")
     theta_m, w_m = sim.measured, sim.channels["shaft_velocity"]

@@ -16,8 +16,25 @@ from ...laws.discovered import TERMS, term
 from ...laws.friction import ArrayOps
 from .force import ForceEstimate, model_acceleration
 
-#: The library discovery searches by default: every term of the law.
-DEFAULT_LIBRARY = tuple(TERMS)
+#: The library discovery searches on a pendulum record: the law's terms but the position windows
+#: (a swing covers under a third of a turn, where the harmonics and the angle's powers already
+#: describe a torque of the angle).
+DEFAULT_LIBRARY = tuple(name for name in TERMS if not name.startswith("rub_"))
+#: The library on a cam drop: the cam turns one way at up to hundreds of rad/s through most of a
+#: turn, so the terms are the speed's (w|w| drag, w^3), the angle's (harmonics: a cam's unbalance
+#: or profile; the angle and its cube: a spring; position windows: a localized rub), a constant and
+#: a drift. The sign_exp terms are left out: their Stribeck speeds (0.05-0.5 rad/s) are passed within
+#: the first tenth of a millisecond, before the samples the regression uses (faster than 5 % of the
+#: peak speed), so on a drop they are a constant. The springs' state adds nothing for the massless
+#: springs (a function of the angle) and the chain's is not measured.
+CAM_LIBRARY = tuple(name for name in TERMS if not name.startswith("sign_exp_"))
+#: The library by experiment.
+LIBRARIES = {"pendulum": DEFAULT_LIBRARY, "cam_drop": CAM_LIBRARY}
+
+
+def library_for(experiment: str) -> tuple:
+    """The terms discovery searches on a record of ``experiment`` (its :data:`LIBRARIES` entry)."""
+    return LIBRARIES.get(experiment, DEFAULT_LIBRARY)
 #: Relative step of the finite differences of the model's torque in its own parameters.
 PARAMETER_STEP = 1e-4
 
