@@ -275,6 +275,16 @@ MAIN_SHAFT = {"diameter": 0.04, "shear_modulus": 79.3e9, "pole_pitch": 0.21, "le
 #: Simulated closing (s): latch release to contacts settled and the rise's end (about 50 ms: the
 #: full wipe, so the overtravel is the profile's).
 BREAKER_T_END = 0.055
+#: How far the lift under the roller may fall back from its peak, as a fraction of the cam's lift,
+#: before a closing's summary says the cam runs back (turns back down its rise, or on into its
+#: return): a cam that rebounds off its end stop onto a holding latch a few degrees behind it loses
+#: up to 3.0 % of the lift on a rise (tests/models/test_end_stop.py's rig: latch 5 deg behind a stop
+#: at 210 deg on the rise, measured); the reference breaker without its stop, turned back by its
+#: springs, loses 47 % by 100 ms and its contacts reopen.
+CAM_FALL_BACK_FRACTION = 0.05
+#: Shaft speed at the end of a run, as a fraction of the run's peak, above which a closing's summary
+#: says the run ended with the cam still turning (not at rest: a longer ``--t-end`` shows the rest).
+MOVING_AT_END_FRACTION = 0.01
 #: Simulated closing (s) to the cam's rest on the holding latch (about 66 ms): the closing study's
 #: energy split at rest.
 BREAKER_REST_T_END = 0.075

@@ -80,6 +80,7 @@ def build_parser() -> argparse.ArgumentParser:
     s.add_argument("-o", "--output", help="output CSV (default: stdout)")
     s.add_argument("--plot", help="also draw the written channels; the format by the file's suffix")
     s.add_argument("--force", action="store_true", help="replace the output (and plot) file if it exists")
+    s.add_argument("--json", action="store_true", help="print the summary as one JSON object (needs -o for the CSV)")
     s.add_argument("--backend", choices=("exudyn", "compiled", "fast"), default="exudyn",
                    help="exudyn (the model, default); compiled (the same laws traced to C: massless and lumped "
                         "springs); fast (compiled where it covers the model, else exudyn)")
@@ -154,6 +155,8 @@ def cmd_simulate(args: argparse.Namespace) -> int:
         if not (math.isfinite(args.t_end) and args.t_end > 0):
             raise InputError("--t-end", "t_end", "must be a positive number of seconds")
         record.check_duration(args.t_end, "--t-end", "t_end")
+    if args.json and not args.output:
+        raise InputError("--json", "output", "needs -o OUT.csv (stdout carries the JSON, so the CSV goes to a file)")
     check_output(args.output, "-o", inputs=(args.rig,), force=args.force)
     check_output(args.plot, "--plot", inputs=(args.rig,), force=args.force, formats=supported_image_formats())
     t_end = args.t_end or record.default_duration
@@ -176,16 +179,42 @@ def cmd_simulate(args: argparse.Namespace) -> int:
     columns = [values for values, _ in channels.values()]
     for k, t in enumerate(result.t):
         buf.write(f"{t:.7f}," + ",".join(f"{c[k]:.9g}" for c in columns) + "\n")
-    summary = f"{rig.name}: {rig.experiment}, {spec.spring_model.label}\n" + format_summary(record.summary(full, rig))
+    lines = record.summary(full, rig)
+    summary = f"{rig.name}: {rig.experiment}, {spec.spring_model.label}\n" + format_summary(lines)
     if args.output:
         write_file(args.output, buf.getvalue())
-        print(summary)  # the file holds the data: the summary is the command's result on stdout
+        # the file holds the data: the summary is the command's result on stdout
+        print(json.dumps(simulate_json(rig, full, lines, args.output)) if args.json else summary)
     else:
         sys.stdout.write(buf.getvalue())
         print(summary, file=sys.stderr)
     if args.plot:
         plot_simulation(result, channels, args.plot, f"{rig.name}: {spec.spring_model.label}")
     return 0
+
+
+def _plain(value):
+    """A figure as JSON has it: NaN as null, numpy numbers as Python's, containers element by element."""
+    if isinstance(value, dict):
+        return {k: _plain(v) for k, v in value.items()}
+    if isinstance(value, (list, tuple)):
+        return [_plain(v) for v in value]
+    if hasattr(value, "item"):
+        value = value.item()
+    return None if isinstance(value, float) and not math.isfinite(value) else value
+
+
+def simulate_json(rig: Rig, result, lines: Sequence[tuple], output: str) -> dict:
+    """``simulate --json``: the summary's figures ({what, value, unit}; null for what did not happen
+    in the run), its notes (a truncated run, contacts reopening, a cam running back) and the
+    experiment's figures of merit (SI units in their names), with the envelope."""
+    figures = [line for line in lines if not isinstance(line[1], str)]
+    return {**envelope(rig, {what: unit for what, _, unit in figures}), "output": output,
+            "spring_model": result.spec.spring_model.label, "effects": list(result.spec.effects),
+            "backend": result.info["backend"], "end_s": float(result.t[-1]),
+            "summary": [{"what": what, "value": _plain(value), "unit": unit} for what, value, unit in figures],
+            "notes": [value for _, value, _ in lines if isinstance(value, str)],
+            "figures_of_merit": _plain(experiment_of(rig.experiment).figures_of_merit(result, rig))}
 
 
 def cmd_check(args: argparse.Namespace) -> int:

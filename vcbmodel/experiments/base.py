@@ -53,12 +53,16 @@ def figures_summary(result: SimulationResult, rig: Rig) -> list[tuple]:
 
 
 def format_summary(lines: Sequence[tuple]) -> str:
-    """One line per figure: what, value and unit (``never`` for something that did not happen)."""
-    width = max((len(what) for what, _, _ in lines), default=0)
+    """One line per figure: what, value and unit (``not in this run`` for something that did not
+    happen before the run ended); a line whose value is text (a note: ``("note", text, None)``) is
+    printed as ``what: text`` after the figures."""
+    figures = [line for line in lines if not isinstance(line[1], str)]
+    width = max((len(what) for what, _, _ in figures), default=0)
     out = []
-    for what, value, unit in lines:
-        text = "never" if value is None or (isinstance(value, float) and value != value) else f"{value:.6g} {unit}"
+    for what, value, unit in figures:
+        text = "not in this run" if value is None or (isinstance(value, float) and value != value) else f"{value:.6g} {unit}"
         out.append(f"  {what:<{width}}  {text}")
+    out += [f"  {what}: {value}" for what, value, _ in lines if isinstance(value, str)]
     return "\n".join(out)
 
 

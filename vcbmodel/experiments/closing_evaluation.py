@@ -9,8 +9,10 @@ from typing import TYPE_CHECKING
 import numpy as np
 from scipy.integrate import cumulative_trapezoid
 
+from .. import parameters as P
 from ..laws.breaker import (BreakerLaws, cam_roller_contact, follower_displacement, one_way_stop_energy, pole_gaps,
                             push_rod_energy)
+from ..laws.cam_follower import pitch_radius, rest_geometry, roller_centre
 from ..laws.friction import ArrayOps
 from ..laws.mechanics import cam_pin
 from ..laws.springs import chain_for
@@ -304,9 +306,10 @@ def zone_speed(t: np.ndarray, z: np.ndarray, gap: float, zone: tuple[float, floa
 
 
 def pole_touch(t: np.ndarray, z: np.ndarray, zd: np.ndarray, gap: float) -> tuple:
-    """One pole's (touch time s, speed at touch m/s, separations after the first touch, first touch
-    to the last re-closing s) from its travel z (m) and speed zd (m/s); (None, None, 0, 0.0) if it
-    never touches."""
+    """One pole's (touch time s, speed at touch m/s, bounces: separations after the first touch that
+    reclose, first touch to the last re-closing s) from its travel z (m) and speed zd (m/s); (None,
+    None, 0, 0.0) if it never touches. A pole open at the end of the run has reopened (or the run
+    ends inside a bounce): that last separation is not counted, and the time is to its last re-closing."""
     closed = z > gap
     if not closed.any():
         return None, None, 0, 0.0
@@ -314,12 +317,55 @@ def pole_touch(t: np.ndarray, z: np.ndarray, zd: np.ndarray, gap: float) -> tupl
     frac = (gap - z[k - 1]) / (z[k] - z[k - 1]) if k > 0 else 0.0
     touch = float(t[k - 1] + frac * (t[k] - t[k - 1])) if k > 0 else float(t[0])
     speed = float(zd[k - 1] + frac * (zd[k] - zd[k - 1])) if k > 0 else float(zd[0])
-    opens = np.nonzero(closed[k:-1] & ~closed[k + 1:])[0]  # separations after the first touch
-    if not opens.size:
+    recloses = np.nonzero(~closed[k:-1] & closed[k + 1:])[0]  # separations after the first touch that reclose
+    if not recloses.size:
         return touch, speed, 0, 0.0
-    recloses = np.nonzero(~closed[k:-1] & closed[k + 1:])[0]
-    settled = float(t[k + recloses[-1] + 1] - touch) if recloses.size else float(t[-1] - touch)
-    return touch, speed, int(opens.size), settled
+    return touch, speed, int(recloses.size), float(t[k + recloses[-1] + 1] - touch)
+
+
+def lift_under_roller(theta: np.ndarray, phi: np.ndarray, rig: Rig) -> np.ndarray:
+    """The cam's lift (m, above the base circle) at the angle it presents to the roller, at cam
+    angles theta and follower angles phi (rad): the profile read where the roller sits, whether or
+    not the roller touches it."""
+    b = rig.breaker
+    geometry = rest_geometry(b, rig.cam.pivot)
+    cx, cy = roller_centre(phi, b.follower, ArrayOps)
+    beta = np.arctan2(cy - geometry.cam_axis[1], cx - geometry.cam_axis[0])
+    rho, _ = pitch_radius(theta - (beta - geometry.roller_direction), b.profile, b.roller_radius, ArrayOps)
+    return np.asarray(rho, float) - (b.profile.base_radius + b.roller_radius)
+
+
+def run_events(result: SimulationResult, rig: Rig, touches: list) -> dict:
+    """What happened after the closing, and how the run ends (SI units, times from the release):
+
+    - ``contacts_reopen_s``: the earliest time a pole that had touched opens again and stays open to
+      the end of the run (a bounce recloses; this does not), ``reopened_poles`` (1-based); None, [];
+    - ``cam_falls_back_s``: when the lift under the roller first falls more than
+      ``CAM_FALL_BACK_FRACTION`` of the cam's lift below its peak so far (None: never), and
+      ``cam_falls_back_turning``: ``back`` (the cam turns back down its rise) or ``forward`` (it
+      runs on into its return); ``lift_lost_m``: how far below its peak the lift is at the end;
+    - ``end_s``, ``shaft_velocity_end_rad_s``, ``cam_angle_end_deg``, and ``moving_at_end``: the
+      shaft still turns faster than ``MOVING_AT_END_FRACTION`` of its peak speed; ``end_stop_met``:
+      whether the cam met the rig's end stop (None: the rig has none)."""
+    ch, t = result.channels, result.t
+    reopened = []
+    for i, (touch, gap) in enumerate(zip(touches, pole_gaps(rig.breaker.poles)), start=1):
+        closed = ch[f"pole_{i}_travel"] > gap
+        if touch is not None and not closed[-1]:
+            last_closed = int(np.nonzero(closed)[0][-1])
+            reopened.append((float(t[last_closed + 1]), i))
+    w = ch["shaft_velocity"]
+    lift = lift_under_roller(ch["cam_angle"], ch["follower_angle"], rig)
+    lost = np.maximum.accumulate(lift) - lift
+    fell = lost > P.CAM_FALL_BACK_FRACTION * rig.breaker.profile.lift
+    k = int(np.argmax(fell))
+    return {"contacts_reopen_s": min(reopened)[0] if reopened else None, "reopened_poles": sorted(i for _, i in reopened),
+            "cam_falls_back_s": float(t[k]) if fell.any() else None,
+            "cam_falls_back_turning": ("back" if w[k] < 0 else "forward") if fell.any() else None,
+            "lift_lost_m": float(lost[-1]), "end_s": float(t[-1]), "shaft_velocity_end_rad_s": float(w[-1]),
+            "cam_angle_end_deg": float(np.degrees(ch["cam_angle"][-1])),
+            "end_stop_met": bool(np.any(ch["end_stop_force"] > 0.0)) if "end_stop_force" in ch else None,
+            "moving_at_end": bool(abs(w[-1]) > P.MOVING_AT_END_FRACTION * np.max(np.abs(w)))}
 
 
 def figures_of_merit(result: SimulationResult, rig: Rig) -> dict:
@@ -329,7 +375,8 @@ def figures_of_merit(result: SimulationResult, rig: Rig) -> dict:
     force); ``roller_first_lift_off_s``, when it first leaves, relative to the first pole's
     touch (negative: a follower jump before the contacts touch; absolute time if no pole
     touches; None if it never leaves); ``min_cam_roller_force_before_touch_N``, the smallest
-    roller force from the release to the first touch (the margin against a jump)."""
+    roller force from the release to the first touch (the margin against a jump); and what
+    happened after the closing and how the run ends (:func:`run_events`)."""
     ch, t = result.channels, result.t
     b = rig.breaker
     gaps = pole_gaps(b.poles)
@@ -346,7 +393,7 @@ def figures_of_merit(result: SimulationResult, rig: Rig) -> dict:
         k = int(np.argmax(off))
         first_off = float(t[k]) if k == 0 else float(t[k - 1] + force[k - 1] / (force[k - 1] - force[k]) * (t[k] - t[k - 1]))
     before = t <= min(done) if done else np.ones_like(t, bool)
-    return {
+    return run_events(result, rig, touches) | {
         "closing_time_s": max(done) if len(done) == len(gaps) else None,
         "first_touch_s": min(done) if done else None,
         "pole_spread_s": (max(done) - min(done)) if len(done) == len(gaps) else None,

@@ -67,7 +67,38 @@ def closing_summary(result: SimulationResult, rig: Rig) -> list[tuple]:
               ("rebound (follower travel back below its final position after the peak)", fom["rebound_m"], "m"),
               ("follower travel settled (within 0.05 mm of its final position)", fom["travel_settled_s"], "s"),
               ("peak cam-roller force", fom["peak_cam_roller_force_N"], "N")]
-    return lines + stop_summary(result, rig)
+    return lines + stop_summary(result, rig) + closing_notes(fom, rig)
+
+
+def closing_notes(fom: dict, rig: Rig) -> list[tuple]:
+    """[("note", text, None)]: what a reader of the figures must not miss, said plainly: a run that
+    ends before every pole touches, before the cam meets its end stop, or with the cam still
+    turning (a truncated run, not a complete closing); contacts that reopen after closing; a cam
+    that runs back down its profile (turned back by its springs, or on into its return)."""
+    end_ms = 1e3 * fom["end_s"]
+    notes = []
+    touches = fom["per_pole"]["touch_s"]
+    missing = [str(i) for i, x in enumerate(touches, start=1) if x is None]
+    if missing:
+        notes.append(f"the run ends at {end_ms:.4g} ms before pole {', '.join(missing)} "
+                     f"{'touches' if len(missing) == 1 else 'touch'}: not a complete closing (a longer --t-end)")
+    if fom["contacts_reopen_s"] is not None:
+        poles = fom["reopened_poles"]
+        notes.append(f"CONTACTS REOPEN after closing: pole {', '.join(map(str, poles))} "
+                     f"{'opens' if len(poles) == 1 else 'open'} again from {1e3 * fom['contacts_reopen_s']:.4g} ms "
+                     f"and {'is' if len(poles) == 1 else 'are'} open at the end of the run")
+    if fom["cam_falls_back_s"] is not None:
+        how = ("turns back down its rise" if fom["cam_falls_back_turning"] == "back"
+               else "runs on into its return")
+        hint = "" if rig.breaker.end_stop is not None else " (the rig has no breaker.end_stop or hold_latch to hold it)"
+        notes.append(f"the cam {how} at {1e3 * fom['cam_falls_back_s']:.4g} ms: the lift under the roller falls, "
+                     f"{1e3 * fom['lift_lost_m']:.3g} mm below its peak at the end{hint}")
+    if rig.breaker.end_stop is not None and fom["end_stop_met"] is False:
+        notes.append(f"the run ends at {end_ms:.4g} ms before the cam meets its end stop (a longer --t-end shows it)")
+    if fom["moving_at_end"]:
+        notes.append(f"the run ends at {end_ms:.4g} ms with the cam still turning ({fom['shaft_velocity_end_rad_s']:.3g} "
+                     f"rad/s at {fom['cam_angle_end_deg']:.1f} deg): not at rest; a longer --t-end shows where it stops")
+    return [("note", text, None) for text in notes]
 
 
 def stop_summary(result: SimulationResult, rig: Rig) -> list[tuple]:
