@@ -100,6 +100,31 @@ def _header(cells, path, line, units):
     return names
 
 
+#: A cell of a units row (a logger's second header line: ``s,rad`` or ``[s];[m]``): a unit symbol,
+#: bracketed or not, or ``-`` for a dimensionless channel.
+UNIT_CELL = re.compile(r"[\[(]?\s*(?P<unit>[A-Za-z][A-Za-z0-9/^.*]*|-|1)\s*[\])]?")
+
+
+def _units_row(cells, header, path, line, units) -> bool:
+    """True if ``cells`` is a units row under the header (every cell a unit or empty, none a
+    number): each unit checked against its channel's like a unit in the header (``deg`` for a channel read in
+    rad is refused, naming both)."""
+    if len(cells) != len(header) or any(NUMBER.fullmatch(c) for c in cells) or not any(cells):
+        return False
+    matches = [UNIT_CELL.fullmatch(c) for c in cells]
+    if not all(m or c == "" for m, c in zip(matches, cells)):
+        return False
+    for name, m in zip(header, matches):
+        if m is None:
+            continue  # no unit stated (an empty cell)
+        unit = m.group("unit")
+        want = "s" if name == "t" else (units or {}).get(name)
+        if want not in (None, "?") and unit != want:
+            raise InputError(path, f"line {line}, column {name!r}", f"the units row says {unit!r}: this channel is "
+                             f"read in {want!r} (convert the column, or leave the unit out)")
+    return True
+
+
 def load_measurement(path: str | Path, channel: str | None = None, known: Iterable[str] | None = None,
                      units: dict[str, str] | None = None) -> Measurement:
     """Read and check ``NAME.csv``; ``channel``: a column the file must have; ``known``: the
@@ -120,7 +145,7 @@ def load_measurement(path: str | Path, channel: str | None = None, known: Iterab
         ``t`` in s; each channel in its SI unit (rad, m; 0/1 for contact channels).
     """
     path = str(path)
-    comments, rows, header, header_line = [], [], None, 0
+    comments, rows, header, header_line, units_row = [], [], None, 0, False
     dialect = (",", False)
     for i, s in _lines(path, read_bytes(path)):
         if not s:
@@ -134,6 +159,9 @@ def load_measurement(path: str | Path, channel: str | None = None, known: Iterab
             _check_header(header, path, i, known)
             continue
         cells = _cells(s, *dialect)
+        if not rows and not units_row and _units_row(cells, header, path, i, units):
+            units_row = True  # a logger's units row under the header, checked like units in the header
+            continue
         if len(cells) != len(header):
             raise InputError(path, f"line {i}", f"has {len(cells)} values, the header has {len(header)}"
                              + (" (a decimal comma in a comma-separated file? use ';' between values)"
