@@ -67,7 +67,10 @@ def cam_lines(rig: Rig) -> list[str]:
     thetas = cam.initial_angle + np.linspace(0.0, 2 * np.pi, 721)
     pressure = pressure_angle_curve(b, rest_geometry(b, cam.pivot), thetas)
     k = int(np.argmax(pressure))
-    source = (f"{len(b.profile.table) // 2}-sample table of a spline through the rig's points" if b.profile.table
+    smoothing = rig.data["breaker"]["cam_profile"].get("smoothing")
+    through = (f"a smoothing spline (within about {1e6 * smoothing:g} um, breaker.cam_profile.smoothing) of"
+               if smoothing else "a spline through")
+    source = (f"{len(b.profile.table) // 2}-sample table of {through} the rig's points" if b.profile.table
               else "4-5-6-7 polynomial rise, dwell and return")
     return [f"  cam profile: {source}; lift {1e3 * b.profile.lift:.2f} mm, base circle {1e3 * b.profile.base_radius:.1f} mm, "
             f"roller {1e3 * b.roller_radius:g} mm",

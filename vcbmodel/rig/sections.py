@@ -18,6 +18,7 @@ from ..laws.cam_follower import (MAX_PRESSURE_ANGLE, TWO_PI, pitch_radius, press
 from ..laws.contact import CAM_ROLLER_LAWS, DAMPING_LAWS
 from ..laws.coil import coil_mass, coil_stiffness
 from ..laws.mechanics import cam_pin
+from .cam_points import check_point_pairs, settle_scatter
 from .paths import numeric_at
 from .reader import Reader
 from .data import (Breaker, Cam, CamProfile, ClosingSpring, ContactLaw, Follower, OpeningSpring, Pendulum,
@@ -116,6 +117,9 @@ def read_cam(rd: Reader, data: dict) -> dict[str, Cam]:
         initial_velocity=rd.number(c, "initial_velocity", pre, default=0.0))
     if cam.inertia_pivot <= 0:
         rd.fail("cam.inertia_com", "the cam has no inertia about its shaft")
+    for key in ("initial_angle", "com_angle"):
+        if abs(getattr(cam, key)) > TWO_PI:
+            rd.fail(pre + key, f"{getattr(cam, key):g} rad is more than a turn: in degrees? angles are in rad")
     return {"cam": cam}
 
 
@@ -176,7 +180,7 @@ BREAKER_KEYS = {
     "": ("cam_profile", "roller_radius", "follower", "poles", "opening_spring", "contact", "latch", "speed_zone",
          "end_stop", "hold_latch"),
     "cam_profile": ("base_radius", "lift", "rise_start", "rise_end", "return_start", "return_end", "points",
-                    "radius_points"),
+                    "radius_points", "smoothing"),
     "follower": ("pivot", "inertia", "roller_arm", "output_arm", "output_angle", "rest_angle"),
     "poles": ("count", "moving_mass", "contact_gap", "gap_offsets", "push_rod_length", "wipe_preload", "wipe_rate",
               "rod_stiffness", "rod_damping", "bellows_force"),
@@ -292,6 +296,9 @@ def read_stops(rd: Reader, b: dict, cam: Cam) -> tuple[EndStop | None, HoldLatch
         if parts[key].angle <= cam.initial_angle:
             rd.fail(p + "angle", f"{parts[key].angle:g} rad is not after the cam's initial angle ({cam.initial_angle:g} "
                     "rad): the cam angle counts on from the start (not wrapped), and the part must act after it")
+        if parts[key].angle > cam.initial_angle + TWO_PI:
+            rd.fail(p + "angle", f"{parts[key].angle:g} rad is more than a turn after the cam's initial angle: a closing "
+                    "cam turns less than a turn, so it would never act (in degrees? angles are in rad)")
     stop, latch = parts["end_stop"], parts["hold_latch"]
     if stop is not None and latch is not None and latch.angle > stop.angle:
         rd.fail("breaker.hold_latch.angle", f"{latch.angle:g} rad is beyond the end stop's {stop.angle:g} rad: the "
@@ -346,20 +353,21 @@ def read_point_profile(rd, cp, p, roller_radius) -> CamProfile:
         if not isinstance(item, list) or len(item) != 2:
             rd.fail(f"{p}{key}.{i}", "must be a pair [angle in rad, value in m]")
         pairs.append((rd.value(item[0], f"{p}{key}.{i}.0"), rd.value(item[1], f"{p}{key}.{i}.1")))
+    pairs = check_point_pairs(rd, pairs, p + key)
     angles = [a for a, _ in pairs]
-    if any(b_ <= a for a, b_ in zip(angles, angles[1:])) or angles[-1] - angles[0] >= TWO_PI:
-        rd.fail(p + key, "the angles must increase and span less than one turn (2 pi rad; angles are in rad)")
     if key == "points":
         base = rd.number(cp, "base_radius", p, positive=True)
-        if min(v for _, v in pairs) < -1e-9:
-            rd.fail(p + key, "a lift below the base circle (negative): lifts are measured from the base circle")
         radii = [base + roller_radius + v for _, v in pairs]
     else:
         radii = [v for _, v in pairs]
         if min(radii) <= roller_radius:
             rd.fail(p + key, f"a pitch radius at or below the roller radius ({roller_radius:g} m): the roller "
                     "centre runs outside the cam, so the pitch radius is the cam's radius plus the roller's")
+    radii = settle_scatter(rd, cp, angles, radii, p + key)
+    if key == "radius_points":
         base = min(radii) - roller_radius
+    elif min(v for _, v in pairs) < -(3.0 * rd.number(cp, "smoothing", p) if "smoothing" in cp else 1e-9):
+        rd.fail(p + key, "a lift below the base circle (negative, beyond 3 x smoothing): lifts are measured from the base circle")
     spline = profile_spline(angles, radii)
     cut = undercut(spline, roller_radius)
     if cut is not None:

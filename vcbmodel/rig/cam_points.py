@@ -1,0 +1,84 @@
+"""A cam given by points (``breaker.cam_profile.points`` or ``radius_points``): the checks a CAD or
+CMM export needs before a spline is fitted through it, each fault one line naming the point.
+
+A CAD export of a closed profile often repeats its first point a turn later (0 and 360 deg): that
+point is the same point and is dropped when its value agrees. Anything else that is not a profile
+is refused with the point's index and the likely cause: a repeated or unsorted row, angles in
+degrees, values in millimetres. Points that scatter (a CMM's noise) are refused unless the rig
+gives ``smoothing``, the points' uncertainty, for a smoothing spline.
+"""
+from __future__ import annotations
+
+import math
+from collections.abc import Sequence
+
+import numpy as np
+from scipy.interpolate import splev, splrep
+
+from .. import parameters as P
+from ..laws.cam_follower import TWO_PI
+from .reader import Reader
+
+#: Angles closer than this (rad) to a full turn apart are the same angle (a closing point)
+SAME_ANGLE = 1e-6
+
+
+def check_point_pairs(rd: Reader, pairs: list[tuple[float, float]], field: str) -> list[tuple[float, float]]:
+    """The points ([(angle rad, value m)]) as a profile takes them: increasing angles within one
+    turn, values within ``CAM_POINT_LARGEST``; a last point one turn after the first with the same
+    value (a closed export) dropped. Refuses (``rd.fail``, naming ``field.i``) anything else."""
+    (a0, v0), (a1, v1) = pairs[0], pairs[-1]
+    if abs(a1 - a0 - TWO_PI) < SAME_ANGLE:
+        if abs(v1 - v0) > P.CAM_POINT_CLOSURE:
+            rd.fail(f"{field}.{len(pairs) - 1}", f"is the first point a turn later (angle {a1:.6g} rad) but its value "
+                    f"differs by {1e3 * abs(v1 - v0):.3g} mm: the profile does not close")
+        pairs = pairs[:-1]
+    angles = [a for a, _ in pairs]
+    if max(angles) - min(angles) >= TWO_PI:
+        hint = (": are they in degrees? give radians (math.radians)" if max(abs(a) for a in angles) <= 360.0 + SAME_ANGLE
+                else "")
+        rd.fail(field, f"the angles span {max(angles) - min(angles):.4g}, more than one turn (2 pi rad){hint}")
+    for i in range(1, len(pairs)):
+        if angles[i] == angles[i - 1]:
+            rd.fail(f"{field}.{i}", f"angle {angles[i]:.6g} rad repeats point {i - 1}'s (a duplicated row?): "
+                    "give each angle once")
+        if angles[i] < angles[i - 1]:
+            rd.fail(f"{field}.{i}", f"angle {angles[i]:.6g} rad is below point {i - 1}'s ({angles[i - 1]:.6g}): sort "
+                    "the points by angle")
+    i = max(range(len(pairs)), key=lambda k: abs(pairs[k][1]))
+    v = pairs[i][1]
+    if abs(v) > P.CAM_POINT_LARGEST:
+        rd.fail(f"{field}.{i}.1", f"{v:g} m is implausible for a breaker cam (at most {P.CAM_POINT_LARGEST:g} m): "
+                "is it in millimetres? values are in m")
+    return pairs
+
+
+def point_scatter(values: Sequence[float]) -> float:
+    """The scatter (m, one standard deviation) of a closed profile's values about a smooth curve,
+    from their third differences around the turn (a robust estimate: the median absolute deviation,
+    scaled for normal scatter; a smooth profile's third differences are far smaller than the
+    scatter's, sqrt(20) of it). Assumes roughly even angle steps, as CAD and CMM exports have."""
+    v = np.asarray(values, float)
+    d3 = np.diff(np.concatenate([v, v[:3]]), 3)
+    return float(1.4826 * np.median(np.abs(d3 - np.median(d3))) / math.sqrt(20.0))
+
+
+def settle_scatter(rd: Reader, cp: dict, angles: Sequence[float], radii: Sequence[float], field: str) -> list[float]:
+    """The pitch radii (m) a spline is fitted through: as given when the points are smooth; refused
+    when they scatter by more than ``CAM_POINT_SCATTER`` and no ``smoothing`` is given (a spline
+    through a CMM's scatter puts it into the follower's acceleration: the roller force rises
+    several-fold, the touch speed moves); with ``smoothing`` (m, the points' uncertainty), the
+    values of a periodic smoothing spline that stays within about that of the points."""
+    scatter = point_scatter(radii)
+    prefix = field.rsplit(".", 1)[0] + "."
+    if "smoothing" not in cp:
+        if scatter > P.CAM_POINT_SCATTER:
+            rd.fail(field, f"the points scatter by about {1e6 * scatter:.2g} um about a smooth curve (from their third "
+                    "differences): a spline through them puts the scatter into the follower's acceleration; give "
+                    f"{prefix}smoothing (m, the measurement's uncertainty, e.g. {scatter:.1g}) or smooth the export")
+        return list(radii)
+    smoothing = rd.number(cp, "smoothing", prefix, positive=True)
+    a = np.append(np.asarray(angles, float), angles[0] + TWO_PI)
+    r = np.append(np.asarray(radii, float), radii[0])
+    tck = splrep(a, r, per=True, s=(len(a) - 1) * smoothing**2)
+    return splev(np.asarray(angles, float), tck).tolist()
