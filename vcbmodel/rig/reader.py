@@ -118,9 +118,20 @@ def read_json(path: str | Path) -> Any:
         raise InputError(path, str(e), "is given twice in the same object: JSON readers keep only one of "
                          "them, so say which value you mean") from None
     except json.JSONDecodeError as e:
-        raise InputError(path, f"line {e.lineno}", f"malformed JSON: {e.msg}") from None
+        raise InputError(path, f"line {e.lineno}", f"malformed JSON: {e.msg}{json_hint(path, text, e)}") from None
     except (ValueError, RecursionError) as e:
         raise InputError(path, "JSON", str(e) or "cannot be parsed") from None
+
+
+def json_hint(path: str | Path, text: str, error: json.JSONDecodeError) -> str:
+    """What a malformed rig most likely is: TOML or YAML (rig files are JSON), or JSON with comments
+    (comments are keys starting with ``_``); empty otherwise."""
+    line = text.splitlines()[error.lineno - 1].strip() if error.lineno <= len(text.splitlines()) else ""
+    if str(path).lower().endswith((".toml", ".yaml", ".yml", ".ini")):
+        return " (rig files are JSON: NAME.rig.json; TOML and YAML are not read)"
+    if line.startswith(("//", "/*", "#")):
+        return " (JSON has no comments: write them as keys starting with _, e.g. \"_note\": \"...\")"
+    return ""
 
 
 class DuplicateKey(ValueError):

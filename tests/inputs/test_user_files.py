@@ -1,0 +1,167 @@
+"""Files as users make them (a new user's trial, docs/your-breaker.md): a logger's units row under a
+record's header; a cam's points as CAD and CMM exports give them (a closing 360 deg point, angles
+from -180 deg, a duplicated or unsorted row, degrees, millimetres, a CMM's scatter). Each is read as
+meant or refused with one line naming the file and the field."""
+import copy
+import csv
+import json
+import math
+
+import numpy as np
+import pytest
+
+from vcbmodel import parameters as P
+from vcbmodel.app.cli import main
+from vcbmodel.compiled import compiler_works
+from vcbmodel.errors import InputError
+from vcbmodel.experiments.closing_evaluation import figures_of_merit
+from vcbmodel.experiments.loading import load_pair, load_rig
+from vcbmodel.experiments.simulation import simulate
+from vcbmodel.rig.cam_points import point_scatter
+
+from conftest import ROOT, write_rig
+
+PENDULUM = ROOT / "results" / "synthetic" / "pendulum_10deg"
+
+
+# --- a record with a units row -------------------------------------------------------------------------
+
+def record_with(tmp_path, name, second_line, separator=","):
+    lines = (PENDULUM.with_suffix(".csv")).read_text().splitlines()
+    header = next(i for i, line in enumerate(lines) if not line.startswith("#"))
+    body = lines[:header + 1] + [second_line] + lines[header + 1:]
+    if separator == ";":
+        body = [line if line.startswith("#") else line.replace(",", ";").replace(".", ",") for line in body]
+    (tmp_path / f"{name}.csv").write_text("\r\n".join(body) + "\r\n")
+    (tmp_path / f"{name}.rig.json").write_text((PENDULUM.with_suffix(".rig.json")).read_text())
+    return tmp_path / f"{name}.csv"
+
+
+@pytest.mark.parametrize("units, separator", [("s,rad", ","), ("[s],[rad]", ","), ("s,rad", ";")])
+def test_a_units_row_in_the_channels_units_is_read_as_meant(tmp_path, units, separator):
+    _, plain = load_pair(PENDULUM.with_suffix(".csv"))
+    _, with_units = load_pair(record_with(tmp_path, "units", units, separator))
+    assert np.array_equal(with_units.t, plain.t)
+    assert np.array_equal(with_units.channel("pendulum_angle"), plain.channel("pendulum_angle"))
+
+
+@pytest.mark.parametrize("units, column", [("s,deg", "pendulum_angle"), ("ms,rad", "t")])
+def test_a_units_row_in_another_unit_is_refused_naming_line_and_column(tmp_path, capsys, units, column):
+    f = record_with(tmp_path, "other_units", units)
+    assert main(["identify", str(f), "--json"]) == 2
+    captured = capsys.readouterr()
+    err = captured.err.strip()
+    assert captured.out == "" and len(err.splitlines()) == 1 and "Traceback" not in err
+    assert f"other_units.csv: line 3, column {column!r}" in err and units.split(",")[column == "pendulum_angle"] in err
+
+
+# --- a cam given by points, as exports give them ----------------------------------------------------------
+
+def example_points():
+    """The docs' example cam (docs/examples/cam_lift.csv: degrees and millimetres) in rad and m."""
+    lines = (ROOT / "docs" / "examples" / "cam_lift.csv").read_text().splitlines()
+    rows = csv.DictReader(line for line in lines if not line.startswith("#"))
+    return [[math.radians(float(r["angle_deg"])), float(r["lift_mm"]) / 1000] for r in rows]
+
+
+def cam_rig(tmp_path, points, name="cam", **extra):
+    data = copy.deepcopy(P.REFERENCE_BREAKER)
+    data["breaker"]["cam_profile"] = {"base_radius": 0.045, "points": points, **extra}
+    return write_rig(tmp_path, data, name)
+
+
+def test_a_closing_point_at_360_deg_and_angles_from_minus_180_give_the_same_cam(tmp_path):
+    points = example_points()
+    table = load_rig(cam_rig(tmp_path, points)).breaker.profile.table
+    closed = points + [[points[0][0] + 2 * math.pi, points[0][1]]]
+    assert load_rig(cam_rig(tmp_path, closed, "closed")).breaker.profile.table == pytest.approx(table, abs=1e-12)
+    wrapped = sorted([[math.remainder(a, 2 * math.pi), v] for a, v in points])
+    assert wrapped[0][0] < 0
+    assert load_rig(cam_rig(tmp_path, wrapped, "wrapped")).breaker.profile.table == pytest.approx(table, abs=1e-9)
+
+
+def points_refused(tmp_path, points, field, *words, **extra):
+    with pytest.raises(InputError) as e:
+        load_rig(cam_rig(tmp_path, points, "bad", **extra))
+    text = str(e.value)
+    assert f"breaker.cam_profile.{field}:" in text and "\n" not in text, text
+    for word in words:
+        assert word in text, text
+
+
+def test_points_that_are_not_a_profile_are_refused_naming_the_point(tmp_path):
+    points = example_points()
+    points_refused(tmp_path, [[math.degrees(a), v] for a, v in points], "points", "in degrees")
+    peak = max(range(len(points)), key=lambda k: points[k][1])
+    points_refused(tmp_path, [[a, 1000 * v] for a, v in points], f"points.{peak}.1", "millimetres")
+    points_refused(tmp_path, points[:50] + [points[49]] + points[50:], "points.50", "repeats point 49")
+    swapped = points[:20] + [points[21], points[20]] + points[22:]
+    points_refused(tmp_path, swapped, "points.21", "sort")
+    opened = points + [[points[0][0] + 2 * math.pi, points[0][1] + 1e-4]]
+    points_refused(tmp_path, opened, f"points.{len(points)}", "does not close")
+
+
+def noisy(points, sigma, seed=5):
+    rng = np.random.default_rng(seed)
+    return [[a, v + float(rng.normal(0.0, sigma))] for a, v in points]
+
+
+def test_the_scatter_estimate_finds_the_noise_added_and_not_the_design():
+    points = example_points()
+    clean = point_scatter([v for _, v in points])
+    assert clean < 0.1 * P.CAM_POINT_SCATTER  # the export's rounding (0.1 um)
+    for sigma in (1e-6, 1e-5):
+        assert point_scatter([v for _, v in noisy(points, sigma)]) == pytest.approx(sigma, rel=0.25)
+
+
+@pytest.mark.skipif(not compiler_works(), reason="no working C compiler")
+def test_a_cmm_export_with_scatter_is_refused_and_closes_like_the_clean_cam_when_smoothed(tmp_path, capsys):
+    """10 um of scatter (a CMM's) through a plain spline raises the peak roller force 2.5-fold
+    (measured); refused without ``smoothing``. With it, the closing is the clean cam's within 1 %
+    (touch speed) and 3 % (peak force): the clean points are the truth, the scatter added from outside."""
+    points = example_points()
+    rough = cam_rig(tmp_path, noisy(points, 1e-5), "rough")
+    assert main(["check", str(rough)]) == 2
+    err = capsys.readouterr().err
+    assert "breaker.cam_profile.points: the points scatter by about" in err and "smoothing" in err
+    clean_rig = load_rig(cam_rig(tmp_path, points, "clean"))
+    smoothed_rig = load_rig(cam_rig(tmp_path, noisy(points, 1e-5), "smoothed", smoothing=1e-5))
+    clean = figures_of_merit(simulate(clean_rig, backend="compiled"), clean_rig)
+    smoothed = figures_of_merit(simulate(smoothed_rig, backend="compiled"), smoothed_rig)
+    assert smoothed["touch_speed_m_s"] == pytest.approx(clean["touch_speed_m_s"], rel=0.01)
+    assert smoothed["peak_cam_roller_force_N"] == pytest.approx(clean["peak_cam_roller_force_N"], rel=0.03)
+    assert main(["check", str(cam_rig(tmp_path, noisy(points, 1e-5), "shown", smoothing=1e-5))]) == 0
+    assert "smoothing spline (within about 10 um" in capsys.readouterr().out
+
+
+# --- rig files as users write them ------------------------------------------------------------------------
+
+def refused_one_line(capsys, path, *words):
+    assert main(["check", str(path)]) == 2
+    captured = capsys.readouterr()
+    err = captured.err.strip()
+    assert captured.out == "" and len(err.splitlines()) == 1 and "Traceback" not in err, err
+    for word in words:
+        assert word in err, err
+
+
+def test_angles_in_degrees_are_refused_where_a_turn_bounds_them(tmp_path, capsys):
+    """An end stop at 250 (meant as degrees) would be 40 turns on: never met, so the run is the
+    breaker's without a stop; a cam starting at 10 (degrees) would start at 213 deg."""
+    data = copy.deepcopy(P.REFERENCE_BREAKER)
+    data["breaker"]["end_stop"]["angle"] = 250.0
+    data["breaker"]["hold_latch"]["angle"] = 4.3
+    refused_one_line(capsys, write_rig(tmp_path, data, "stop_deg"), "breaker.end_stop.angle", "in degrees?")
+    data = copy.deepcopy(P.REFERENCE_CAM)
+    data["cam"]["initial_angle"] = 10.0
+    refused_one_line(capsys, write_rig(tmp_path, data, "start_deg"), "cam.initial_angle", "in degrees?")
+
+
+def test_a_toml_rig_or_json_with_comments_is_refused_saying_what_rigs_are(tmp_path, capsys):
+    toml = tmp_path / "my.rig.toml"
+    toml.write_text('experiment = "vcb_closing"\n[friction]\nmu_k = 0.1\n')
+    refused_one_line(capsys, toml, "my.rig.toml: line 1", "rig files are JSON")
+    text = json.dumps(P.REFERENCE_CAM, indent=1).replace("{", "{\n// measured 2026-11-20", 1)
+    commented = tmp_path / "commented.rig.json"
+    commented.write_text(text)
+    refused_one_line(capsys, commented, "commented.rig.json: line 2", "keys starting with _")
