@@ -45,6 +45,13 @@ DEFAULT_YOUNGS_MODULUS = 206e9
 #: its file says and the user should fix its time stamps. A rig's ``uncertain.record.time_base``
 #: may be at most half of it (a prior wider than the bounds would be cut silently).
 TIME_SCALE_SPAN = 0.01
+#: Plausible relative error (1 sigma) of a sensor's gain that the rig does not mark uncertain: a
+#: potentiometer's or an encoder's scale from its data sheet or a one-point calibration is good to
+#: about 1 % (conductive-plastic potentiometers: independent linearity 0.5-2 %; a camera's scale
+#: from a marker of known length, about 1 % of the field of view). The diagnosis does not fit such a
+#: gain (in a cam drop it would stand in for shaft friction); it says when this much error would move
+#: a fitted parameter beyond its stated 95 % interval (analysis/diagnosis/pinned.py).
+PINNED_GAIN_ERROR = 0.01
 
 # --- integration ------------------------------------------------------------------------
 #: Fixed RK4 step for the pendulum (s), sized for accuracy alone (the passive stuck state catches

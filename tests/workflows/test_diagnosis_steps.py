@@ -20,7 +20,7 @@ from vcbmodel.analysis.diagnosis import springs as springs_step
 from vcbmodel.analysis.diagnosis.align import align, fitted_channels
 from vcbmodel.analysis.diagnosis.candidates import NULL_VALUES, nested, pair_jobs
 from vcbmodel.analysis.diagnosis.context import Budget, Context
-from vcbmodel.analysis.diagnosis.fits import _fresh_bases
+from vcbmodel.analysis.diagnosis.fits import _fresh_bases, valley_bases
 from vcbmodel.analysis.diagnosis.period import period_mismatch, needs_period
 from vcbmodel.analysis.diagnosis.pipeline import STEPS, Step, run_steps
 from vcbmodel.analysis.diagnosis.report import timing, window
@@ -36,6 +36,7 @@ from vcbmodel.analysis.fit import FitAborted, FitResult, Parameter, SimulationPo
 from vcbmodel.analysis.noise import NoiseModel
 from vcbmodel.analysis.synthetic import random_case
 from vcbmodel.experiments.loading import load_record, load_rig
+from vcbmodel.experiments.pendulum import decay_split_guesses, start_guesses
 from vcbmodel.model.effects import parameter_specs
 from vcbmodel.rig.spring_model import SpringModel
 
@@ -58,7 +59,7 @@ def fit_of(residual, effects=(), varied=(), spring=None, nuisance=()):
 
 def ctx_of(**kw):
     out = SimpleNamespace(sigma_hf=SIGMA, quantisation=0.0, noise=NoiseModel.white(SIGMA), over=lambda f=0.8: False,
-                          skipped=[], say=lambda m: None, fits=0, record=SimpleNamespace(period_fields=(),
+                          skipped=[], say=lambda m: None, fits=0, valley=[], record=SimpleNamespace(period_fields=(),
                                                                                         measured_channel="angle",
                                                                                         natural_frequency=None),
                           stop=SimpleNamespace(is_set=lambda: False), spring_final=None,
@@ -226,6 +227,31 @@ def test_a_scan_is_centred_on_the_current_values_and_afresh_on_the_records_guess
     assert bases == [{}, {"mu_k": 0.2, "viscous": registry["viscous"]}]
     frozen = {name: Parameter(name, 0.1, vary=False) for name in params}
     assert _fresh_bases(ctx_of(guesses=[{"mu_k": 0.2}]), effects, frozen) is None
+
+
+def test_a_free_swing_scan_is_also_centred_along_the_coulomb_viscous_valley():
+    """The decay shared out between Coulomb and viscous friction gives further grid centres, only
+    when a candidate adds one of them and both are then fitted; each share is that share of the
+    decay read as Coulomb friction."""
+    t = np.arange(0, 6, 1e-3)
+    span_rate, lam = 0.02, 0.15  # rad/s of Coulomb decrement, 1/s viscous
+    amp = np.maximum(0.2 * np.exp(-lam * t) - span_rate * t / 2, 0)
+    y = amp * np.cos(2 * np.pi * 1.05 * t) + np.random.default_rng(2).normal(0, 2e-4, t.size)
+    meas = SimpleNamespace(t=t, channel=lambda name: y)
+    rig = SimpleNamespace(pendulum=SimpleNamespace(com_distance=0.2, inertia=0.05), shaft_radius=0.01)
+    shares = (0.8, 0.5)
+    valley = decay_split_guesses(rig, meas, shares)
+    assert [g["mu_k"] for g in valley] == pytest.approx([s / shares[0] * valley[0]["mu_k"] for s in shares])
+    assert valley[0]["viscous"] < valley[1]["viscous"]  # less Coulomb, more viscous
+    guesses = start_guesses(rig, meas)
+    assert valley[0]["mu_k"] == pytest.approx(0.8 * guesses[1]["mu_k"])  # a share of "all as Coulomb"
+    effects = ("coulomb_friction", "viscous_friction")
+    params = {"mu_k": Parameter("mu_k", 0.3), "viscous": Parameter("viscous", 0.9)}
+    bases = _fresh_bases(ctx_of(guesses=[{"mu_k": 0.2}], valley=valley), effects, params, ("viscous",))
+    assert bases[2:] == [{"mu_k": g["mu_k"], "viscous": g["viscous"]} for g in valley]
+    assert valley_bases(ctx_of(valley=valley), params, ("mu_s",)) == []  # both fitted already: on the floor
+    params["viscous"].vary = False  # only one of the two fitted: no valley to spread along
+    assert valley_bases(ctx_of(valley=valley), params) == []
 
 
 # --- refine the selection -------------------------------------------------------------------------
@@ -429,6 +455,24 @@ def test_a_period_mismatch_is_found_from_the_drift_of_the_extremes():
     ctx.uncertain["pendulum.inertia"] = 0.05  # the rig allows for it already
     assert not needs_period(ctx, out)
     assert period_mismatch(ctx, SimpleNamespace(simulations=[SimpleNamespace(measured=record)]))["significant"] is False
+
+
+@pytest.mark.parametrize("t_end", [7.3, 7.45, 5.25])  # ends rising to an extreme, just past one, mid-swing
+@pytest.mark.parametrize("error", [0.01, -0.006])
+def test_a_record_ending_mid_swing_gives_the_period_mismatch_unbiased(t_end, error):
+    """The record's and the model's largest samples sit at the record's end when it ends mid-swing:
+    that pair said "no drift" and pulled the mismatch toward zero (0.0058 for a true 0.01 at 7.3 s).
+    Only extremes the record holds whole count now, each timed by a parabola through its top."""
+    rng = np.random.default_rng(5)
+    t = np.arange(0, t_end, 1e-3)
+    model = 0.3 * np.cos(2 * np.pi * t) * np.exp(-0.2 * t)
+    record = 0.3 * np.cos(2 * np.pi * t / (1 + error)) * np.exp(-0.2 * t) + SIGMA * rng.standard_normal(t.size)
+    ctx = SimpleNamespace(record=SimpleNamespace(period_fields=("pendulum.inertia",)), sigma_hf=SIGMA,
+                          dataset=SimpleNamespace(t=t, y=record, mask=lambda: np.ones(t.size, bool)),
+                          uncertain={}, implied={})
+    out = period_mismatch(ctx, SimpleNamespace(simulations=[SimpleNamespace(measured=model)]))
+    assert out["significant"] and out["relative"] == pytest.approx(error, abs=max(1e-4, 4 * out["stderr"]))
+    assert abs(out["relative"] - error) < 0.05 * abs(error)
 
 
 # --- align the record, fit the starting model (a synthetic cam drop) -------------------------------

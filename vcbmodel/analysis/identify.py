@@ -29,6 +29,7 @@ import numpy as np
 
 from ..errors import InputError
 from ..experiments import experiment_of
+from ..experiments.pendulum import decay_split_guesses
 from ..laws.friction import effective_static, zeta_from_viscous
 from ..records.signals import first_peak_amplitude
 from ..rig.spring_model import SpringModel
@@ -66,6 +67,12 @@ WARN_RATIO = 1.5
 #: A record sampled more than this many times faster than its experiment's usual sensor is block-
 #: averaged down to about that rate before the fit (the swing's frequencies are far below either).
 DENSE_FACTOR = 2.0
+#: Shares of the swing's decay put in Coulomb friction by the further starts spread along the
+#: Coulomb-viscous valley (``experiments.pendulum.decay_split_guesses``): a fit from the record's
+#: own regression stopped with viscous 0 at 7-9 times the noise on Tustin and LuGre records whose
+#: better optimum (viscous about 0.55 N m s/rad) lies at 1-2.7 times it; three shares span the
+#: valley between "mostly Coulomb" and "mostly viscous" without the all-viscous end's far start.
+DECAY_SPLITS = (0.8, 0.6, 0.4)
 
 
 def usual_rate(pair: tuple[Rig, Measurement]) -> tuple[Rig, Measurement]:
@@ -187,8 +194,10 @@ def identify(pairs: Sequence[tuple[Rig, Measurement]], law: str = "hybrid", verb
         params["stribeck_velocity"].vary = False
         params["stribeck_velocity"].tied_to = "stick_velocity"
     # further starts, tried only when the first does not reach the noise: mu_s as multiples
-    # of the mu_k guess
+    # of the mu_k guess, and the decay shared out between Coulomb and viscous friction
     scan = [{"mu_s": f * guesses[0].get("mu_k", 0.1)} for f in (1.3, 2.0)] if law == "hybrid" else []
+    if "viscous" in spec["vary"] and params["viscous"].vary:
+        scan += decay_split_guesses(rig0, meas0, DECAY_SPLITS)
     with SimulationPool(processes, inline_single=True) as pool:
         # from the record's own starting values; the other starts only if that misses the noise
         result = staged_fit(datasets, effects, MASSLESS, params, verbose=verbose, label=f"{law} (least squares)",

@@ -28,7 +28,7 @@ from scipy.special import ellipk
 
 from ..experiments import experiment_of
 from ..rig.paths import loaded_value
-from ..records.signals import motion_onset, swing_peaks
+from ..records.signals import complete_swing_extremes, motion_onset, swing_peaks
 
 if TYPE_CHECKING:
     from ..rig.data import Rig
@@ -253,20 +253,6 @@ def release_from_model(setup: RecordSetup, t: np.ndarray, y: np.ndarray, model_t
     return setup
 
 
-def _extreme_time(t, y, tk, half_period):
-    """The time of a swing's extreme near tk, from a parabola fitted to the samples within a
-    sixth of a half period of it (a quantised sensor holds the extreme for several samples)."""
-    w = half_period / 6
-    sel = (t >= tk - w) & (t <= tk + w)
-    if sel.sum() < 5:
-        return tk
-    c = np.polyfit(t[sel] - tk, y[sel], 2)
-    if c[0] == 0:
-        return tk
-    vertex = -c[1] / (2 * c[0])
-    return float(tk + vertex) if abs(vertex) < w else tk
-
-
 def swing_period_mismatch(rig: Rig, t: np.ndarray, y: np.ndarray, window_start: float, sigma: float) -> dict | None:
     """The record's swing period against the rig's, model-free: full periods between every other
     extreme of the free swing (each extreme timed by a parabola through its top) against the
@@ -276,13 +262,12 @@ def swing_period_mismatch(rig: Rig, t: np.ndarray, y: np.ndarray, window_start: 
     p = rig.pendulum
     sel = t >= window_start
     ts, ys = t[sel], y[sel]
-    tp, amp, vals = swing_peaks(ts, ys, signed=True)
+    tp, amp, vals = complete_swing_extremes(ts, ys)  # a record ending mid-swing: no edge "extreme"
     big = amp > 20 * sigma
     tp, vals = tp[big], vals[big]
     if tp.size < 6:
         return None
     half = float(np.median(np.diff(tp)))
-    tp = np.array([_extreme_time(ts, ys, tk, half) for tk in tp])
     periods = tp[2:] - tp[:-2]
     keep = np.abs(periods - 2 * half) < 0.3 * half
     centre = np.mean(0.5 * (vals[1:] + vals[:-1]))

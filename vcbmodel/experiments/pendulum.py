@@ -67,6 +67,24 @@ def figures_of_merit(result: SimulationResult, rig: Rig) -> dict:
             "stop_time_s": float(result.t[moving[-1]]) if moving.size else 0.0}
 
 
+def _span_decay(rig: Rig, measurement: Measurement) -> dict | None:
+    """The swing's span decrements (below): the regression's Coulomb rate (rad/s) and viscous
+    rate lambda (1/s), the whole decay as a constant rate ``total`` (rad/s) or as an exponential
+    ``lam_all`` (1/s), the mean span (rad), and ``to_mu`` (a Coulomb rate -> mu_k); None when the
+    record swings fewer than three clear spans."""
+    p = rig.pendulum
+    mid, spans, gaps = swing_spans(measurement.t, measurement.channel("pendulum_angle"))
+    if spans.size < 3:
+        return None
+    rate_of_change = np.diff(spans) / np.diff(mid)
+    s_mid = 0.5 * (spans[1:] + spans[:-1])
+    coulomb_rate, lam = (-np.polyfit(s_mid, rate_of_change, 1)[::-1]) if s_mid.size >= 2 else (0.0, 0.0)
+    return {"coulomb_rate": max(float(coulomb_rate), 0.0), "lam": max(float(lam), 0.0),
+            "total": max(float(-np.polyfit(mid, spans, 1)[0]), 0.0),
+            "lam_all": max(float(-np.polyfit(mid, np.log(spans), 1)[0]), 0.0), "mean_span": float(np.mean(spans)),
+            "to_mu": float(np.median(gaps)) * p.com_distance / (4 * rig.shaft_radius)}
+
+
 def start_guesses(rig: Rig, measurement: Measurement) -> list[dict[str, float]]:
     """Starting values from the measured swing.
 
@@ -76,23 +94,33 @@ def start_guesses(rig: Rig, measurement: Measurement) -> list[dict[str, float]]:
     A linear regression of the span decrements on the span separates the two. Starts: the
     regression, all of the decay as Coulomb, all of it as viscous.
     """
-    p = rig.pendulum
-    y = measurement.channel("pendulum_angle")
-    mid, spans, gaps = swing_spans(measurement.t, y)
-    if spans.size < 3:
+    d = _span_decay(rig, measurement)
+    if d is None:
         return [{}]
-    half_period = float(np.median(gaps))
-    rate_of_change = np.diff(spans) / np.diff(mid)
-    s_mid = 0.5 * (spans[1:] + spans[:-1])
-    coulomb_rate, lam = (-np.polyfit(s_mid, rate_of_change, 1)[::-1]) if s_mid.size >= 2 else (0.0, 0.0)
-    to_mu = half_period * p.com_distance / (4 * rig.shaft_radius)  # span decrement rate -> mu_k
-    total = float(-np.polyfit(mid, spans, 1)[0])  # everything as Coulomb
-    lam_all = max(float(-np.polyfit(mid, np.log(spans), 1)[0]), 0.0)  # everything as viscous
-    both = {"mu_k": max(float(coulomb_rate), 0.0) * to_mu, "viscous": 2 * max(float(lam), 0.0) * p.inertia}
+    inertia = rig.pendulum.inertia
+    both = {"mu_k": d["coulomb_rate"] * d["to_mu"], "viscous": 2 * d["lam"] * inertia}
     both["mu_s"] = 1.5 * both["mu_k"]
     return [both,
-            {"mu_k": max(total, 0.0) * to_mu, "viscous": 0.0, "mu_s": 1.5 * max(total, 0.0) * to_mu},
-            {"mu_k": 0.0, "viscous": 2 * lam_all * p.inertia, "mu_s": 0.0}]
+            {"mu_k": d["total"] * d["to_mu"], "viscous": 0.0, "mu_s": 1.5 * d["total"] * d["to_mu"]},
+            {"mu_k": 0.0, "viscous": 2 * d["lam_all"] * inertia, "mu_s": 0.0}]
+
+
+def decay_split_guesses(rig: Rig, measurement: Measurement, coulomb_shares: tuple[float, ...]) -> list[dict[str, float]]:
+    """Starts spread along the Coulomb-viscous valley: the swing's mean decay rate (rad/s) shared
+    between a Coulomb part (share f: mu_k) and a viscous one (1 - f, at the mean span: Cv in
+    N m s/rad), one start per share. The regression of :func:`start_guesses` reads a few noisy
+    span decrements and, for friction of another shape than the law's, often puts all of the
+    decay in Coulomb friction (viscous 0), a local optimum of the fit; the valley's other end
+    (all viscous) is too far to reach the right basin from. [] when the record barely swings."""
+    d = _span_decay(rig, measurement)
+    if d is None or d["mean_span"] <= 0:
+        return []
+    out = []
+    for f in coulomb_shares:
+        mu_k = f * d["total"] * d["to_mu"]
+        out.append({"mu_k": mu_k, "viscous": 2 * rig.pendulum.inertia * (1 - f) * d["total"] / d["mean_span"],
+                    "mu_s": 1.5 * mu_k})
+    return out
 
 
 def swinging_part(t: np.ndarray, y: np.ndarray, sigma: float) -> float | None:

@@ -55,6 +55,39 @@ def swing_peaks(t: np.ndarray, angle: np.ndarray, min_separation: float = 0.1, s
     return np.array(times), np.array(amps)
 
 
+def extreme_time(t: np.ndarray, y: np.ndarray, tk: float, half_period: float) -> float:
+    """The time (s) of a swing's extreme near ``tk``, from a parabola fitted to the samples within
+    a sixth of a half period of it (a quantised sensor holds the extreme for several samples, and
+    noise moves the largest sample by many samples); ``tk`` when the parabola's vertex lies outside."""
+    w = half_period / 6
+    sel = (t >= tk - w) & (t <= tk + w)
+    if sel.sum() < 5:
+        return tk
+    c = np.polyfit(t[sel] - tk, y[sel], 2)
+    if c[0] == 0:
+        return tk
+    vertex = -c[1] / (2 * c[0])
+    return float(tk + vertex) if abs(vertex) < w else tk
+
+
+def complete_swing_extremes(t: np.ndarray, angle: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """(times s, |amplitudes|, signed values) of the swing's extremes that the record holds whole,
+    each timed by a parabola through its top (:func:`extreme_time`).
+
+    An extreme within a sixth of a half period of either end of the record is left out: a record
+    that ends (or starts) mid-swing puts its largest sample at its edge, which is no turning point,
+    and a pair of such edge "extremes" drags a drift of the extremes' times (a period mismatch)
+    toward zero. Only turning points with the samples to time them on both sides are kept."""
+    t, y = np.asarray(t, float), np.asarray(angle, float)
+    tp, amp, vals = swing_peaks(t, y, signed=True)
+    if tp.size < 2:
+        return tp, amp, vals
+    half = float(np.median(np.diff(tp)))
+    inner = (tp - t[0] >= half / 6) & (t[-1] - tp >= half / 6)
+    times = np.array([extreme_time(t, y, tk, half) for tk in tp[inner]])
+    return times, amp[inner], vals[inner]
+
+
 def decay_shape(peak_times: np.ndarray, amplitudes: np.ndarray) -> dict:
     """Compare linear (Coulomb) and exponential (viscous) fits of the peak envelope.
 

@@ -11,6 +11,7 @@ import re
 import numpy as np
 
 from ...experiments import experiment_of
+from ...experiments.pendulum import decay_split_guesses
 from ...records.analyser import channel_setup
 from ...records.signals import noise_estimate_floored, quantisation_step
 from .. import fit as fitting
@@ -18,6 +19,10 @@ from ..fit import Dataset, make_parameters
 from ..noise import NoiseModel
 from ..nuisance import record_setup, release_from_model, swing_period_mismatch
 from .period import imply_period, needs_period
+
+#: Shares of a free swing's decay put in Coulomb friction by the starts spread along the
+#: Coulomb-viscous valley (:func:`.fits.valley_bases`; the same as identify.DECAY_SPLITS).
+VALLEY_SHARES = (0.8, 0.6, 0.4)
 
 
 def fitted_channels(rig: object, measurement: object) -> tuple:
@@ -82,7 +87,9 @@ def align(ctx, state) -> None:
     if rec.release_from_model and "release_time" not in ctx.setup.pinned:
         _release_from_model(ctx, y)
     ctx.dataset = Dataset(rig, measurement, ctx.setup, chans)
-    ctx.guesses = rec.start_guesses(rig, measurement.window(ctx.setup.window[0], ctx.setup.window[1]))
+    window = measurement.window(ctx.setup.window[0], ctx.setup.window[1])
+    ctx.guesses = rec.start_guesses(rig, window)
+    ctx.valley = decay_split_guesses(rig, window, VALLEY_SHARES) if rec.free_swing else []
     ctx.uncertain = dict(getattr(rig, "uncertain", None) or {})
     ctx.implied = {}
     clock_sd = ctx.uncertain.get("record.time_base")  # the rig says the record's clock is approximate

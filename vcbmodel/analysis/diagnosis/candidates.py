@@ -88,8 +88,9 @@ def fit_candidate(ctx, current: FitResult, name: str, effects: tuple, variants: 
     previous = dict(current.model_values)
     if variants:
         return fit_spring_variants(ctx, current, effects, variants, previous, initial, should_stop)
-    fit = fit_record(ctx, effects, current.spring_model, parameters(ctx, effects, previous, initial), f"+{name}",
-                     scan=scan, should_stop=should_stop)
+    params = parameters(ctx, effects, previous, initial)
+    fit = fit_record(ctx, effects, current.spring_model, params, f"+{name}", scan=scan, should_stop=should_stop,
+                     new=tuple(k for k in params if k not in current.parameters))
     return nested(ctx, current, effects, fit), None
 
 

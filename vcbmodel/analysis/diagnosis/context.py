@@ -79,6 +79,8 @@ class Context:
     channel_sigma: dict = field(default_factory=dict)
     dataset: object = None
     guesses: list = field(default_factory=list)
+    #: a free swing's starts spread along the Coulomb-viscous valley (fits.valley_bases)
+    valley: list = field(default_factory=list)
     uncertain: dict = field(default_factory=dict)
     implied: dict = field(default_factory=dict)  # uncertain values the diagnosis added itself
     time_scale: dict | None = None  # the record's time base as a nuisance: {"value", "sd", "source"}

@@ -91,26 +91,43 @@ def parameters(ctx, effects: tuple, previous: dict | None = None, initial: dict 
     return params
 
 
-def _fresh_bases(ctx, effects, params):
+def _fresh_bases(ctx, effects, params, new=()):
     """Grid centres for a scan: the current values, and afresh the record's own starting values,
     else the registry's (a model that lacked the new effect has bent its other values to make up
     for it)."""
     fresh = {spec.name: spec.initial for spec in parameter_specs(effects)
              if spec.name in params and params[spec.name].vary}
     fresh.update({k: v for k, v in ctx.guesses[0].items() if k in params and params[k].vary})
-    return [{}, fresh] if fresh else None
+    bases = [{}, fresh] if fresh else None
+    return bases + valley_bases(ctx, params, new) if bases else bases
+
+
+def valley_bases(ctx, params: dict, new=("mu_k", "viscous")) -> list:
+    """Further grid centres for a free swing when a candidate adds Coulomb or viscous friction
+    (``new``: the scanned parameters) and both are then fitted: the decay shared out between them
+    (ctx.valley). Reason: the record's own regression of a few span decrements often puts the
+    whole decay in Coulomb friction (viscous 0), and a scan of the new parameter around that point
+    stays at that end of the valley (a LuGre pendulum with a 12-bit logger: viscous friction not
+    named at 3x the noise). A model that fits both already sits on the valley's floor: not then
+    (a Stribeck candidate started there ends worse on a LuGre lab pendulum)."""
+    if (not ctx.valley or not {"mu_k", "viscous"} & set(new)
+            or not all(k in params and params[k].vary for k in ("mu_k", "viscous"))):
+        return []
+    return [{k: v for k, v in g.items() if k in params and params[k].vary} for g in ctx.valley]
 
 
 def fit_record(ctx, effects: tuple, spring_model: object, params: dict, label: str, starts: list | None = None,
-               scan: dict | None = None, step: float | None = None, should_stop=None) -> FitResult:
+               scan: dict | None = None, step: float | None = None, should_stop=None,
+               new: tuple | None = None) -> FitResult:
     """One fit of the record (staged for a free swing). With a ``scan`` of new parameters,
     the grid is laid around the current values and around the record's own starting values;
     the optimiser runs from the best point, and from the second best when the first does not
-    reach the noise. ``should_stop`` (default: the time budget's) aborts it with FitAborted."""
+    reach the noise. ``should_stop`` (default: the time budget's) aborts it with FitAborted.
+    ``new``: the parameters a candidate adds (default: the scanned ones)."""
     ds = [ctx.dataset]
     kw = dict(sigma=ctx.sigma_hf, verbose=False, label=label, pool=ctx.pool, processes=1,
               scales=ctx.scales(), should_stop=should_stop or ctx.stop.is_set, max_starts=MAX_STARTS)
-    bases = _fresh_bases(ctx, effects, params) if scan else None
+    bases = _fresh_bases(ctx, effects, params, tuple(scan) if new is None else new) if scan else None
     if ctx.record.staged_fit:
         r = fitting.staged_fit(ds, effects, spring_model, params, starts=starts, scan=scan,
                                coarse_step=ctx.coarse_step, bases=bases, **kw)

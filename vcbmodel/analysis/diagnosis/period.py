@@ -7,7 +7,7 @@ import math
 
 import numpy as np
 
-from ...records.signals import swing_peaks
+from ...records.signals import complete_swing_extremes
 from ..fit import FitResult
 
 #: A period mismatch is reported when the record's swing period differs from the model's by
@@ -17,12 +17,14 @@ PERIOD_TOLERANCE = 0.002
 
 def _paired_extremes(ctx, fit):
     """Times of the record's and the model's extremes, paired by order while both swing clearly
-    (above 20 times the noise); None when fewer than five pairs."""
+    (above 20 times the noise); None when fewer than five pairs. Only extremes the record holds
+    whole, each timed by a parabola through its top (a record that ends mid-swing has its largest
+    sample at its end, in the record and the model alike: that pair says no drift)."""
     d = ctx.dataset
     m = d.mask()
     t = d.t[m]
-    tm, am = swing_peaks(t, d.y[m])
-    ts, as_ = swing_peaks(t, fit.simulations[0].measured[m])
+    tm, am, _ = complete_swing_extremes(t, d.y[m])
+    ts, as_, _ = complete_swing_extremes(t, fit.simulations[0].measured[m])
     n = min(tm.size, ts.size)
     if n < 5:
         return None

@@ -12,6 +12,7 @@ from ..fit.dataset import time_scale_name
 from ..time_base import time_base_report
 from ..verdict_evidence import sensor_nuisance, strip_private, verdict_sentences
 from .period import period_fields_fitted
+from .pinned import pinned_caveat, pinned_gain
 from .result import Diagnosis
 from .scores import BIC_MARGIN
 
@@ -45,6 +46,10 @@ def report(ctx, state) -> None:
     evidence = evidence_text(ctx, baseline, final, state.missing, where, signature, state.verdict, state.period,
                              state.backward, BIC_MARGIN)
     evidence += verdict_sentences(state.verdict, ctx.record.unit)
+    pinned = pinned_gain(ctx, final)
+    if pinned:
+        nuisance["pinned_sensitivity"] = [pinned]
+        evidence += (" " + pinned_caveat(pinned)) if pinned_caveat(pinned) else ""
     state.verdict = strip_private(state.verdict)
     spent = timing(ctx)
     ctx.say(f"missing effects: {', '.join(state.missing) or 'none'}; rms {baseline.rms:.3g} -> {final.rms:.3g} "
