@@ -273,12 +273,30 @@ FORMER_REFERENCE_BREAKER = dict(
                  follower=dict(REFERENCE_BREAKER_SECTION["follower"], pivot=[0.3445, 0.065]),
                  latch=dict(REFERENCE_BREAKER_SECTION["latch"], arm=0.1032)),
     model=dict(REFERENCE_BREAKER["model"], lumped_convention="paper"))
-#: The main shaft that carries the pole levers (for its twist, laws.mechanics.main_shaft_twist; the
-#: model's poles sit on a rigid shaft): solid steel, 40 mm (the review's estimate), G 79.3 GPa; pole
-#: centres 210 mm apart (12 kV panels space poles 150-275 mm; 210 mm is the middle choice); each pole
-#: lever as long as the follower's output arm (0.16 m); driven at the first pole's side (the worst
-#: case: the segment next to the drive carries two poles' torque).
-MAIN_SHAFT = {"diameter": 0.04, "shear_modulus": 79.3e9, "pole_pitch": 0.21, "lever_arm": 0.16}
+#: The main shaft that carries the pole levers (rig section breaker.main_shaft; its twist modelled
+#: by laws.breaker.segment_torque, estimated statically by laws.mechanics.main_shaft_twist):
+#: - solid steel, 40 mm (the review's estimate), G 79.3 GPa; pole centres 210 mm apart (12 kV panels
+#:   space poles 150-275 mm; 210 mm is the middle choice); driven at the first pole's side
+#:   (drive_pole 1, the worst case: the segment next to the drive carries two poles' torque). Each
+#:   segment: G pi d^4 / 32 / pitch = 94.9 kN m/rad;
+#: - lever_inertia 0.0075 kg m^2: a forged steel pole lever as long as the follower's output arm
+#:   (L = 0.16 m), a 40 x 15 mm bar (0.754 kg; m L^2 / 3 = 0.0064 kg m^2 about the shaft; it carries
+#:   the 3.5 kN closed rod force at 0.16 m at 160 MPa of bending stress), its hub 70 mm across on
+#:   the 40 mm shaft, 40 mm wide (0.81 kg; m (R^2 + r^2) / 2 = 0.0007 kg m^2), and a pitch of the
+#:   shaft (2.07 kg; m r^2 / 2 = 0.0004 kg m^2): 0.0075 kg m^2 of follower.inertia's 0.08;
+#: - damping 2.6 N m s/rad per segment: 2 % of the critical damping 2 sqrt(k J) of one segment with
+#:   a lever and its pole's mass reflected through the rod (J = 0.0075 + 1.5 kg x 0.16^2 m^2 =
+#:   0.046 kg m^2: 2 x 0.02 x sqrt(94.9e3 x 0.046) = 2.6). A judgement: the steel's own damping is
+#:   well below 1 %; keyed or clamped joints add to it; US NRC Regulatory Guide 1.61 (rev. 1, 2007)
+#:   takes 2-4 % for welded and 4-7 % for bolted steel structures; we take the low end, 2 %.
+#: Torsional modes (laws.breaker.torsional_frequencies, the drive lever held, the poles' mass
+#: reflected): 141 and 370 Hz; a free lever against its stiff rod rings at about 1.5 kHz: 65 steps
+#: per period at BREAKER_STEP (1e-5 s), as the cam-roller contact's 1.7 kHz.
+MAIN_SHAFT_SECTION = {"pole_pitch": 0.21, "diameter": 0.04, "bore": 0.0, "shear_modulus": 79.3e9, "damping": 2.6,
+                      "lever_inertia": 0.0075, "drive_pole": 1}
+#: MAIN_SHAFT_SECTION for the static twist table (studies/vcb_closing.py), with each pole lever's
+#: arm: the follower's output arm.
+MAIN_SHAFT = dict(MAIN_SHAFT_SECTION, lever_arm=REFERENCE_BREAKER_SECTION["follower"]["output_arm"])
 #: Simulated closing (s): latch release to contacts settled and the rise's end (about 50 ms: the
 #: full wipe, so the overtravel is the profile's).
 BREAKER_T_END = 0.055

@@ -18,6 +18,7 @@ from ..experiments import experiment_of
 from ..experiments.simulation import model_spec
 from ..model.effects import EFFECTS, parameter_specs
 from ..model.values import rig_values
+from ..laws.breaker import segment_stiffness, torsional_frequencies
 from ..laws.cam_follower import pressure_angle_curve, rest_geometry
 from ..laws.coil import spring_check
 from ..laws.mechanics import cam_pin
@@ -77,7 +78,22 @@ def cam_lines(rig: Rig) -> list[str]:
             f"    largest pressure angle {np.degrees(pressure[k]):.1f} deg at cam angle {np.degrees(thetas[k]):.1f} deg "
             f"(usual limit 30 deg; above 45 deg a profile is refused)",
             f"  closing speed: mean pole speed from {1e3 * b.speed_zone[0]:g} to {1e3 * b.speed_zone[1]:g} mm before each "
-            "pole's touch (breaker.speed_zone)"] + stop_lines(b)
+            "pole's touch (breaker.speed_zone)"] + stop_lines(b) + shaft_lines(b)
+
+
+def shaft_lines(b) -> list[str]:
+    """The main shaft (``breaker.main_shaft``): each segment's torsional stiffness and the first
+    torsional frequency estimate (:func:`vcbmodel.laws.breaker.torsional_frequencies`), or that the
+    shaft is rigid."""
+    shaft = b.main_shaft
+    if shaft is None:
+        return ["  main shaft: rigid, not modelled (no breaker.main_shaft section): every push rod on the follower"]
+    freqs = torsional_frequencies(shaft, b.poles, b.follower.output_arm)
+    first = (f"first torsional frequency about {freqs[0]:.0f} Hz (the pole levers with their poles' mass, the drive "
+             "lever held)" if freqs.size else "one pole: no segment twists")
+    return [f"  main shaft: {1e3 * shaft.diameter:g} mm (bore {1e3 * shaft.bore:g} mm), pole levers "
+            f"{1e3 * shaft.pole_pitch:g} mm apart, driven at pole {shaft.drive_pole}; segment stiffness "
+            f"{segment_stiffness(shaft):.4g} N m/rad, damping {shaft.damping:g} N m s/rad; {first}"]
 
 
 def stop_lines(b) -> list[str]:

@@ -15,8 +15,11 @@ joint is the coordinate itself). The parts, each a function below, wrap the pure
   :func:`add_opening_spring` (a plain ``ObjectConnectorSpringDamper``);
 - :func:`add_stops`: the closing end stop and the holding latch (optional rig sections
   ``breaker.end_stop``, ``breaker.hold_latch``), a coordinate connector on the cam angle;
-- :func:`add_poles`: push rods with wipe springs (``ObjectConnectorSpringDamper`` F -> pole
-  pin), pole contacts (``ObjectConnectorCoordinateSpringDamper`` ground -> pole travel),
+- :func:`add_levers`: with a main shaft (rig section ``breaker.main_shaft``) each pole but the
+  drive pole gets its own lever (``Node1D`` + ``ObjectRotationalMass1D`` at the follower pivot),
+  the shaft's segments ``ObjectConnectorCoordinateSpringDamper`` between the levers' angles;
+- :func:`add_poles`: push rods with wipe springs (``ObjectConnectorSpringDamper`` from the
+  pole's lever's output point, F on a rigid shaft, to the pole pin), pole contacts (``ObjectConnectorCoordinateSpringDamper`` ground -> pole travel),
   bellows force minus weight (constant ``LoadCoordinate``);
 - :func:`add_impact_latching`: each contact's impact speed (the damping's reference speed) is
   latched by a pre-step function from the state at the start of the step in which the
@@ -80,7 +83,7 @@ def build_vcb_closing(rig: Rig, spec: ModelSpec, law: FrictionLaw, chain: Lumped
 
     uf = "python" if user_function in ("auto", "symbolic") else user_function
     model = build_cam_drop(rig, law, spec.spring_model, chain, uf, extra_loads=extra_loads, ancf_elements=ancf_elements)
-    follower = add_follower(model, rig.breaker.follower, initial.follower_angle)
+    follower = add_follower(model, rig.breaker.follower, initial.follower_angle, laws.follower_inertia)
     follower_state["read"] = node_state_reader(model.mbs, follower.node)
     cam_node = model.cam_body.shaft.node
     add_cam_roller_contact(model, laws, cam_node, follower.node, impact)
@@ -88,7 +91,8 @@ def build_vcb_closing(rig: Rig, spec: ModelSpec, law: FrictionLaw, chain: Lumped
     if laws.has_stops:
         add_stops(model, laws, engaged)
     add_opening_spring(model, laws, follower)
-    pole_nodes = add_poles(model, laws, follower, initial.pole_travel, impact)
+    outputs = add_levers(model, laws, follower, initial.lever_angles)
+    pole_nodes = add_poles(model, laws, outputs, initial.pole_travel, impact)
     add_impact_latching(model, laws, cam_node, follower.node, pole_nodes, impact, engaged)
     model.laws, model.initial = laws, initial
     return model
@@ -101,19 +105,54 @@ def node_state_reader(mbs, node) -> Callable[[], tuple]:
     return lambda: (mbs.GetNodeOutput(node, coordinates), mbs.GetNodeOutput(node, velocities))
 
 
-def add_follower(model, f, phi0) -> Follower:
-    """The follower (inertia about its pivot) at angle ``phi0`` (rad), recorded as
-    ``follower_angle`` and ``follower_velocity``; F at ``output_arm``, ``output_angle``."""
-    exu, it = exudyn_modules()
-    mbs = model.mbs
-    nFollower = mbs.AddNode(it.Node1D(referenceCoordinates=[0.0], initialCoordinates=[phi0], initialVelocities=[0.0]))
-    oFollower = mbs.AddObject(it.ObjectRotationalMass1D(nodeNumber=nFollower, inertia=f.inertia,
-                                                        referencePosition=[f.pivot[0], f.pivot[1], 0.0]))
-    mF = mbs.AddMarker(it.MarkerBodyPosition(bodyNumber=oFollower, localPosition=[
-        f.output_arm * math.cos(f.output_angle), f.output_arm * math.sin(f.output_angle), 0.0]))
+def add_follower(model, f, phi0, inertia) -> Follower:
+    """The follower (``inertia`` kg m^2 about its pivot: ``follower.inertia``, less the free pole
+    levers' with a main shaft) at angle ``phi0`` (rad), recorded as ``follower_angle`` and
+    ``follower_velocity``; F at ``output_arm``, ``output_angle``."""
+    nFollower, mF = add_lever(model, f, phi0, inertia)
     model.add_sensor("follower_angle", nFollower, "Coordinates")
     model.add_sensor("follower_velocity", nFollower, "Coordinates_t")
     return Follower(nFollower, mF)
+
+
+def add_lever(model, f, angle, inertia) -> tuple[int, int]:
+    """A lever turning about the follower's pivot (``Node1D`` + ``ObjectRotationalMass1D``, handles
+    nLever, oLever) at ``angle`` (rad) with ``inertia`` (kg m^2); returns its node and the marker
+    mLeverOutput at its output point (``output_arm``, ``output_angle``)."""
+    _, it = exudyn_modules()
+    mbs = model.mbs
+    nLever = mbs.AddNode(it.Node1D(referenceCoordinates=[0.0], initialCoordinates=[angle], initialVelocities=[0.0]))
+    oLever = mbs.AddObject(it.ObjectRotationalMass1D(nodeNumber=nLever, inertia=inertia,
+                                                     referencePosition=[f.pivot[0], f.pivot[1], 0.0]))
+    mLeverOutput = mbs.AddMarker(it.MarkerBodyPosition(bodyNumber=oLever, localPosition=[
+        f.output_arm * math.cos(f.output_angle), f.output_arm * math.sin(f.output_angle), 0.0]))
+    return nLever, mLeverOutput
+
+
+def add_levers(model: ExudynModel, laws: BreakerLaws, follower: Follower, angles: list) -> list[int]:
+    """The pole levers on the main shaft (rig section ``breaker.main_shaft``): the drive pole's is
+    the follower; each other pole's is its own lever (:func:`add_lever`, ``lever_inertia``) at its
+    rest angle, recorded as ``pole_{j}_lever_angle`` and ``_velocity``; the segments between
+    adjacent levers are ``ObjectConnectorCoordinateSpringDamper`` on their angles with the laws'
+    stiffness and damping (:func:`vcbmodel.laws.breaker.segment_torque`: the connector's force
+    k (a_{j+1} - a_j) + c (a_{j+1}' - a_j') acts on lever j+1 negated, on lever j as is). Returns
+    each pole's output marker (the follower's for every pole on a rigid shaft)."""
+    _, it = exudyn_modules()
+    mbs, n = model.mbs, laws.b.poles.count
+    if not laws.free_levers:
+        return [follower.mOutput] * n
+    nodes, outputs = [0] * n, [0] * n
+    nodes[laws.drive], outputs[laws.drive] = follower.node, follower.mOutput
+    for j, angle in zip(laws.free_levers, angles):
+        nodes[j], outputs[j] = add_lever(model, laws.b.follower, angle, laws.lever_inertia)
+        model.add_sensor(f"pole_{j + 1}_lever_angle", nodes[j], "Coordinates")
+        model.add_sensor(f"pole_{j + 1}_lever_velocity", nodes[j], "Coordinates_t")
+    markers = [mbs.AddMarker(it.MarkerNodeCoordinate(nodeNumber=node, coordinate=0)) for node in nodes]
+    for j in range(n - 1):
+        mbs.AddObject(it.ObjectConnectorCoordinateSpringDamper(
+            markerNumbers=[markers[j], markers[j + 1]], stiffness=laws.segment_stiffness, damping=laws.segment_damping,
+            offset=0.0, visualization=it.VObjectConnectorCoordinateSpringDamper(show=False)))
+    return outputs
 
 
 def add_cam_roller_contact(model: ExudynModel, laws: BreakerLaws, cam_node, follower_node, impact: list) -> None:
@@ -162,10 +201,11 @@ def add_opening_spring(model, laws, follower: Follower):
                                                  referenceLength=laws.opening_free_length, damping=0.0))
 
 
-def add_poles(model, laws, follower: Follower, travel0, impact):
-    """One body per pole on its vertical guide, pushed from F through its push rod and wipe
-    spring, stopped by its fixed contact; recorded as ``pole_i_travel`` and
-    ``pole_i_travel_velocity``. Returns the pole nodes."""
+def add_poles(model, laws, outputs: list, travel0, impact):
+    """One body per pole on its vertical guide, pushed from its lever's output point (``outputs``:
+    each pole's marker, :func:`add_levers`) through its push rod and wipe spring, stopped by its
+    fixed contact; recorded as ``pole_i_travel`` and ``pole_i_travel_velocity``. Returns the pole
+    nodes."""
     _, it = exudyn_modules()
     mbs, poles = model.mbs, laws.b.poles
     vertical = [[0.0, -1.0, 0.0], [1.0, 0.0, 0.0], [0.0, 0.0, 1.0]]  # local x (travel) along global y
@@ -183,7 +223,7 @@ def add_poles(model, laws, follower: Follower, travel0, impact):
                                               referenceRotation=vertical))
         mPolePin = mbs.AddMarker(it.MarkerBodyPosition(bodyNumber=oPole, localPosition=[0.0, 0.0, 0.0]))
         mPoleTravel = mbs.AddMarker(it.MarkerNodeCoordinate(nodeNumber=nPole, coordinate=0))
-        mbs.AddObject(it.ObjectConnectorSpringDamper(markerNumbers=[follower.mOutput, mPolePin],
+        mbs.AddObject(it.ObjectConnectorSpringDamper(markerNumbers=[outputs[i], mPolePin],
                                                      referenceLength=poles.push_rod_length, springForceUserFunction=rod_uf))
 
         def pole_uf(mbs, t, itemNumber, deltaL, deltaL_t, stiffness, damping, offset, i=i):

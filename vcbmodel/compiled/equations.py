@@ -130,10 +130,11 @@ def prepare_closing(rig, spec, law, chain=None) -> OdeSetup:
                                  pin_weight_torque(rig.cam, rig.closing_spring, pin_mass, rig.gravity))
     setup = prepare_cam_drop(rig, spec, law, chain)
     setup.inputs.update({"laws": vars(laws), "holding": initial.holding_torque})
-    n = rig.breaker.poles.count
-    setup.q0 += [initial.follower_angle] + list(initial.pole_travel)
-    setup.v0 += [0.0] * (1 + n)
+    n, free = rig.breaker.poles.count, laws.free_levers
+    setup.q0 += [initial.follower_angle] + list(initial.lever_angles) + list(initial.pole_travel)
+    setup.v0 += [0.0] * (1 + len(free) + n)
     setup.layout += [("follower_angle", "follower_velocity", 1)]
+    setup.layout += [(f"pole_{j + 1}_lever_angle", f"pole_{j + 1}_lever_velocity", 1) for j in free]
     setup.layout += [(f"pole_{i + 1}_travel", f"pole_{i + 1}_travel_velocity", 1) for i in range(n)]
     setup.memory = [0.0] * (n + 1) + ([0.0] if rig.breaker.hold_latch is not None else [])
     setup.info = {"initial": initial}
@@ -146,28 +147,39 @@ def _breaker_laws(inputs):
     return laws
 
 
+def _split(q, v, laws):
+    """The breaker's part of the state: (index of the follower's angle, (phi, phi'), (free levers'
+    angles, speeds), (pole travels, speeds)); the cam and its springs come before it."""
+    n_poles, m = laws.b.poles.count, len(laws.free_levers)
+    i = len(q) - 1 - m - n_poles
+    return i, (q[i], v[i]), (q[i + 1:i + 1 + m], v[i + 1:i + 1 + m]), (q[i + 1 + m:], v[i + 1 + m:])
+
+
 def closing_equations(t: Scalar, q: Sequence[Scalar], v: Sequence[Scalar], memory: list, inputs: dict,
                       ops: Ops) -> tuple[list[Scalar], dict[str, Scalar]]:
     """The whole breaker (paper section 4): the cam and its springs as in the cam drop, loaded
-    by the roller and the latch; the follower (roller contact, opening spring, push rods); each
-    pole (push rod, fixed contact, bellows force minus weight)."""
+    by the roller and the latch; the follower (roller contact, opening spring, the drive pole's
+    push rod or every rod on a rigid shaft); with a main shaft the other pole levers (their rods,
+    the shaft's segments: :meth:`BreakerLaws.lever_torques`); each pole (push rod on its lever,
+    fixed contact, bellows force minus weight)."""
     laws = _breaker_laws(inputs)
     n_poles = laws.b.poles.count
-    phi_index = len(q) - 1 - n_poles
-    phi, phi_dot = q[phi_index], v[phi_index]
-    z, z_dot = q[phi_index + 1:], v[phi_index + 1:]
+    phi_index, (phi, phi_dot), (psi, psi_dot), (z, z_dot) = _split(q, v, laws)
     theta, omega = q[0], v[0]
-    t_fol, (t_cam, fx, fy) = laws.follower_torque(theta, omega, phi, phi_dot, z, z_dot, memory[0], ops)
+    t_fol, t_levers, (t_cam, fx, fy) = laws.lever_torques(theta, omega, phi, phi_dot, psi, psi_dot, z, z_dot,
+                                                          memory[0], ops)
     t_latch, lx, ly = laws.latch_loads(t, theta, inputs["holding"], ops)
     engaged = memory[n_poles + 1] if len(memory) > n_poles + 1 else 0.0
     loads = laws.with_stops((t_cam + t_latch, fx + lx, fy + ly), theta, omega, engaged, ops)
     cam_chain, Tf = _cam_and_chain(t, q[:phi_index], v[:phi_index], inputs, ops, loads)
+    a, a_dot = laws.lever_angles(phi, psi), laws.lever_angles(phi_dot, psi_dot)
     poles = []
     for i in range(n_poles):
-        rod_force = laws.rod_loads(phi, phi_dot, z[i], z_dot[i], ops)[0]
+        rod_force = laws.rod_loads(a[i], a_dot[i], z[i], z_dot[i], ops)[0]
         contact = laws.pole_contact(i, z[i], z_dot[i], memory[i + 1], ops)
         poles.append((rod_force - contact + laws.pole_load) / laws.b.poles.moving_mass)
-    return cam_chain + [t_fol / laws.b.follower.inertia] + poles, {"friction_torque": Tf}
+    levers = [torque / laws.lever_inertia for torque in t_levers]
+    return cam_chain + [t_fol / laws.follower_inertia] + levers + poles, {"friction_torque": Tf}
 
 
 def closing_prestep(t: Scalar, q: Sequence[Scalar], v: Sequence[Scalar], memory: list, inputs: dict, ops: Ops) -> list[Scalar]:
@@ -176,9 +188,9 @@ def closing_prestep(t: Scalar, q: Sequence[Scalar], v: Sequence[Scalar], memory:
     (:meth:`BreakerLaws.engage`) when the rig has one."""
     laws = _breaker_laws(inputs)
     n_poles = laws.b.poles.count
-    phi_index = len(q) - 1 - n_poles
+    _, (phi, phi_dot), _, (z, z_dot) = _split(q, v, laws)
     impact = list(memory[:n_poles + 1])
-    laws.latch_impact_speeds(impact, q[0], v[0], q[phi_index], v[phi_index], q[phi_index + 1:], v[phi_index + 1:], ops)
+    laws.latch_impact_speeds(impact, q[0], v[0], phi, phi_dot, z, z_dot, ops)
     if len(memory) > n_poles + 1:
         impact.append(laws.engage(memory[n_poles + 1], q[0], ops))
     return impact

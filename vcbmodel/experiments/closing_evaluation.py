@@ -38,12 +38,24 @@ def closing_channels(data: dict[str, np.ndarray], rig: Rig, spec: ModelSpec, inf
     n = b.poles.count
     for i in range(n):
         ch[f"pole_{i + 1}_travel"] = data[f"pole_{i + 1}_travel"][:, 1]
+        if f"pole_{i + 1}_lever_angle" in data:
+            ch[f"pole_{i + 1}_lever_angle"] = data[f"pole_{i + 1}_lever_angle"][:, 1]
+            ch[f"pole_{i + 1}_lever_velocity"] = data[f"pole_{i + 1}_lever_velocity"][:, 1]
         ch[f"pole_{i + 1}_velocity"] = data[f"pole_{i + 1}_travel_velocity"][:, 1]
     for name, d in data.items():
         if name.startswith(("spring_mass_", "spring_velocity_", "ancf_node_")):
             ch[name + "_x"], ch[name + "_y"] = d[:, 1], d[:, 2]
     ch.update(contact_channels(BreakerLaws.of_rig(rig, spec), ch, n))
     return ch
+
+
+def lever_channels(laws: BreakerLaws, ch: dict[str, np.ndarray]) -> tuple[list, list]:
+    """Every pole lever's angle (rad) and speed (rad/s) over the record, in pole order: the
+    follower's for the drive pole's lever (and for every pole on a rigid shaft), the recorded
+    ``pole_{j}_lever_angle`` and ``_velocity`` for the others (``breaker.main_shaft``)."""
+    psi = [ch[f"pole_{j + 1}_lever_angle"] for j in laws.free_levers]
+    psi_dot = [ch[f"pole_{j + 1}_lever_velocity"] for j in laws.free_levers]
+    return laws.lever_angles(ch["follower_angle"], psi), laws.lever_angles(ch["follower_velocity"], psi_dot)
 
 
 def contact_channels(laws: BreakerLaws, ch: dict[str, np.ndarray], n: int) -> dict[str, np.ndarray]:
@@ -62,12 +74,13 @@ def contact_channels(laws: BreakerLaws, ch: dict[str, np.ndarray], n: int) -> di
                # damping force = total - elastic (with the clip at zero: -elastic while the roller leaves)
                "cam_roller_damping_force": np.where(c.penetration > 0, force - elastic, 0.0)}
         contact = laws.b.contact
+        lever, lever_dot = lever_channels(laws, ch)
         for i in range(n):
             z, zd = ch[f"pole_{i + 1}_travel"], ch[f"pole_{i + 1}_velocity"]
             pen = z - laws.gaps[i]
             f = laws.pole_contact(i, z, zd, latched_impact_speeds(pen, zd), ops)
             pole_elastic = contact.pole_stiffness * np.power(np.maximum(pen, 0.0), contact.exponent)
-            s, rate, _, rod = laws.rod(phi, phid, z, zd, ops)
+            s, rate, _, rod = laws.rod(lever[i], lever_dot[i], z, zd, ops)
             out.update({f"pole_{i + 1}_contact_force": f,
                         f"pole_{i + 1}_contact_damping_force": np.where(pen > 0, f - pole_elastic, 0.0),
                         f"pole_{i + 1}_rod_force": rod, f"pole_{i + 1}_rod_compression": s,
@@ -117,7 +130,8 @@ def energy_parts(result: SimulationResult, rig: Rig) -> dict:
     chain = chain_for(rig.closing_spring, result.spec.spring_model)
     b, cam = rig.breaker, rig.cam
     th, w, phid = ch["cam_angle"], ch["shaft_velocity"], ch["follower_velocity"]
-    parts = {"kinetic_cam": 0.5 * cam.inertia_pivot * w**2, "kinetic_follower": 0.5 * b.follower.inertia * phid**2}
+    parts = {"kinetic_cam": 0.5 * cam.inertia_pivot * w**2, "kinetic_follower": 0.5 * laws.follower_inertia * phid**2}
+    parts.update(_shaft_parts(ch, laws, t))
     parts.update(_spring_parts(ch, rig, chain))
     parts["cam_weight"] = cam.mass * rig.gravity * cam.com_distance * np.sin(th - cam.com_angle)
     parts["opening_spring"] = np.array([0.5 * b.opening_spring.stiffness * (laws.opening(p)[0] / b.opening_spring.stiffness)
@@ -180,6 +194,23 @@ def _pole_parts(ch, laws, b):
             "contact_damping_rate": contact_damping, "rod_damping_rate": rod_damping}
 
 
+def _shaft_parts(ch, laws, t):
+    """The main shaft's (``breaker.main_shaft``) terms: the free pole levers' kinetic energy, the
+    segments' elastic energy k (a_j - a_{j+1})^2 / 2 and what their damping dissipated (J,
+    cumulative: c (a_j' - a_{j+1}')^2 integrated). Zero for a rigid shaft."""
+    zero = np.zeros_like(t)
+    out = {"kinetic_levers": zero, "main_shaft": zero, "dissipated_main_shaft": zero}
+    if not laws.free_levers:
+        return out
+    a, a_dot = lever_channels(laws, ch)
+    out["kinetic_levers"] = sum(0.5 * laws.lever_inertia * ch[f"pole_{j + 1}_lever_velocity"] ** 2
+                                for j in laws.free_levers)
+    out["main_shaft"] = sum(0.5 * laws.segment_stiffness * (a[j] - a[j + 1]) ** 2 for j in range(len(a) - 1))
+    rate = sum(laws.segment_damping * (a_dot[j] - a_dot[j + 1]) ** 2 for j in range(len(a) - 1))
+    out["dissipated_main_shaft"] = cumulative_trapezoid(rate, t, initial=0.0)
+    return out
+
+
 def _stop_parts(ch, b, t):
     """The end stop's and the holding latch's elastic energy (J) and what their dampers dissipated
     (J, cumulative): the damper's share of a stop's force (force - spring, clipped with it) times
@@ -211,10 +242,11 @@ def jump_integral(power: np.ndarray, t: np.ndarray, penetration: np.ndarray, con
     return np.concatenate([[0.0], np.cumsum(steps)])
 
 
-KINETIC = ("kinetic_cam", "pin_on_cam", "kinetic_spring", "kinetic_follower", "kinetic_poles")
+KINETIC = ("kinetic_cam", "pin_on_cam", "kinetic_spring", "kinetic_follower", "kinetic_levers", "kinetic_poles")
 POTENTIAL = ("closing_springs", "cam_weight", "spring_weight", "opening_spring", "wipe_and_rods", "contacts", "pole_loads",
-             "end_stop", "hold_latch")
-DISSIPATED = ("dissipated_friction", "dissipated_damping", "dissipated_end_stop", "dissipated_hold_latch")
+             "end_stop", "hold_latch", "main_shaft")
+DISSIPATED = ("dissipated_friction", "dissipated_damping", "dissipated_end_stop", "dissipated_hold_latch",
+              "dissipated_main_shaft")
 
 
 def energy_balance(result: SimulationResult, rig: Rig) -> dict:
@@ -240,6 +272,7 @@ def energy_balance(result: SimulationResult, rig: Rig) -> dict:
 #: Where the springs' energy can go, in order, with readable names
 SPLIT_TERMS = (("kinetic_cam", "cam (kinetic)"), ("pin_on_cam", "springs' pin mass on the cam (kinetic)"),
                ("kinetic_spring", "spring coils (kinetic)"), ("kinetic_follower", "follower (kinetic)"),
+               ("kinetic_levers", "pole levers on the main shaft (kinetic)"),
                ("kinetic_poles", "poles (kinetic)"), ("opening_spring", "opening spring (charged)"),
                ("wipe_and_rods", "wipe springs and push rods"), ("contacts", "contacts (elastic)"),
                ("cam_weight", "cam's weight (raised)"), ("spring_weight", "springs' weight (raised)"),
@@ -247,7 +280,9 @@ SPLIT_TERMS = (("kinetic_cam", "cam (kinetic)"), ("pin_on_cam", "springs' pin ma
                ("dissipated_damping", "contact and rod damping (dissipated)"),
                ("end_stop", "end stop (elastic)"), ("hold_latch", "holding latch (elastic)"),
                ("dissipated_end_stop", "end stop's damper (dissipated)"),
-               ("dissipated_hold_latch", "holding latch's damper (dissipated)"))
+               ("dissipated_hold_latch", "holding latch's damper (dissipated)"),
+               ("main_shaft", "main shaft's twist (elastic)"),
+               ("dissipated_main_shaft", "main shaft's torsional damping (dissipated)"))
 
 
 def energy_split(result: SimulationResult, rig: Rig, at: float, parts: dict | None = None) -> dict:
@@ -419,3 +454,23 @@ def figures_of_merit(result: SimulationResult, rig: Rig) -> dict:
         "per_pole": {"touch_s": touches, "touch_speed_m_s": speeds, "closing_speed_m_s": zone_speeds, "bounces": bounces,
                      "bounce_duration_s": bounce_times},
     }
+
+
+def main_shaft_twist(result: SimulationResult, rig: Rig) -> dict | None:
+    """The main shaft's twist over a closing (``breaker.main_shaft``; None for a rigid shaft): the
+    largest angle (rad) between any two pole levers before the first touch (``before_touch_rad``; the
+    whole run if no pole touches), over the run (``largest_rad``) and at its end (``end_rad``, the
+    closed rest when the run reaches it), each also as travel at the pole (m: twist times
+    ``follower.output_arm``)."""
+    laws = BreakerLaws.of_rig(rig, result.spec)
+    if not laws.free_levers:
+        return None
+    angles, _ = lever_channels(laws, result.channels)
+    spread = np.ptp(np.stack(angles), axis=0)
+    touch = figures_of_merit(result, rig)["first_touch_s"]
+    before = result.t <= touch if touch is not None else np.ones_like(result.t, bool)
+    out = {"before_touch_rad": float(np.max(spread[before])), "largest_rad": float(np.max(spread)),
+           "end_rad": float(spread[-1])}
+    arm = rig.breaker.follower.output_arm
+    out.update({key.replace("_rad", "_m"): value * arm for key, value in list(out.items())})
+    return out

@@ -12,6 +12,7 @@ import numpy as np
 from ..laws.breaker import pole_gaps
 from ..records.signals import decay_shape, swing_peaks
 from .base import experiment_of, measured_only
+from .closing_evaluation import main_shaft_twist
 
 if TYPE_CHECKING:
     from ..model.result import SimulationResult
@@ -67,7 +68,7 @@ def closing_summary(result: SimulationResult, rig: Rig) -> list[tuple]:
               ("rebound (follower travel back below its final position after the peak)", fom["rebound_m"], "m"),
               ("follower travel settled (within 0.05 mm of its final position)", fom["travel_settled_s"], "s"),
               ("peak cam-roller force", fom["peak_cam_roller_force_N"], "N")]
-    return lines + stop_summary(result, rig) + closing_notes(fom, rig)
+    return lines + stop_summary(result, rig) + twist_summary(result, rig) + closing_notes(fom, rig)
 
 
 def closing_notes(fom: dict, rig: Rig) -> list[tuple]:
@@ -99,6 +100,21 @@ def closing_notes(fom: dict, rig: Rig) -> list[tuple]:
         notes.append(f"the run ends at {end_ms:.4g} ms with the cam still turning ({fom['shaft_velocity_end_rad_s']:.3g} "
                      f"rad/s at {fom['cam_angle_end_deg']:.1f} deg): not at rest; a longer --t-end shows where it stops")
     return [("note", text, None) for text in notes]
+
+
+def twist_summary(result: SimulationResult, rig: Rig) -> list[tuple]:
+    """[(what, value, unit)] of the main shaft's twist (``breaker.main_shaft``; none for a rigid
+    shaft): the largest angle between two pole levers before the first touch, over the run and at
+    its end, in rad and as travel at the pole (m)."""
+    twist = main_shaft_twist(result, rig)
+    if twist is None:
+        return []
+    lines = []
+    for key, what in (("before_touch", "before the first touch"), ("largest", "over the run"),
+                      ("end", "at the end of the run")):
+        lines += [(f"main shaft's largest twist {what}", twist[f"{key}_rad"], "rad"),
+                  (f"  as travel at the pole (twist x output arm) {what}", twist[f"{key}_m"], "m")]
+    return lines
 
 
 def stop_summary(result: SimulationResult, rig: Rig) -> list[tuple]:

@@ -27,8 +27,8 @@ The cam profile, the follower's kinematics and the cam-roller contact's geometry
 from __future__ import annotations
 
 import math
-from collections.abc import Iterable
-from dataclasses import dataclass
+from collections.abc import Iterable, Sequence
+from dataclasses import dataclass, field
 
 import numpy as np
 from scipy.optimize import brentq
@@ -39,7 +39,7 @@ from .cam_follower import (  # noqa: F401 -- re-exported: the breaker's laws are
     TWO_PI, polynomial_rise, pitch_radius, follower_point, roller_centre, output_point, angle_on_circle, Geometry,
     rest_geometry, CamRollerContact, cam_roller_contact, cam_roller_loads, kinematic_follower_angle, pressure_angle_curve, follower_displacement)
 from .friction import NumericOps
-from .mechanics import cam_pin, cam_weight_torque, massless_spring_force
+from .mechanics import cam_pin, cam_weight_torque, massless_spring_force, shaft_torsional_stiffness
 from .types import Ops, Scalar
 
 
@@ -111,6 +111,58 @@ class HoldLatch:
     arm: float  # m
     stiffness: float  # N/m
     damping: float  # N s/m
+
+
+@dataclass(frozen=True)
+class MainShaft:
+    """The main shaft that carries the pole levers (rig section ``breaker.main_shaft``): pole
+    levers 1..n along it in pole order, ``pole_pitch`` (m) apart; a round shaft of ``diameter``
+    (m) with a ``bore`` (m, 0: solid) and ``shear_modulus`` (Pa), so each segment between two
+    levers has the torsional stiffness :func:`segment_stiffness` (N m/rad) and the torsional
+    ``damping`` (N m s/rad); each pole lever has ``lever_inertia`` (kg m^2, its share of the
+    follower's inertia); the lever of pole ``drive_pole`` (1..n) sits at the drive, rigid with the
+    roller's follower lever. Absent (None): a rigid shaft, every rod on the follower."""
+
+    pole_pitch: float  # m
+    diameter: float  # m
+    bore: float  # m
+    shear_modulus: float  # Pa
+    damping: float  # N m s/rad per segment
+    lever_inertia: float  # kg m^2 per pole lever
+    drive_pole: int  # 1..poles.count
+
+
+def segment_stiffness(shaft: MainShaft) -> float:
+    """Torsional stiffness (N m/rad) of one shaft segment between adjacent pole levers:
+    G pi (d^4 - d_i^4) / 32 / pole_pitch (:func:`vcbmodel.laws.mechanics.shaft_torsional_stiffness`)."""
+    return shaft_torsional_stiffness(shaft.diameter, shaft.shear_modulus, shaft.bore) / shaft.pole_pitch
+
+
+def segment_torque(a_j: Scalar, a_next: Scalar, rate_j: Scalar, rate_next: Scalar, stiffness: Scalar, damping: Scalar,
+                   ops: Ops = NumericOps) -> Scalar:
+    """Torque (N m) of the shaft segment between lever j and lever j+1 (angles rad, speeds rad/s):
+    T = k (a_j - a_{j+1}) + c (a_j' - a_{j+1}') with the segment's stiffness k (N m/rad) and
+    damping c (N m s/rad); it acts +T on lever j+1 and -T on lever j. Linear: ``ops`` is not
+    needed, kept for the laws' signature."""
+    return stiffness * (a_j - a_next) + damping * (rate_j - rate_next)
+
+
+def torsional_frequencies(shaft: MainShaft, poles, output_arm: float) -> np.ndarray:
+    """Natural frequencies (Hz, ascending) of the pole levers twisting the shaft with the drive
+    lever held (the cam, the springs and the roller hold it): each free lever with its inertia and
+    its pole's mass reflected through a stiff rod (moving_mass output_arm^2), the segments'
+    stiffness between them. An estimate: the rods' and wipe springs' own compliance is left out."""
+    n, drive = poles.count, shaft.drive_pole - 1
+    k = segment_stiffness(shaft)
+    stiff = np.zeros((n, n))
+    for j in range(n - 1):
+        stiff[j:j + 2, j:j + 2] += k * np.array([[1.0, -1.0], [-1.0, 1.0]])
+    free = [j for j in range(n) if j != drive]
+    if not free:
+        return np.zeros(0)
+    inertia = shaft.lever_inertia + poles.moving_mass * output_arm**2
+    w2 = np.linalg.eigvalsh(stiff[np.ix_(free, free)] / inertia)
+    return np.sqrt(np.maximum(w2, 0.0)) / (2.0 * math.pi)
 
 
 def end_stop_force(theta: Scalar, omega: Scalar, stop: EndStop, ops: Ops = NumericOps) -> Scalar:
@@ -189,12 +241,14 @@ def update_impact_speeds(impact: list, state: Iterable[tuple[Scalar, Scalar]], o
 
 @dataclass
 class InitialState:
-    """Static rest held by the latch: follower angle (rad), pole travels (m) and the latch's
-    holding torque on the cam (N m)."""
+    """Static rest held by the latch: follower angle (rad), pole travels (m), the latch's
+    holding torque on the cam (N m) and, with a main shaft (``breaker.main_shaft``), the free pole
+    levers' angles (rad, in pole order without the drive pole's; empty for a rigid shaft)."""
 
     follower_angle: float
     pole_travel: list
     holding_torque: float
+    lever_angles: list = field(default_factory=list)
 
 
 class BreakerLaws:
@@ -236,6 +290,24 @@ class BreakerLaws:
         latch = breaker.latch_point
         self.latch_arm = cam.arm_length if latch.arm is None else latch.arm
         self.latch_angle = latch.angle
+        self._main_shaft(breaker)
+
+    def _main_shaft(self, breaker) -> None:
+        """The pole levers on the main shaft (``breaker.main_shaft``): ``drive`` (the drive pole's
+        index, 0-based), ``free_levers`` (the other poles' indices, each its own coordinate), the
+        segments' stiffness (N m/rad) and damping (N m s/rad), and the inertia (kg m^2) left on the
+        follower's coordinate: the whole ``follower.inertia`` without the free levers'."""
+        shaft, f = breaker.main_shaft, breaker.follower
+        if shaft is None:
+            self.drive, self.free_levers = 0, ()
+            self.segment_stiffness = self.segment_damping = self.lever_inertia = 0.0
+            self.follower_inertia = f.inertia
+            return
+        self.drive = shaft.drive_pole - 1
+        self.free_levers = tuple(j for j in range(breaker.poles.count) if j != self.drive)
+        self.segment_stiffness, self.segment_damping = segment_stiffness(shaft), shaft.damping
+        self.lever_inertia = shaft.lever_inertia
+        self.follower_inertia = f.inertia - len(self.free_levers) * shaft.lever_inertia
 
     @classmethod
     def of_rig(cls, rig, spec) -> BreakerLaws:
@@ -339,6 +411,44 @@ class BreakerLaws:
         length = self.b.poles.push_rod_length - self.rod_rest_compression()
         return fy + math.sqrt(length * length - (self.pin_rest[0] - fx) ** 2) - self.pin_rest[1]
 
+    # -- the pole levers on the main shaft (breaker.main_shaft)
+    def lever_angles(self, phi: Scalar, psi: Sequence) -> list:
+        """Every pole lever's angle (or speed), in pole order: the follower's ``phi`` for the drive
+        pole's lever, ``psi`` (the free levers', in pole order) for the others; ``phi`` for every
+        pole on a rigid shaft."""
+        if not self.free_levers:
+            return [phi] * self.b.poles.count
+        a = list(psi)
+        a.insert(self.drive, phi)
+        return a
+
+    def shaft_torques(self, a: Sequence, a_dot: Sequence, ops: Ops = NumericOps) -> list:
+        """The segments' torques (N m) on every pole lever (angles rad, speeds rad/s, pole order):
+        :func:`segment_torque` of each segment, +T on lever j+1 and -T on lever j."""
+        out = [0.0] * len(a)
+        for j in range(len(a) - 1):
+            torque = segment_torque(a[j], a[j + 1], a_dot[j], a_dot[j + 1], self.segment_stiffness,
+                                    self.segment_damping, ops)
+            out[j], out[j + 1] = out[j] - torque, out[j + 1] + torque
+        return out
+
+    def lever_torques(self, theta: Scalar, omega: Scalar, phi: Scalar, phi_dot: Scalar, psi: Sequence, psi_dot: Sequence,
+                      z: Sequence, z_dot: Sequence, impact_speed: Scalar = 0.0,
+                      ops: Ops = NumericOps) -> tuple[Scalar, list, tuple[Scalar, Scalar, Scalar]]:
+        """(torque N m on the follower's coordinate, torques N m on the free pole levers, the
+        roller's loads on the cam as :meth:`follower_torque`'s). Each push rod acts on its own
+        lever, the segments between the levers, the roller and the opening spring on the follower
+        (which carries the drive pole's lever). A rigid shaft: :meth:`follower_torque`, no levers."""
+        if not self.free_levers:
+            t_fol, cam = self.follower_torque(theta, omega, phi, phi_dot, z, z_dot, impact_speed, ops)
+            return t_fol, [], cam
+        a, a_dot = self.lever_angles(phi, psi), self.lever_angles(phi_dot, psi_dot)
+        t_cam, t_fol, fx, fy = self.roller_loads(theta, omega, phi, phi_dot, impact_speed, ops)
+        t_fol += self.opening(phi, ops)[1]
+        shaft = self.shaft_torques(a, a_dot, ops)
+        levers = [self.rod_loads(a[j], a_dot[j], z[j], z_dot[j], ops)[1] + shaft[j] for j in range(len(a))]
+        return t_fol + levers[self.drive], [levers[j] for j in self.free_levers], (t_cam, fx, fy)
+
     def follower_torque(self, theta: Scalar, omega: Scalar, phi: Scalar, phi_dot: Scalar, z: Scalar, z_dot: Scalar, impact_speed: Scalar = 0.0,
                         ops: Ops = NumericOps) -> tuple[Scalar, tuple[Scalar, Scalar, Scalar]]:
         """Total torque (N m) on the follower and the roller's loads on the cam."""
@@ -348,17 +458,45 @@ class BreakerLaws:
             t_fol += self.rod_loads(phi, phi_dot, zi, zi_dot, ops)[1]
         return t_fol, (t_cam, fx, fy)
 
+    def rest_torques(self, theta: float, phi: float, psi: Sequence) -> tuple[float, list, tuple]:
+        """:meth:`lever_torques` at rest (every speed zero), each pole at its rod's rest compression
+        on its own lever (:meth:`rest_pole_travel`)."""
+        n = self.b.poles.count
+        z = [self.rest_pole_travel(a) for a in self.lever_angles(phi, psi)] if self.free_levers else \
+            [self.rest_pole_travel(phi)] * n  # one value for every pole (as before the main shaft)
+        return self.lever_torques(theta, 0.0, phi, 0.0, psi, [0.0] * len(psi), z, [0.0] * n)
+
+    def rest_levers(self, theta: float, phi: float) -> list:
+        """The free pole levers' angles (rad) in torque balance (rods at rest, the segments twisted
+        by them) with the follower at ``phi``: Newton's method on the levers' torques, the Jacobian
+        by differences (the rods' torques change little with the angle; the segments dominate)."""
+        psi = np.full(len(self.free_levers), float(phi))
+        if not psi.size:
+            return []
+        h = 1e-7
+        for _ in range(30):
+            r = np.array(self.rest_torques(theta, phi, psi)[1])
+            jac = np.empty((psi.size, psi.size))
+            for k in range(psi.size):
+                d = psi.copy()
+                d[k] += h
+                jac[:, k] = (np.array(self.rest_torques(theta, phi, d)[1]) - r) / h
+            step = np.linalg.solve(jac, r)
+            psi = psi - step
+            if np.max(np.abs(step)) <= 1e-15:
+                break
+        return [float(x) for x in psi]
+
     def initial_state(self, spring_pull, pin_weight_torque=0.0) -> InitialState:
         """Static rest at the cam's initial angle; ``spring_pull`` (N, N) is the closing
         springs' pull on pin B there, ``pin_weight_torque`` (N m) the weight of the springs'
-        pin mass about A when the springs carry weight."""
+        pin mass about A when the springs carry weight. With a main shaft every pole lever is in
+        torque balance too (:meth:`rest_levers`): the follower's balance takes the whole shaft's."""
         cam = self.cam
         theta = cam.initial_angle
-        n = self.b.poles.count
 
         def torque(phi):
-            z = [self.rest_pole_travel(phi)] * n
-            return self.follower_torque(theta, 0.0, phi, 0.0, z, [0.0] * n)[0]
+            return self.rest_torques(theta, phi, self.rest_levers(theta, phi))[0]
 
         phi_rest = self.geometry.follower_angle
         span = 1e-3
@@ -369,13 +507,14 @@ class BreakerLaws:
                                   "opening spring's preload against the poles' bellows and push-rod forces, and the "
                                   "contact values (stiffness, exponent)")
         phi = brentq(torque, lo, hi, xtol=1e-15)
-        z = [self.rest_pole_travel(phi)] * n
-        _, (t_cam, _, _) = self.follower_torque(theta, 0.0, phi, 0.0, z, [0.0] * n)
+        psi = self.rest_levers(theta, phi)
+        _, _, (t_cam, _, _) = self.rest_torques(theta, phi, psi)
+        z = [self.rest_pole_travel(a) for a in self.lever_angles(phi, psi)]
         bx, by = cam_pin(theta, cam)
         fx, fy = spring_pull
         spring_and_weight = ((bx - cam.pivot[0]) * fy - (by - cam.pivot[1]) * fx
                              + cam_weight_torque(theta, cam, self.gravity) + pin_weight_torque)
-        return InitialState(phi, z, -(spring_and_weight + t_cam))
+        return InitialState(phi, z, -(spring_and_weight + t_cam), psi)
 
     def latch_impact_speeds(self, impact: list, theta: Scalar, omega: Scalar, phi: Scalar, phi_dot: Scalar, z: Scalar, z_dot: Scalar,
                             ops: Ops = NumericOps) -> CamRollerContact:

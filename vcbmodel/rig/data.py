@@ -10,7 +10,7 @@ from __future__ import annotations
 from collections.abc import Sequence
 from dataclasses import dataclass, field, replace
 
-from ..laws.breaker import CamRollerLaw, EndStop, HoldLatch, LatchPoint
+from ..laws.breaker import CamRollerLaw, EndStop, HoldLatch, LatchPoint, MainShaft
 from .spring_model import SpringModel
 
 
@@ -140,6 +140,7 @@ class Breaker:
     speed_zone: tuple = (0.004, 0.0)  # m before touch: the travel zone of the closing speed (breaker.speed_zone)
     end_stop: EndStop | None = None  # the closing end stop (breaker.end_stop); None: not modelled
     hold_latch: HoldLatch | None = None  # the holding latch (breaker.hold_latch); None: not modelled
+    main_shaft: MainShaft | None = None  # the pole levers' shaft (breaker.main_shaft); None: rigid, not modelled
 
 
 # --- the rig ------------------------------------------------------------------------------------

@@ -12,7 +12,7 @@ import numpy as np
 
 from .. import parameters as P
 
-from ..laws.breaker import CamRollerLaw, EndStop, HoldLatch, LatchPoint
+from ..laws.breaker import CamRollerLaw, EndStop, HoldLatch, LatchPoint, MainShaft
 from ..laws.cam_follower import (MAX_PRESSURE_ANGLE, TWO_PI, pitch_radius, pressure_angle_curve, profile_spline,
                                  profile_table, rest_geometry, undercut)
 from ..laws.contact import CAM_ROLLER_LAWS, DAMPING_LAWS
@@ -178,7 +178,7 @@ def read_cam_and_spring(rd: Reader, data: dict) -> dict:
 
 BREAKER_KEYS = {
     "": ("cam_profile", "roller_radius", "follower", "poles", "opening_spring", "contact", "latch", "speed_zone",
-         "end_stop", "hold_latch"),
+         "end_stop", "hold_latch", "main_shaft"),
     "cam_profile": ("base_radius", "lift", "rise_start", "rise_end", "return_start", "return_end", "points",
                     "radius_points", "smoothing"),
     "follower": ("pivot", "inertia", "roller_arm", "output_arm", "output_angle", "rest_angle"),
@@ -190,6 +190,7 @@ BREAKER_KEYS = {
     "latch": ("release_time", "arm", "angle"),
     "end_stop": ("angle", "arm", "stiffness", "damping"),
     "hold_latch": ("angle", "arm", "stiffness", "damping"),
+    "main_shaft": ("pole_pitch", "diameter", "bore", "shear_modulus", "damping", "lever_inertia", "drive_pole"),
 }
 
 
@@ -239,7 +240,7 @@ def read_breaker(rd, data, cam) -> Breaker:
     end_stop, hold_latch = read_stops(rd, b, cam)
     breaker = Breaker(profile, roller_radius, follower, poles, opening,
                       contact, release, roller_law, latch_point,
-                      read_speed_zone(rd, b, poles), end_stop, hold_latch)
+                      read_speed_zone(rd, b, poles), end_stop, hold_latch, read_main_shaft(rd, b, follower, poles))
     try:
         rest_geometry(breaker, cam.pivot)
     except ValueError as e:
@@ -304,6 +305,39 @@ def read_stops(rd: Reader, b: dict, cam: Cam) -> tuple[EndStop | None, HoldLatch
         rd.fail("breaker.hold_latch.angle", f"{latch.angle:g} rad is beyond the end stop's {stop.angle:g} rad: the "
                 "pawl could only engage with the cam pressed into the stop; put it at or before the stop's angle")
     return stop, latch
+
+
+def read_main_shaft(rd: Reader, b: dict, follower: Follower, poles: Poles) -> MainShaft | None:
+    """``breaker.main_shaft``: optional (absent: a rigid shaft, not modelled); when present every
+    field is required: ``pole_pitch``, ``diameter`` (m, > 0), ``bore`` (m, 0 <= bore < diameter),
+    ``shear_modulus`` (Pa, > 0), ``damping`` (N m s/rad, >= 0), ``lever_inertia`` (kg m^2, > 0;
+    the follower keeps ``follower.inertia`` less the other poles' levers, which must stay > 0) and
+    ``drive_pole`` (whole number 1..poles.count)."""
+    if "main_shaft" not in b:
+        return None
+    p = "breaker.main_shaft."
+    s = without_comments(rd.optional_section(b, "main_shaft", "breaker.", BREAKER_KEYS["main_shaft"]))
+    for name in BREAKER_KEYS["main_shaft"]:
+        if name not in s:
+            rd.fail(p + name, "missing: a main shaft needs pole_pitch (m), diameter (m), bore (m, 0: solid), "
+                    "shear_modulus (Pa), damping (N m s/rad), lever_inertia (kg m^2) and drive_pole; leave out the "
+                    "whole breaker.main_shaft section for a rigid shaft")
+    shaft = MainShaft(pole_pitch=rd.number(s, "pole_pitch", p, positive=True),
+                      diameter=rd.number(s, "diameter", p, positive=True),
+                      bore=rd.number(s, "bore", p, nonnegative=True),
+                      shear_modulus=rd.number(s, "shear_modulus", p, positive=True),
+                      damping=rd.number(s, "damping", p, nonnegative=True),
+                      lever_inertia=rd.number(s, "lever_inertia", p, positive=True),
+                      drive_pole=rd.count(s, "drive_pole", p))
+    if shaft.bore >= shaft.diameter:
+        rd.fail(p + "bore", f"{shaft.bore:g} m is not smaller than the diameter ({shaft.diameter:g} m)")
+    if shaft.drive_pole > poles.count:
+        rd.fail(p + "drive_pole", f"{shaft.drive_pole} is not a pole: the breaker has {poles.count} (1..{poles.count})")
+    rest = follower.inertia - (poles.count - 1) * shaft.lever_inertia
+    if rest <= 0.0:
+        rd.fail(p + "lever_inertia", f"{poles.count - 1} levers of {shaft.lever_inertia:g} kg m^2 take all of "
+                f"follower.inertia ({follower.inertia:g} kg m^2, the whole assembly): nothing left for the follower")
+    return shaft
 
 
 #: The closing speed's default zone (m before each pole's touch): the last 4 mm, where a vacuum gap
