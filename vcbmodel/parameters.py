@@ -142,6 +142,27 @@ PAPER_SPRING_MASS = 0.25 * 3.141592653589793**2 * 0.3364
 #: Pull of each closing spring (N) charged (cam at 10 deg) and at the springs' dead centre (180 deg).
 REFERENCE_SPRING_CHARGED = 3000.0
 REFERENCE_SPRING_DISCHARGED = 500.0
+#: The main shaft that carries the pole levers (rig section breaker.main_shaft; its twist modelled
+#: by laws.breaker.segment_torque, estimated statically by laws.mechanics.main_shaft_twist):
+#: - solid steel, 40 mm (the review's estimate), G 79.3 GPa; pole centres 210 mm apart (12 kV panels
+#:   space poles 150-275 mm; 210 mm is the middle choice); driven at the first pole's side
+#:   (drive_pole 1, the worst case: the segment next to the drive carries two poles' torque). Each
+#:   segment: G pi d^4 / 32 / pitch = 94.9 kN m/rad;
+#: - lever_inertia 0.0075 kg m^2: a forged steel pole lever as long as the follower's output arm
+#:   (L = 0.16 m), a 40 x 15 mm bar (0.754 kg; m L^2 / 3 = 0.0064 kg m^2 about the shaft; it carries
+#:   the 3.5 kN closed rod force at 0.16 m at 160 MPa of bending stress), its hub 70 mm across on
+#:   the 40 mm shaft, 40 mm wide (0.81 kg; m (R^2 + r^2) / 2 = 0.0007 kg m^2), and a pitch of the
+#:   shaft (2.07 kg; m r^2 / 2 = 0.0004 kg m^2): 0.0075 kg m^2 of follower.inertia's 0.08;
+#: - damping 2.6 N m s/rad per segment: 2 % of the critical damping 2 sqrt(k J) of one segment with
+#:   a lever and its pole's mass reflected through the rod (J = 0.0075 + 1.5 kg x 0.16^2 m^2 =
+#:   0.046 kg m^2: 2 x 0.02 x sqrt(94.9e3 x 0.046) = 2.6). A judgement: the steel's own damping is
+#:   well below 1 %; keyed or clamped joints add to it; US NRC Regulatory Guide 1.61 (rev. 1, 2007)
+#:   takes 2-4 % for welded and 4-7 % for bolted steel structures; we take the low end, 2 %.
+#: Torsional modes (laws.breaker.torsional_frequencies, the drive lever held, the poles' mass
+#: reflected): 141 and 370 Hz; a free lever against its stiff rod rings at about 1.5 kHz: 65 steps
+#: per period at BREAKER_STEP (1e-5 s), as the cam-roller contact's 1.7 kHz.
+MAIN_SHAFT_SECTION = {"pole_pitch": 0.21, "diameter": 0.04, "bore": 0.0, "shear_modulus": 79.3e9, "damping": 2.6,
+                      "lever_inertia": 0.0075, "drive_pole": 1}
 #: A 12 kV, 40 kA class three-pole vacuum breaker driven by the paper's springs read as above (the
 #: paper gives the rating, the closing time of about 30 ms and the spring forces, not the breaker).
 #: Every value below with its reason; published sources are cited by the short names at the end.
@@ -249,6 +270,7 @@ REFERENCE_BREAKER_SECTION = {
     "latch": {"release_time": 0.002, "arm": 0.051935, "angle": 0.0},
     "end_stop": {"angle": 4.36332, "arm": 0.06, "stiffness": 2e6, "damping": 6e3},
     "hold_latch": {"angle": 4.32842, "arm": 0.06, "stiffness": 5e7, "damping": 5e3},
+    "main_shaft": MAIN_SHAFT_SECTION,
 }
 REFERENCE_BREAKER = dict(
     REFERENCE_CAM, name="reference 12 kV / 40 kA breaker closing (paper section 4)", experiment="vcb_closing",
@@ -263,37 +285,16 @@ REFERENCE_BREAKER = dict(
 #: The reference breaker before issue 19, kept for the closing study's before/after table
 #: (studies/vcb_closing.py): REFERENCE_CAM's cam and springs (2 x 6000 N springs of 0.3364 kg on a
 #: 6 kg, 0.05 kg m^2 cam: a flywheel holding 1234 of the 1354 J released at the first touch), a
-#: 12-285 deg rise, lumped-2 in the paper's convention, no end stop or holding latch. Not a breaker
+#: 12-285 deg rise, lumped-2 in the paper's convention, no end stop, holding latch or main shaft. Not a breaker
 #: anyone could build.
 FORMER_REFERENCE_BREAKER = dict(
     REFERENCE_CAM, name="reference breaker before issue 19 (springs read as 2 x 6000 N, 0.3364 kg)",
     experiment="vcb_closing",
-    breaker=dict({k: v for k, v in REFERENCE_BREAKER_SECTION.items() if k not in ("end_stop", "hold_latch")},
+    breaker=dict({k: v for k, v in REFERENCE_BREAKER_SECTION.items() if k not in ("end_stop", "hold_latch", "main_shaft")},
                  cam_profile=dict(REFERENCE_BREAKER_SECTION["cam_profile"], rise_end=4.97419, return_start=5.67232),
                  follower=dict(REFERENCE_BREAKER_SECTION["follower"], pivot=[0.3445, 0.065]),
                  latch=dict(REFERENCE_BREAKER_SECTION["latch"], arm=0.1032)),
     model=dict(REFERENCE_BREAKER["model"], lumped_convention="paper"))
-#: The main shaft that carries the pole levers (rig section breaker.main_shaft; its twist modelled
-#: by laws.breaker.segment_torque, estimated statically by laws.mechanics.main_shaft_twist):
-#: - solid steel, 40 mm (the review's estimate), G 79.3 GPa; pole centres 210 mm apart (12 kV panels
-#:   space poles 150-275 mm; 210 mm is the middle choice); driven at the first pole's side
-#:   (drive_pole 1, the worst case: the segment next to the drive carries two poles' torque). Each
-#:   segment: G pi d^4 / 32 / pitch = 94.9 kN m/rad;
-#: - lever_inertia 0.0075 kg m^2: a forged steel pole lever as long as the follower's output arm
-#:   (L = 0.16 m), a 40 x 15 mm bar (0.754 kg; m L^2 / 3 = 0.0064 kg m^2 about the shaft; it carries
-#:   the 3.5 kN closed rod force at 0.16 m at 160 MPa of bending stress), its hub 70 mm across on
-#:   the 40 mm shaft, 40 mm wide (0.81 kg; m (R^2 + r^2) / 2 = 0.0007 kg m^2), and a pitch of the
-#:   shaft (2.07 kg; m r^2 / 2 = 0.0004 kg m^2): 0.0075 kg m^2 of follower.inertia's 0.08;
-#: - damping 2.6 N m s/rad per segment: 2 % of the critical damping 2 sqrt(k J) of one segment with
-#:   a lever and its pole's mass reflected through the rod (J = 0.0075 + 1.5 kg x 0.16^2 m^2 =
-#:   0.046 kg m^2: 2 x 0.02 x sqrt(94.9e3 x 0.046) = 2.6). A judgement: the steel's own damping is
-#:   well below 1 %; keyed or clamped joints add to it; US NRC Regulatory Guide 1.61 (rev. 1, 2007)
-#:   takes 2-4 % for welded and 4-7 % for bolted steel structures; we take the low end, 2 %.
-#: Torsional modes (laws.breaker.torsional_frequencies, the drive lever held, the poles' mass
-#: reflected): 141 and 370 Hz; a free lever against its stiff rod rings at about 1.5 kHz: 65 steps
-#: per period at BREAKER_STEP (1e-5 s), as the cam-roller contact's 1.7 kHz.
-MAIN_SHAFT_SECTION = {"pole_pitch": 0.21, "diameter": 0.04, "bore": 0.0, "shear_modulus": 79.3e9, "damping": 2.6,
-                      "lever_inertia": 0.0075, "drive_pole": 1}
 #: MAIN_SHAFT_SECTION for the static twist table (studies/vcb_closing.py), with each pole lever's
 #: arm: the follower's output arm.
 MAIN_SHAFT = dict(MAIN_SHAFT_SECTION, lever_arm=REFERENCE_BREAKER_SECTION["follower"]["output_arm"])

@@ -2,7 +2,9 @@
 solve, energy, convergence, figures of merit, rig fields, diagnosis.
 
 Tolerances are set from measured numbers (given in each test) with a margin of 2-5x, small
-enough that a wrong model fails them."""
+enough that a wrong model fails them. The breaker here is the reference breaker on a rigid main shaft
+(REFERENCE, its ``breaker.main_shaft`` section removed): these numbers and the independent solve are
+the rigid model's; the shaft's twist is tested in test_main_shaft.py."""
 import copy
 import json
 import math
@@ -27,6 +29,9 @@ from vcbmodel.laws.springs import chain_for
 from vcbmodel.records.measurement import write_measurement
 from vcbmodel.reference.breaker import solve_closing
 
+#: The reference breaker (parameters.py) on a rigid main shaft
+REFERENCE = copy.deepcopy(P.REFERENCE_BREAKER)
+REFERENCE["breaker"].pop("main_shaft", None)
 T_END = 0.043  # s: the reference breaker's last pole touches at 39.1 ms, its bounces end by 41 ms
 FULL_T_END = P.BREAKER_T_END
 
@@ -53,7 +58,7 @@ def former_breaker(preload=1200.0):
 
 @pytest.fixture(scope="module")
 def rig(tmp_path_factory):
-    return load_rig(write(tmp_path_factory.mktemp("breaker"), P.REFERENCE_BREAKER))
+    return load_rig(write(tmp_path_factory.mktemp("breaker"), REFERENCE))
 
 
 @pytest.fixture(scope="module")
@@ -187,7 +192,7 @@ def test_line_contact_is_the_reference_law(rig, laws):
 
 def test_breaker_rests_while_the_latch_holds(tmp_path):
     """The static rest state is an equilibrium of the Exudyn model: nothing moves."""
-    d = copy.deepcopy(P.REFERENCE_BREAKER)
+    d = copy.deepcopy(REFERENCE)
     d["breaker"]["latch"]["release_time"] = 1.0
     d["friction"] = {}
     d["model"] = {"effects": ["bellows_force"], "spring_model": "massless"}
@@ -268,10 +273,10 @@ def test_latch_force_enters_the_shaft_reaction(tmp_path):
     at 30 mm, perpendicular to A->B, holds with a larger force than at the pin (52 mm). Measured:
     the touches come 81 us earlier (98 us before issue 19); Exudyn and the independent solve agree
     to 27 ns on both (the first-order penetration's share)."""
-    d = copy.deepcopy(P.REFERENCE_BREAKER)
+    d = copy.deepcopy(REFERENCE)
     d["breaker"]["latch"].update(arm=0.03, angle=math.pi / 2)
     near = load_rig(write(tmp_path, d, "near.rig.json"))
-    pin = load_rig(write(tmp_path, P.REFERENCE_BREAKER, "pin.rig.json"))
+    pin = load_rig(write(tmp_path, REFERENCE, "pin.rig.json"))
     effects = ("coulomb_friction", "stribeck", "contact_damping", "bellows_force")
     dn, an, rn = compare_with_independent(near, "massless", "literal", effects=effects)
     dp, ap, rp = compare_with_independent(pin, "massless", "literal", effects=effects)
@@ -451,7 +456,7 @@ def test_former_breaker_jumps_and_a_stronger_opening_spring_stops_it(tmp_path):
     (lambda d: d["breaker"]["latch"].__setitem__("angle", "up"), "breaker.latch.angle"),
 ])
 def test_bad_breaker_sections_name_the_field(tmp_path, edit, field):
-    d = copy.deepcopy(P.REFERENCE_BREAKER)
+    d = copy.deepcopy(REFERENCE)
     edit(d)
     with pytest.raises(InputError) as e:
         load_rig(write(tmp_path, d))
@@ -476,7 +481,7 @@ def test_breaker_effects_are_refused_on_a_cam_drop_rig(tmp_path):
 
 
 def test_cli_simulates_a_closing_and_writes_follower_displacement(tmp_path):
-    path = write(tmp_path, P.REFERENCE_BREAKER)
+    path = write(tmp_path, REFERENCE)
     out = tmp_path / "closing.csv"
     p = subprocess.run([sys.executable, "-m", "vcbmodel", "simulate", str(path), "--spring-model", "massless",
                         "--t-end", str(P.BREAKER_T_END), "-o", str(out)], capture_output=True, text=True, timeout=300)
@@ -492,7 +497,7 @@ def test_cli_simulates_a_closing_and_writes_follower_displacement(tmp_path):
 
 def hidden_effect_case(tmp_path, starting_effects, truth_values, seed):
 
-    d = copy.deepcopy(P.REFERENCE_BREAKER)
+    d = copy.deepcopy(REFERENCE)
     d["friction"] = {"stick_velocity": 1e-3} if "coulomb_friction" not in starting_effects else {
         "mu_k": truth_values["mu_k"], "stick_velocity": 1e-3}
     d["breaker"]["contact"].pop("restitution")

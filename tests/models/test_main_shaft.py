@@ -33,11 +33,16 @@ def with_shaft(**changes):
     return d
 
 
+#: The reference breaker on a rigid main shaft (its section removed)
+RIGID = copy.deepcopy(P.REFERENCE_BREAKER)
+RIGID["breaker"].pop("main_shaft", None)
+
+
 @pytest.fixture(scope="module")
 def rigs(tmp_path_factory):
     folder = tmp_path_factory.mktemp("shaft")
     return {"elastic": load_rig(write_rig(folder, with_shaft(), "elastic")),
-            "rigid": load_rig(write_rig(folder, P.REFERENCE_BREAKER, "rigid"))}
+            "rigid": load_rig(write_rig(folder, RIGID, "rigid"))}
 
 
 # --- the laws -----------------------------------------------------------------------------------
@@ -125,7 +130,7 @@ def test_check_prints_the_shaft_or_says_rigid(tmp_path, capsys):
     inertia = 0.0075 + 1.5 * 0.16**2
     first = math.sqrt(k / inertia * (3 - math.sqrt(5)) / 2) / (2 * math.pi)  # the two-mass chain, one end held
     assert f"first torsional frequency about {first:.0f} Hz" in out, out
-    assert main(["check", str(write_rig(tmp_path, P.REFERENCE_BREAKER, "rigid"))]) == 0
+    assert main(["check", str(write_rig(tmp_path, RIGID, "rigid"))]) == 0
     assert "main shaft: rigid, not modelled" in capsys.readouterr().out
 
 
@@ -140,6 +145,7 @@ def test_reference_section_numbers_are_as_documented(rigs):
     lever_mode = math.sqrt((b.poles.rod_stiffness * b.follower.output_arm**2 + 2 * k) / s.lever_inertia)
     assert 2 * math.pi / lever_mode / P.BREAKER_STEP > 50
     assert torsional_frequencies(s, b.poles, b.follower.output_arm)[-1] < 1000.0
+    assert P.REFERENCE_BREAKER["breaker"]["main_shaft"] == P.MAIN_SHAFT_SECTION
     assert "main_shaft" not in P.FORMER_REFERENCE_BREAKER["breaker"]
 
 
