@@ -36,11 +36,16 @@ Scoring (one rule for every record):
   the rig gives the mass: no fitted value).
 
 The gap is the rms residual before (starting model) and after (final model) in multiples of the
-true noise. Writes results/diagnosis_realism.{json,md,png}.
+true noise. Records are made and diagnosed RECORD_WORKERS at a time, each diagnosis with its own
+pool of simulation processes as alone; the records, their order and the summary are those of one
+at a time. Writes results/diagnosis_realism.{json,md,png}.
 """
 import math
+import multiprocessing
+import resource
 import tempfile
 import time
+from concurrent.futures import FIRST_COMPLETED, ProcessPoolExecutor, wait
 from pathlib import Path
 
 import numpy as np
@@ -59,6 +64,10 @@ FRICTION_PLAN = {"clean": 3, "correlated": 2, "all_potentiometer": 1, "lab": 1, 
 FRICTION_SEED = 31
 #: The final rms over the true noise above which a residual "stands above the noise".
 RESIDUAL_ABOVE_NOISE = 1.05
+#: Records made and diagnosed at once (worker processes, each diagnosis with its own pool of 2
+#: simulation processes as when alone). One diagnosis keeps about 0.7-0.9 of the 2 cores busy
+#: (its fits wait on their simulations), so two at a time fill them.
+RECORD_WORKERS = 2
 #: Parameters whose meaning a truth shares with the model, beyond mu_k and viscous (above).
 SHARED = {"hybrid": ("mu_s", "stribeck_velocity", "restitution", "bellows_force"), "tustin": ("mu_s",),
           "lugre": ("mu_s",), "position_torque": ("mu_s",), "dahl": ()}
@@ -110,9 +119,9 @@ def run_one(case, seed, complications, folder, t_end=None, friction_truth="hybri
     rig_path, meas_path, truth = realistic_record(case, seed, folder, complications, t_end=t_end,
                                                   friction_truth=friction_truth)
     rig, meas = load_pair(meas_path)
-    t0 = time.time()
+    t0, c0 = time.time(), cpu_seconds()
     d = diagnose(rig, meas, verbose=False)
-    seconds = time.time() - t0
+    seconds, cpu = time.time() - t0, cpu_seconds() - c0
     j = d.to_json()
     named = sorted(j["missing_effects"])
     sigma = truth["noise_sigma"]
@@ -127,7 +136,16 @@ def run_one(case, seed, complications, folder, t_end=None, friction_truth="hybri
             "verdict_right": bool(verdict_right), "rms_before_over_noise": j["rms_before"] / sigma,
             "rms_after_over_noise": after, "noise_estimate": j["noise_estimate"],
             "noise_correlation": j["noise_correlation"], "nuisance": j["nuisance"]["values"],
-            "comparisons": comparisons(j, truth), "seconds": seconds, "simulations": j["timing"]["simulations"]}
+            "comparisons": comparisons(j, truth), "seconds": seconds, "cpu_seconds": cpu,
+            "simulations": j["timing"]["simulations"], "budget_used_s": j["timing"]["budget_used_s"],
+            "budget_reached": j["timing"]["budget_reached"]}
+
+
+def cpu_seconds():
+    """Processor seconds (user + system) of this process and its finished children (a diagnosis'
+    simulation workers are joined when it ends)."""
+    own, kids = resource.getrusage(resource.RUSAGE_SELF), resource.getrusage(resource.RUSAGE_CHILDREN)
+    return own.ru_utime + own.ru_stime + kids.ru_utime + kids.ru_stime
 
 
 def figure(records, path):
@@ -245,8 +263,11 @@ def write_markdown(out, records, summary):
         "right when `explained` is true for a truth in the family and, for "
         f"one outside it, says whether the final rms exceeds {RESIDUAL_ABOVE_NOISE:g}x the true noise. Coverage: "
         "how often fitted +- 1.96 stderr (the final fit's) holds the truth, over the parameters whose meaning "
-        "the truth shares (study docstring); z = (fitted - truth) / stderr. Times on 2 cores "
-        f"(median {summary['seconds_median']:.1f} s, max {summary['seconds_max']:.0f} s).\n\n"
+        "the truth shares (study docstring); z = (fitted - truth) / stderr. Times: wall seconds of each "
+        f"diagnosis, {summary['record_workers']} records diagnosed at once on 2 cores (median "
+        f"{summary['seconds_median']:.1f} s, max {summary['seconds_max']:.0f} s; processor seconds of the diagnosis and its "
+        f"simulation workers: median {summary['cpu_seconds_median']:.1f} s, total {summary['cpu_seconds_total']:.0f} s; "
+        "one diagnosis alone: `benchmark.md`).\n\n"
         "## By friction truth\n\n" + markdown_table(["friction truth", *COLUMNS], truths)
         + "\n## By complication (every friction truth)\n\n" + markdown_table(["group", "complications", *COLUMNS], groups)
         + "\n## Parameters against the truth\n\n"
@@ -256,21 +277,51 @@ def write_markdown(out, records, summary):
                           "verdict right", "rms before", "rms after", "fitted +- stderr (truth, z)", "time (s)"], detail))
 
 
+def _made_and_diagnosed(task):
+    """One record of the plan (task: friction truth, group, case, seed, t_end, folder), made and
+    diagnosed: run_one's dict with its group."""
+    kind, group, case, seed, t_end, folder = task
+    r = run_one(case, seed, GROUPS[group][0], folder, t_end, kind)
+    r["group"] = group
+    return r
+
+
+def _say(r, done, total):
+    print(f"[{done}/{total}] {r['friction_truth']:15s} {r['group']:18s} {r['case']:18s} seed {r['seed']}: named "
+          f"{r['named']} explained {r['explained']} -> {'hit' if r['hit'] else 'MISS'}, verdict "
+          f"{'right' if r['verdict_right'] else 'WRONG'}; rms {r['rms_before_over_noise']:.1f} -> "
+          f"{r['rms_after_over_noise']:.2f} x noise; {sum(c['covered'] for c in r['comparisons'])}/"
+          f"{len(r['comparisons'])} covered; {r['seconds']:.1f} s ({r['cpu_seconds']:.1f} s processor)", flush=True)
+
+
+def diagnose_plan(quick, folder, workers=RECORD_WORKERS):
+    """Every record of the plan made and diagnosed, ``workers`` at a time (forked processes; 1: in
+    this process, one after another), returned in the plan's order. The out-of-family truths,
+    whose pendulum diagnoses run longest, end the plan: they start first, so the workers finish
+    close together."""
+    tasks = [(kind, group, case, seed, t_end, folder) for kind, group, draws, t_end in plan(quick) for case, seed in draws]
+    records = [None] * len(tasks)
+    if workers <= 1:
+        for i, task in enumerate(tasks):
+            records[i] = _made_and_diagnosed(task)
+            _say(records[i], i + 1, len(tasks))
+        return records
+    with ProcessPoolExecutor(max_workers=workers, mp_context=multiprocessing.get_context("fork")) as pool:
+        running = {pool.submit(_made_and_diagnosed, tasks[i]): i for i in reversed(range(len(tasks)))}
+        while running:
+            finished, _ = wait(running, return_when=FIRST_COMPLETED)
+            for f in finished:
+                i = running.pop(f)
+                records[i] = f.result()
+                _say(records[i], len(tasks) - len(running), len(tasks))
+    return records
+
+
 def main():
     args = parse_args(__doc__)
     out = Path(args.out)
-    records = []
     with tempfile.TemporaryDirectory() as tmp:
-        for kind, group, draws, t_end in plan(args.quick):
-            for case, seed in draws:
-                r = run_one(case, seed, GROUPS[group][0], tmp, t_end, kind)
-                r["group"] = group
-                records.append(r)
-                print(f"{kind:15s} {group:18s} {case:18s} seed {seed}: named {r['named']} explained {r['explained']} "
-                      f"-> {'hit' if r['hit'] else 'MISS'}, verdict {'right' if r['verdict_right'] else 'WRONG'}; rms "
-                      f"{r['rms_before_over_noise']:.1f} -> {r['rms_after_over_noise']:.2f} x noise; "
-                      f"{sum(c['covered'] for c in r['comparisons'])}/{len(r['comparisons'])} covered; "
-                      f"{r['seconds']:.1f} s", flush=True)
+        records = diagnose_plan(args.quick, tmp)
     times = [r["seconds"] for r in records]
     cs = [c for r in records for c in r["comparisons"]]
     summary = {"synthetic": True, "realistic": True, "runs": len(records), "hits": sum(r["hit"] for r in records),
@@ -279,6 +330,9 @@ def main():
                "coverage": {"compared": len(cs), "covered": sum(c["covered"] for c in cs)},
                "residual_above_noise": RESIDUAL_ABOVE_NOISE,
                "seconds_median": float(np.median(times)), "seconds_max": float(max(times)),
+               "record_workers": RECORD_WORKERS, "cpu_seconds_median": float(np.median([r["cpu_seconds"] for r in records])),
+               "cpu_seconds_total": float(sum(r["cpu_seconds"] for r in records)),
+               "budget_reached": sum(r["budget_reached"] for r in records),
                "by_friction_truth": {k: summarise([r for r in records if r["friction_truth"] == k])
                                      for k in dict.fromkeys(r["friction_truth"] for r in records)},
                "by_group": {g: summarise([r for r in records if r["group"] == g])

@@ -1,4 +1,5 @@
 """Every study script runs (quick mode) and writes its outputs: build, run, plot, save."""
+import importlib.util
 import json
 import subprocess
 import sys
@@ -54,3 +55,43 @@ def test_study_runs_and_writes_outputs(script, tmp_path):
 def test_every_study_is_smoke_tested():
     scripts = {p.name for p in STUDIES.glob("*.py") if not p.name.startswith("_") and p.name != "run_all.py"}
     assert scripts == set(EXPECTED)
+
+
+def _load_study(name):
+    spec = importlib.util.spec_from_file_location(name, STUDIES / f"{name}.py")
+    module = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(module)
+    return module
+
+
+def test_run_all_runs_every_study_once_and_the_benchmark_alone():
+    run_all = _load_study("run_all")
+    in_lanes = [s for lane in run_all.LANES for s in lane]
+    assert sorted(run_all.STUDIES) == sorted(EXPECTED)
+    assert len(set(run_all.STUDIES)) == len(run_all.STUDIES)
+    assert "benchmark.py" in run_all.ALONE and "benchmark.py" not in in_lanes  # its wall times are the speed evidence
+
+
+#: Run in a fresh process (the study forks its record workers; a test worker may run threads): the
+#: realism study's plan replaced by six tasks whose results come back in another order than the plan's.
+ORDER_SCRIPT = """
+import json, sys, time
+sys.path.insert(0, sys.argv[1])
+import diagnosis_realism as S
+S.plan = lambda quick: [("hybrid", "clean", [("pend_none", k) for k in range(6)], None)]
+def fake(task):
+    kind, group, case, seed, t_end, folder = task
+    time.sleep(0.05 * (seed % 3))
+    return {"friction_truth": kind, "group": group, "case": case, "seed": seed, "named": [], "explained": True,
+            "hit": True, "verdict_right": True, "rms_before_over_noise": 1.0, "rms_after_over_noise": 1.0,
+            "comparisons": [], "seconds": 0.0, "cpu_seconds": 0.0}
+S._made_and_diagnosed = fake
+print(json.dumps([[r["seed"] for r in S.diagnose_plan(True, "unused", workers=w)] for w in (1, 2, 3)]))
+"""
+
+
+def test_realism_study_records_come_back_in_the_plan_order_from_its_workers():
+    p = subprocess.run([sys.executable, "-c", ORDER_SCRIPT, str(STUDIES)], capture_output=True, text=True, timeout=120)
+    assert p.returncode == 0, p.stderr[-2000:]
+    one, two, three = json.loads(p.stdout.strip().splitlines()[-1])
+    assert one == two == three == list(range(6))
