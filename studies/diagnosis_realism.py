@@ -65,8 +65,9 @@ FRICTION_SEED = 31
 #: The final rms over the true noise above which a residual "stands above the noise".
 RESIDUAL_ABOVE_NOISE = 1.05
 #: Records made and diagnosed at once (worker processes, each diagnosis with its own pool of 2
-#: simulation processes as when alone). One diagnosis keeps about 0.7-0.9 of the 2 cores busy
-#: (its fits wait on their simulations), so two at a time fill them.
+#: simulation processes as when alone). One diagnosis alone keeps about half to three quarters of
+#: 2 cores busy (its fits wait on their simulations; benchmark.json: budget_used_s, processor
+#: seconds per process, against seconds), so two at a time fill them.
 RECORD_WORKERS = 2
 #: Parameters whose meaning a truth shares with the model, beyond mu_k and viscous (above).
 SHARED = {"hybrid": ("mu_s", "stribeck_velocity", "restitution", "bellows_force"), "tustin": ("mu_s",),
