@@ -95,3 +95,24 @@ def test_realism_study_records_come_back_in_the_plan_order_from_its_workers():
     assert p.returncode == 0, p.stderr[-2000:]
     one, two, three = json.loads(p.stdout.strip().splitlines()[-1])
     assert one == two == three == list(range(6))
+
+
+def test_closing_study_compares_main_shafts_like_with_like():
+    """The pole-spread variants differ from the reference breaker only in their main shaft: rigid (the
+    section removed), the middle drive, a thicker shaft; springs, cam, poles and follower.inertia equal."""
+    from vcbmodel import parameters as P
+    sys.path.insert(0, str(STUDIES))
+    try:
+        study = _load_study("vcb_closing")
+    finally:
+        sys.path.remove(str(STUDIES))
+    variants = list(study.shaft_variants(P.REFERENCE_BREAKER).values())
+    assert len(variants) == 4
+    rigid, ref, middle, thick = variants
+    assert "main_shaft" not in rigid["breaker"] and ref["breaker"]["main_shaft"] == P.MAIN_SHAFT_SECTION
+    assert middle["breaker"]["main_shaft"]["drive_pole"] == 2 and thick["breaker"]["main_shaft"]["diameter"] > P.MAIN_SHAFT_SECTION["diameter"]
+    for d in variants:
+        rest = {k: v for k, v in d["breaker"].items() if k != "main_shaft"}
+        assert rest == {k: v for k, v in P.REFERENCE_BREAKER["breaker"].items() if k != "main_shaft"}
+        assert {k: v for k, v in d.items() if k != "breaker"} == {k: v for k, v in P.REFERENCE_BREAKER.items() if k != "breaker"}
+    assert P.REFERENCE_BREAKER["breaker"]["main_shaft"]["drive_pole"] == 1  # the source dict is not changed
