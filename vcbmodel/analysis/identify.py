@@ -93,6 +93,18 @@ def usual_rate(pair: tuple[Rig, Measurement]) -> tuple[Rig, Measurement]:
                         comments=meas.comments + (f"vcbmodel: every {k}-th sample fitted",))
 
 
+def starts_at_release(meas: Measurement) -> None:
+    """Refuse a record whose time does not start at the release (t = 0, within a sample interval):
+    identify starts the model there, at the rig's initial angle, so a logger's clock offset (a record
+    from t = 1.5 s) or a pre-trigger (from t < 0) would be fitted as a different swing (the fit ran,
+    with a residual 100 times the noise)."""
+    t0, step = float(meas.t[0]), float(np.median(np.diff(meas.t)))
+    if abs(t0) > step:
+        raise InputError(meas.path, "column 't'", f"starts at {t0:g} s: identify starts the model at the release, "
+                         "t = 0 (the rig's initial angle); shift the time column so the release is at 0, or use "
+                         "vcbmodel diagnose, which finds the release in the record")
+
+
 @dataclass
 class IdentifyResult:
     law: str
@@ -181,6 +193,8 @@ def identify(pairs: Sequence[tuple[Rig, Measurement]], law: str = "hybrid", verb
         ``stribeck_velocity`` (rad/s), ``viscous`` (N m s/rad); ``first_peaks`` in rad.
     """
     spec = LAWS[law]
+    for _, meas in pairs:
+        starts_at_release(meas)
     pairs = [usual_rate(pair) for pair in pairs]
     datasets = [Dataset(rig, meas) for rig, meas in pairs]
     rig0, meas0 = pairs[0]
