@@ -34,6 +34,19 @@ DEFAULT_SPRING_MASS_MODEL = "lumped-3"
 #: m0 = 0.3364 kg read as a third of a 1 kg spring, would fit better); we keep the paper's k0,
 #: m0 and forces and state the bending stiffness's geometry as an assumption.
 SPRING_INDEX = 4.0
+#: Datasheet plausibility of a closing spring (vcbmodel/rig/datasheet.py): the thickest wire a
+#: breaker mechanism's spring is wound from is about 20 mm (hot-wound above about 16 mm); 50 mm is
+#: beyond any, so a larger value is millimetres. Mean coil diameters likewise stay well under 0.5 m.
+SPRING_WIRE_LARGEST = 0.05
+SPRING_COIL_LARGEST = 0.5
+#: Shear modulus of spring wire (Pa): phosphor bronze 41 GPa, titanium alloys 42-45 GPa, steels and
+#: stainless 69-81 GPa (Shigley Table 10-5); 10-100 GPa holds them all, a value like 79.3 is GPa.
+SPRING_SHEAR_MODULUS_RANGE = (10e9, 100e9)
+#: Density of spring wire (kg/m^3): titanium 4430 to phosphor bronze 8860; 7.85 is g/cm^3.
+SPRING_DENSITY_RANGE = (2000.0, 20000.0)
+#: Spring index D/d that springs are wound with: 4-12 preferred, about 3 the least that can be coiled
+#: and above about 20 a spring tangles and buckles (Shigley sec. 10-2); 3-25 allows the rare ones.
+SPRING_INDEX_RANGE = (3.0, 25.0)
 STEEL_DENSITY = 7850.0
 DEFAULT_SHEAR_MODULUS = 79.3e9
 DEFAULT_YOUNGS_MODULUS = 206e9

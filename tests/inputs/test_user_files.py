@@ -189,3 +189,23 @@ def test_identify_refuses_a_record_that_does_not_start_at_the_release(tmp_path, 
     captured = capsys.readouterr()
     assert captured.out == "" and len(captured.err.strip().splitlines()) == 1
     assert "offset.csv: column 't': starts at" in captured.err and "diagnose" in captured.err
+
+
+@pytest.mark.parametrize("change, field, hint", [
+    ({"wire_diameter": 7.84, "coil_diameter": 47.0}, "closing_spring.wire_diameter", "millimetres"),
+    ({"shear_modulus": 79.3}, "closing_spring.shear_modulus", "in GPa?"),
+    ({"density": 7.85}, "closing_spring.density", "g/cm^3"),
+    ({"coil_diameter": 0.47}, "closing_spring.coil_diameter", "spring index D/d of 59.9"),
+])
+def test_a_datasheet_in_the_wrong_units_is_refused(tmp_path, capsys, change, field, hint):
+    """A datasheet in mm (k0 = G d^4 / (8 D^3 n): 1000x the rate) or G in GPa (1e-9 of it) was read
+    as a valid spring ('within the allowable') and simulated."""
+    data = copy.deepcopy(P.REFERENCE_BREAKER)
+    spring = data["closing_spring"]
+    for key in ("stiffness", "mass"):
+        spring.pop(key)
+    spring.update(wire_diameter=0.00784, coil_diameter=0.047, active_coils=15.0, shear_modulus=79.3e9)
+    assert main(["check", str(write_rig(tmp_path, data, "sheet"))]) == 0
+    capsys.readouterr()
+    spring.update(change)
+    refused_one_line(capsys, write_rig(tmp_path, data, "wrong_units"), field, hint)

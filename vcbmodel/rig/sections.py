@@ -19,6 +19,7 @@ from ..laws.contact import CAM_ROLLER_LAWS, DAMPING_LAWS
 from ..laws.coil import coil_mass, coil_stiffness
 from ..laws.mechanics import cam_pin
 from .cam_points import check_point_pairs, settle_scatter
+from .datasheet import check_datasheet
 from .paths import numeric_at
 from .reader import Reader
 from .data import (Breaker, Cam, CamProfile, ClosingSpring, ContactLaw, Follower, OpeningSpring, Pendulum,
@@ -145,6 +146,7 @@ def spring_rate_and_mass(rd: Reader, s: dict, coil: dict) -> tuple[float, float,
     given: :mod:`vcbmodel.laws.coil`). Given and datasheet values must agree within
     DATASHEET_TOLERANCE. Returns (k0, m0, the names derived from the datasheet)."""
     pre = "closing_spring."
+    check_datasheet(rd, coil)
     geometry = all(k in coil for k in ("wire_diameter", "coil_diameter", "active_coils"))
     sheet = {}
     if geometry and "shear_modulus" in coil:
