@@ -209,3 +209,37 @@ def test_a_datasheet_in_the_wrong_units_is_refused(tmp_path, capsys, change, fie
     capsys.readouterr()
     spring.update(change)
     refused_one_line(capsys, write_rig(tmp_path, data, "wrong_units"), field, hint)
+
+
+# --- a cam's points straight from its CSV export (breaker.cam_profile.points_file) -------------------------
+
+def file_rig(tmp_path, text, name="from_file", encoding_bom=False, newline="\n"):
+    f = tmp_path / f"{name}.csv"
+    f.write_bytes((b"\xef\xbb\xbf" if encoding_bom else b"") + newline.join(text).encode() + newline.encode())
+    data = copy.deepcopy(P.REFERENCE_BREAKER)
+    data["breaker"]["cam_profile"] = {"base_radius": 0.045, "points_file": f.name}
+    return write_rig(tmp_path, data, name)
+
+
+def test_a_points_file_in_degrees_and_millimetres_is_the_same_cam_as_its_points(tmp_path):
+    table = load_rig(cam_rig(tmp_path, example_points())).breaker.profile.table
+    example = (ROOT / "docs" / "examples" / "cam_lift.csv").read_text().splitlines()
+    assert load_rig(file_rig(tmp_path, example)).breaker.profile.table == pytest.approx(table, abs=1e-15)
+    # a spreadsheet's export: semicolons, decimal commas, units in brackets, a BOM, CRLF, blank lines at the end
+    body = [line if line.startswith("#") else line.replace(",", ";").replace(".", ",") for line in example]
+    body = [line.replace("angle_deg;lift_mm", "Angle [deg];Lift [mm]") for line in body] + ["", ""]
+    rig = file_rig(tmp_path, body, "spreadsheet", encoding_bom=True, newline="\r\n")
+    assert load_rig(rig).breaker.profile.table == pytest.approx(table, abs=1e-15)
+
+
+def test_a_points_file_without_units_or_with_a_bad_row_is_refused_naming_file_and_line(tmp_path, capsys):
+    example = (ROOT / "docs" / "examples" / "cam_lift.csv").read_text().splitlines()
+    no_units = [line.replace("angle_deg,lift_mm", "angle,lift") for line in example]
+    refused_one_line(capsys, file_rig(tmp_path, no_units, "no_units"), "no_units.csv: line 3", "with their units")
+    gap = example[:10] + [example[10].split(",")[0] + ","] + example[11:]
+    refused_one_line(capsys, file_rig(tmp_path, gap, "gap"), "gap.csv: line 11", "two finite numbers")
+    data = copy.deepcopy(P.REFERENCE_BREAKER)
+    data["breaker"]["cam_profile"] = {"base_radius": 0.045, "points_file": "absent.csv"}
+    refused_one_line(capsys, write_rig(tmp_path, data, "absent"), "breaker.cam_profile.points_file", "no such file")
+    dup = example[:20] + [example[19]] + example[20:]
+    refused_one_line(capsys, file_rig(tmp_path, dup, "dup"), "breaker.cam_profile.points_file.17", "repeats point 16")

@@ -69,9 +69,11 @@ def cam_lines(rig: Rig) -> list[str]:
     pressure = pressure_angle_curve(b, rest_geometry(b, cam.pivot), thetas)
     k = int(np.argmax(pressure))
     smoothing = rig.data["breaker"]["cam_profile"].get("smoothing")
+    points = rig.data["breaker"]["cam_profile"].get("points_file")
     through = (f"a smoothing spline (within about {1e6 * smoothing:g} um, breaker.cam_profile.smoothing) of"
                if smoothing else "a spline through")
-    source = (f"{len(b.profile.table) // 2}-sample table of {through} the rig's points" if b.profile.table
+    where = f"the points in {points}" if points else "the rig's points"
+    source = (f"{len(b.profile.table) // 2}-sample table of {through} {where}" if b.profile.table
               else "4-5-6-7 polynomial rise, dwell and return")
     return [f"  cam profile: {source}; lift {1e3 * b.profile.lift:.2f} mm, base circle {1e3 * b.profile.base_radius:.1f} mm, "
             f"roller {1e3 * b.roller_radius:g} mm",

@@ -12,12 +12,15 @@ from __future__ import annotations
 import math
 from collections.abc import Sequence
 
+import os
+import re
+
 import numpy as np
-from scipy.interpolate import splev, splrep
 
 from .. import parameters as P
+from ..errors import InputError
 from ..laws.cam_follower import TWO_PI
-from .reader import Reader
+from .reader import Reader, read_bytes, text_bytes
 
 #: Angles closer than this (rad) to a full turn apart are the same angle (a closing point)
 SAME_ANGLE = 1e-6
@@ -77,8 +80,53 @@ def settle_scatter(rd: Reader, cp: dict, angles: Sequence[float], radii: Sequenc
                     "differences): a spline through them puts the scatter into the follower's acceleration; give "
                     f"{prefix}smoothing (m, the measurement's uncertainty, e.g. {scatter:.1g}) or smooth the export")
         return list(radii)
+    from scipy.interpolate import splev, splrep
+
     smoothing = rd.number(cp, "smoothing", prefix, positive=True)
     a = np.append(np.asarray(angles, float), angles[0] + TWO_PI)
     r = np.append(np.asarray(radii, float), radii[0])
     tck = splrep(a, r, per=True, s=(len(a) - 1) * smoothing**2)
     return splev(np.asarray(angles, float), tck).tolist()
+
+
+#: A points file's column: ``angle_deg``, ``angle [rad]``, ``lift (mm)``, ``radius/m``: the quantity and its unit
+POINTS_COLUMN = re.compile(r"(?P<what>angle|lift|radius)\s*(?:_|\[|\(|/)?\s*(?P<unit>deg|rad|mm|m)\s*[\])]?", re.IGNORECASE)
+TO_SI = {"deg": math.pi / 180.0, "rad": 1.0, "mm": 1e-3, "m": 1.0}
+
+
+def read_points_file(rd: Reader, cp: dict, prefix: str) -> tuple[str, list[list[float]]]:
+    """``points_file`` (a CSV beside the rig, as CAD or a CMM exports it): two columns, the cam angle
+    and the lift (or pitch radius), each naming its unit in the header (``angle_deg,lift_mm``,
+    ``angle [rad];radius [m]``). Separators ``,``, ``;`` (with decimal commas) or tabs; ``#``
+    comments, blank lines, a byte-order mark and Windows line ends are fine. Returns ("points" or
+    "radius_points", [[angle rad, value m], ...]); a fault is one line naming the file and line."""
+    name = cp["points_file"]
+    if not isinstance(name, str) or not name:
+        rd.fail(prefix + "points_file", "must be a file name (a CSV beside the rig file)")
+    path = os.path.join(os.path.dirname(os.path.abspath(rd.path)), name)
+    if not os.path.exists(path):
+        rd.fail(prefix + "points_file", f"{name}: no such file (a path relative to the rig file's folder)")
+    lines = [(i, line.strip()) for i, line in enumerate(text_bytes(path, read_bytes(path)).splitlines(), start=1)]
+    lines = [(i, line.decode("utf-8", errors="replace")) for i, line in lines if line and not line.startswith(b"#")]
+    if not lines:
+        raise InputError(path, "header", "missing (no line other than comments)")
+    (hline, header), rows = lines[0], lines[1:]
+    sep = ";" if ";" in header else "\t" if "\t" in header else ","
+    columns = [POINTS_COLUMN.fullmatch(c.strip().strip('"')) for c in header.split(sep)]
+    if len(columns) != 2 or not all(columns) or columns[0]["what"].lower() != "angle" or columns[1]["what"].lower() == "angle":
+        raise InputError(path, f"line {hline}", f"the header must name two columns with their units: the angle (angle_deg "
+                         f"or angle_rad), then the lift or pitch radius (lift_mm, lift_m, radius_mm, radius_m); got {header[:60]!r}")
+    scale = [TO_SI[c["unit"].lower()] for c in columns]
+    if columns[0]["unit"].lower() not in ("deg", "rad") or columns[1]["unit"].lower() not in ("mm", "m"):
+        raise InputError(path, f"line {hline}", "the angle's unit must be deg or rad, the lift's or radius's mm or m")
+    points = []
+    for i, row in rows:
+        cells = [c.strip().strip('"').replace(",", ".") if sep == ";" else c.strip().strip('"') for c in row.split(sep)]
+        try:
+            values = [float(c) for c in cells]
+        except ValueError:
+            values = []
+        if len(values) != 2 or not all(math.isfinite(v) for v in values):
+            raise InputError(path, f"line {i}", f"must hold two finite numbers (angle, value), got {row[:60]!r}")
+        points.append([values[0] * scale[0], values[1] * scale[1]])
+    return ("points" if columns[1]["what"].lower() == "lift" else "radius_points"), points

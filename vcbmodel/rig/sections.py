@@ -18,7 +18,7 @@ from ..laws.cam_follower import (MAX_PRESSURE_ANGLE, TWO_PI, pitch_radius, press
 from ..laws.contact import CAM_ROLLER_LAWS, DAMPING_LAWS
 from ..laws.coil import coil_mass, coil_stiffness
 from ..laws.mechanics import cam_pin
-from .cam_points import check_point_pairs, settle_scatter
+from .cam_points import check_point_pairs, read_points_file, settle_scatter
 from .datasheet import check_datasheet
 from .paths import numeric_at
 from .reader import Reader
@@ -182,7 +182,7 @@ BREAKER_KEYS = {
     "": ("cam_profile", "roller_radius", "follower", "poles", "opening_spring", "contact", "latch", "speed_zone",
          "end_stop", "hold_latch", "main_shaft"),
     "cam_profile": ("base_radius", "lift", "rise_start", "rise_end", "return_start", "return_end", "points",
-                    "radius_points", "smoothing"),
+                    "radius_points", "points_file", "smoothing"),
     "follower": ("pivot", "inertia", "roller_arm", "output_arm", "output_angle", "rest_angle"),
     "poles": ("count", "moving_mass", "contact_gap", "gap_offsets", "push_rod_length", "wipe_preload", "wipe_rate",
               "rod_stiffness", "rod_damping", "bellows_force"),
@@ -365,7 +365,7 @@ def read_cam_profile(rd, cp, p, roller_radius) -> CamProfile:
     points of the pitch curve (``points``: [cam angle rad, roller-centre lift m] with
     ``base_radius``; or ``radius_points``: [cam angle rad, pitch radius m]), fitted by a periodic
     cubic spline and checked: a profile the roller cannot follow (undercut) is refused."""
-    if "points" in cp or "radius_points" in cp:
+    if "points" in cp or "radius_points" in cp or "points_file" in cp:
         return read_point_profile(rd, cp, p, roller_radius)
     profile = CamProfile(
         base_radius=rd.number(cp, "base_radius", p, positive=True), lift=rd.number(cp, "lift", p, positive=True),
@@ -379,17 +379,20 @@ def read_cam_profile(rd, cp, p, roller_radius) -> CamProfile:
 
 def read_point_profile(rd, cp, p, roller_radius) -> CamProfile:
     key = "points" if "points" in cp else "radius_points"
-    if "points" in cp and "radius_points" in cp:
-        rd.fail(p + "points", "give points (lift) or radius_points (pitch radius), not both")
-    raw = cp[key]
+    if sum(k in cp for k in ("points", "radius_points", "points_file")) > 1:
+        rd.fail(p + key, "give one of points (lift), radius_points (pitch radius) or points_file, not several")
+    raw = cp[key] if key in cp else None
+    if "points_file" in cp:
+        key, raw = read_points_file(rd, cp, p)
+    field = p + ("points_file" if "points_file" in cp else key)
     if not isinstance(raw, list) or len(raw) < 8:
-        rd.fail(p + key, "must be a list of at least 8 [angle, value] pairs")
+        rd.fail(field, "must be a list of at least 8 [angle, value] pairs")
     pairs = []
     for i, item in enumerate(raw):
         if not isinstance(item, list) or len(item) != 2:
-            rd.fail(f"{p}{key}.{i}", "must be a pair [angle in rad, value in m]")
-        pairs.append((rd.value(item[0], f"{p}{key}.{i}.0"), rd.value(item[1], f"{p}{key}.{i}.1")))
-    pairs = check_point_pairs(rd, pairs, p + key)
+            rd.fail(f"{field}.{i}", "must be a pair [angle in rad, value in m]")
+        pairs.append((rd.value(item[0], f"{field}.{i}.0"), rd.value(item[1], f"{field}.{i}.1")))
+    pairs = check_point_pairs(rd, pairs, field)
     angles = [a for a, _ in pairs]
     if key == "points":
         base = rd.number(cp, "base_radius", p, positive=True)
@@ -397,17 +400,17 @@ def read_point_profile(rd, cp, p, roller_radius) -> CamProfile:
     else:
         radii = [v for _, v in pairs]
         if min(radii) <= roller_radius:
-            rd.fail(p + key, f"a pitch radius at or below the roller radius ({roller_radius:g} m): the roller "
+            rd.fail(field, f"a pitch radius at or below the roller radius ({roller_radius:g} m): the roller "
                     "centre runs outside the cam, so the pitch radius is the cam's radius plus the roller's")
-    radii = settle_scatter(rd, cp, angles, radii, p + key)
+    radii = settle_scatter(rd, cp, angles, radii, field)
     if key == "radius_points":
         base = min(radii) - roller_radius
     elif min(v for _, v in pairs) < -(3.0 * rd.number(cp, "smoothing", p) if "smoothing" in cp else 1e-9):
-        rd.fail(p + key, "a lift below the base circle (negative, beyond 3 x smoothing): lifts are measured from the base circle")
+        rd.fail(field, "a lift below the base circle (negative, beyond 3 x smoothing): lifts are measured from the base circle")
     spline = profile_spline(angles, radii)
     cut = undercut(spline, roller_radius)
     if cut is not None:
-        rd.fail(p + key, f"the roller cannot follow this profile: at {math.degrees(cut[0]):.1f} deg the pitch curve "
+        rd.fail(field, f"the roller cannot follow this profile: at {math.degrees(cut[0]):.1f} deg the pitch curve "
                 f"bends with a radius of {1e3 * cut[1]:.2f} mm, below the {1e3 * roller_radius:g} mm roller (the cam "
                 "surface would undercut); smooth the profile there or use a smaller roller")
     lift = max(radii) - min(radii)
