@@ -34,6 +34,7 @@ from .templates import TEMPLATES, explain, template
 from .plots import plot_diagnosis, plot_simulation, supported_image_formats
 
 if TYPE_CHECKING:
+    from ..model.result import SimulationResult
     from ..rig.data import Rig
 
 
@@ -204,7 +205,7 @@ def _plain(value):
     return None if isinstance(value, float) and not math.isfinite(value) else value
 
 
-def simulate_json(rig: Rig, result, lines: Sequence[tuple], output: str) -> dict:
+def simulate_json(rig: Rig, result: SimulationResult, lines: Sequence[tuple], output: str) -> dict:
     """``simulate --json``: the summary's figures ({what, value, unit}; null for what did not happen
     in the run), its notes (a truncated run, contacts reopening, a cam running back) and the
     experiment's figures of merit (SI units in their names), with the envelope."""
