@@ -52,6 +52,13 @@ def test_simulate_refuses_to_write_over_its_own_rig(tmp_path, capsys):
     assert rig.read_bytes() == before
 
 
+def test_simulate_refuses_the_same_file_for_the_csv_and_the_plot(tmp_path, capsys):
+    """-o fig.png --plot fig.png wrote the CSV, then the figure over it, with status 0."""
+    out = tmp_path / "fig.png"
+    assert main(["simulate", str(GOOD_CAM), "--t-end", "0.002", "-o", str(out), "--plot", str(out)]) == 2
+    assert "--plot: is also the -o file" in one_error_line(capsys) and not out.exists()
+
+
 def test_an_existing_result_is_replaced_only_with_force(tmp_path, capsys):
     out = tmp_path / "sim.csv"
     out.write_text("mine\n")

@@ -158,6 +158,8 @@ def cmd_simulate(args: argparse.Namespace) -> int:
         record.check_duration(args.t_end, "--t-end", "t_end")
     if args.json and not args.output:
         raise InputError("--json", "output", "needs -o OUT.csv (stdout carries the JSON, so the CSV goes to a file)")
+    if args.plot and args.output and os.path.abspath(args.plot) == os.path.abspath(args.output):
+        raise InputError(args.plot, "--plot", "is also the -o file (the figure would replace the CSV): give it another name")
     check_output(args.output, "-o", inputs=(args.rig,), force=args.force)
     check_output(args.plot, "--plot", inputs=(args.rig,), force=args.force, formats=supported_image_formats())
     t_end = args.t_end or record.default_duration
