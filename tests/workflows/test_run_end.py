@@ -84,7 +84,7 @@ def test_the_final_reopening_is_not_counted_as_a_bounce(rigs, long_no_stop):
     (P.BREAKER_T_END, ("still turning",)),
 ])
 def test_a_truncated_run_says_so(rigs, t_end, expected):
-    """The usual 55 ms run ends 2.7 ms after the cam meets its stop (52.3 ms), still turning; a
+    """The usual 55 ms run ends 3.2 ms after the cam meets its stop (51.8 ms), still turning; a
     shorter one before the stop, or before any pole touches. The shaft's own speed at the end is
     the evidence that it still turns."""
     rig = rigs["stop"]
