@@ -331,7 +331,7 @@ CAM_POINT_SCATTER = 0.5e-6
 #: return): a cam that rebounds off its end stop onto a holding latch a few degrees behind it loses
 #: up to 3.0 % of the lift on a rise (tests/models/test_end_stop.py's rig: latch 5 deg behind a stop
 #: at 210 deg on the rise, measured); the reference breaker without its stop, turned back by its
-#: springs, loses 47 % by 100 ms and its contacts reopen.
+#: springs, loses 53 % by 100 ms and its contacts reopen.
 CAM_FALL_BACK_FRACTION = 0.05
 #: Shaft speed at the end of a run, as a fraction of the run's peak, above which a closing's summary
 #: says the run ended with the cam still turning (not at rest: a longer ``--t-end`` shows the rest).
