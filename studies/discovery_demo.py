@@ -250,13 +250,9 @@ def cam_plot(cases, path):
     plt.close(fig)
 
 
-def cam_markdown(cases, summaries):
-    md = ["# Discovery on cam drops (SYNTHETIC records)\n",
-          "The demo cam (6 kg, massless closing springs 2 x 24.2 kN/m) released at 10 degrees, Coulomb friction "
-          f"mu_k {CAM_FRICTION['mu_k']} unknown to the rig, {1e3 * CAM_SIGMA:g} mrad camera noise at "
-          f"{CAM_RATE / 1e3:g} kHz for {1e3 * CAM_DURATION:g} ms. Truths integrated independently "
-          "(`vcbmodel/reference/cam_torque_truth.py`). The in-family record is searched although the diagnosis "
-          "explains it (a false discovery would show there).\n"]
+def gap_table(cases, summaries):
+    """The demo's table, one row per case: the truth's extra torque, what the diagnosis named, the rms
+    with the registered effects and with the discovered term against the noise, what was found."""
     rows = []
     for case, s in zip(cases, summaries):
         disc, g = case["discovery"], s["gap"]
@@ -267,9 +263,19 @@ def cam_markdown(cases, summaries):
                      f"{1e3 * g['rms_registered_rad']:.3f}", f"{1e3 * g['rms_discovered_rad']:.3f}",
                      f"{1e3 * g['noise_rad']:.3f}", found,
                      f"{case['seconds']['diagnosis with discovery']:.0f} ({case['seconds']['discovery']:.0f})"])
-    md.append(markdown_table(["truth's extra torque", "registered effects named (verdict)", "rms registered [mrad]",
-                              "rms with discovery [mrad]", "noise [mrad]", "discovered (not registered)",
-                              "time [s]: diagnosis (discovery)"], rows))
+    return markdown_table(["truth's extra torque", "registered effects named (verdict)", "rms registered [mrad]",
+                           "rms with discovery [mrad]", "noise [mrad]", "discovered (not registered)",
+                           "time [s]: diagnosis (discovery)"], rows)
+
+
+def cam_markdown(cases, summaries):
+    md = ["# Discovery on cam drops (SYNTHETIC records)\n",
+          "The demo cam (6 kg, massless closing springs 2 x 24.2 kN/m) released at 10 degrees, Coulomb friction "
+          f"mu_k {CAM_FRICTION['mu_k']} unknown to the rig, {1e3 * CAM_SIGMA:g} mrad camera noise at "
+          f"{CAM_RATE / 1e3:g} kHz for {1e3 * CAM_DURATION:g} ms. Truths integrated independently "
+          "(`vcbmodel/reference/cam_torque_truth.py`). The in-family record is searched although the diagnosis "
+          "explains it (a false discovery would show there).\n"]
+    md.append(gap_table(cases, summaries))
     for case, s in zip(cases, summaries):
         md.append(f"## cam drop, {case['truth']['extra']}\n\n{case['discovery'].message}\n")
         for check in s["discovery"].get("truth_checks", []):
@@ -285,19 +291,7 @@ def markdown(cases, summaries):
           "is Coulomb + viscous friction with unknown values. Truths integrated independently "
           "(`vcbmodel/reference/torque_truth.py`). Evidence threshold: the diagnosis's own "
           f"(BIC margin {BIC_MARGIN:g}, variance gain {MIN_VARIANCE_GAIN:g} of the noise variance).\n"]
-    rows = []
-    for case, s in zip(cases, summaries):
-        disc, g = case["discovery"], s["gap"]
-        found = "; ".join(f"{t.name} = {t.coefficient:.4g} +- {t.stderr:.2g} {t.unit}" if t.stderr else t.name
-                          for t in disc.terms) or "nothing"
-        verdict = "explained" if s["diagnosis"]["explained"] else "not explained"
-        rows.append([case["truth"]["extra"], (", ".join(s["diagnosis"]["missing_effects"]) or "none") + f" ({verdict})",
-                     f"{1e3 * g['rms_registered_rad']:.3f}", f"{1e3 * g['rms_discovered_rad']:.3f}",
-                     f"{1e3 * g['noise_rad']:.3f}", found,
-                     f"{case['seconds']['diagnosis with discovery']:.0f} ({case['seconds']['discovery']:.0f})"])
-    md.append(markdown_table(["truth's extra torque", "registered effects named (verdict)", "rms registered [mrad]",
-                              "rms with discovery [mrad]", "noise [mrad]", "discovered (not registered)",
-                              "time [s]: diagnosis (discovery)"], rows))
+    md.append(gap_table(cases, summaries))
     for case, s in zip(cases, summaries):
         searched = ("The diagnosis's discover step ran (its verdict: not explained)." if case["seconds"]["diagnosis_searched"]
                     else "The diagnosis called the record explained, so its discover step did not run; discovery was "

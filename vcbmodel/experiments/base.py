@@ -13,6 +13,7 @@ from ..errors import InputError
 
 if TYPE_CHECKING:
     from ..records.measurement import Measurement
+    from ..model.effects import ModelSpec
     from ..model.result import SimulationResult
     from ..rig.data import Rig
 
@@ -44,6 +45,13 @@ def default_fit_step(rig: Rig, spring_kind: str) -> float | None:
 def measured_only(result: SimulationResult, rig: Rig) -> dict[str, tuple[np.ndarray, str]]:
     """{channel: (values, unit)}: the experiment's measured channel (what ``simulate`` writes)."""
     return {result.measured_channel: (result.measured, result.units[result.measured_channel])}
+
+
+def refuse_discovered_torque(spec: ModelSpec) -> None:
+    """The reference solves have no discovered torque: a model that carries one is refused rather than
+    solved without it."""
+    if spec.discovered:
+        raise ValueError("the reference solve has no discovered torque: use backend='exudyn' or 'compiled'")
 
 
 def figures_summary(result: SimulationResult, rig: Rig) -> list[tuple]:

@@ -15,7 +15,7 @@ from ..laws.springs import fundamental
 from ..rig.sections import read_cam_and_spring
 from ..builders.ancf import AncfOptions
 from .random_rigs import cam_drop_random_rig
-from .base import Experiment, shaft_channels
+from .base import Experiment, refuse_discovered_torque, shaft_channels
 from .summaries import cam_drop_summary
 
 if TYPE_CHECKING:
@@ -38,8 +38,7 @@ def reference(rig: Rig, spec: ModelSpec, law: FrictionLaw, chain: LumpedChain | 
               method: str = "DOP853", step: float | None = None) -> tuple[dict[str, np.ndarray], dict]:
     """The reference solve (:func:`vcbmodel.reference.solve.reference_cam_drop`); it has no
     discovered torque, so a model that carries one is refused rather than solved without it."""
-    if spec.discovered:
-        raise ValueError("the reference solve has no discovered torque: use backend='exudyn' or 'compiled'")
+    refuse_discovered_torque(spec)
     return reference_cam_drop(rig, spec, law, chain, t_end, method, step)
 
 

@@ -14,7 +14,7 @@ from ..compiled.equations import pendulum_equations, prepare_pendulum
 from ..records.signals import decay_shape, first_peak_amplitude, motion_end_time, swing_peaks, swing_spans
 from ..rig.sections import read_pendulum
 from .random_rigs import pendulum_random_rig
-from .base import Experiment, shaft_channels
+from .base import Experiment, refuse_discovered_torque, shaft_channels
 from .summaries import pendulum_summary
 
 if TYPE_CHECKING:
@@ -37,8 +37,7 @@ def reference(rig: Rig, spec: ModelSpec, law: FrictionLaw, chain: LumpedChain | 
               method: str = "DOP853", step: float | None = None) -> tuple[dict[str, np.ndarray], dict]:
     """The reference solve (:func:`vcbmodel.reference.solve.reference_pendulum`); it has no
     discovered torque, so a model that carries one is refused rather than solved without it."""
-    if spec.discovered:
-        raise ValueError("the reference solve has no discovered torque: use backend='exudyn' or 'compiled'")
+    refuse_discovered_torque(spec)
     return reference_pendulum(rig, spec, law, chain, t_end, method, step)
 
 
