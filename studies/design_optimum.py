@@ -118,10 +118,19 @@ def equal_speed(opt, at_target, reference):
     return out
 
 
-def comparison_text(c):
-    """The like-with-like statement of the optimum's gain."""
+def comparison_text(c, evaluated=()):
+    """The like-with-like statement of the optimum's gain; without an optimum, which limit the designs
+    on the target speed broke (``evaluated``: the optimiser's designs with their figures)."""
     if c is None:
-        return "No design within the limits reached the target speed in the searched range.\n"
+        on_target = [e for e in evaluated if e.get("preload_N") is not None]
+        if not on_target:
+            return "No design reached the target speed in the searched range.\n"
+        broken = {name: min(e[name] for e in on_target if e.get(name) is not None) for name in LIMITS
+                  if all(e.get(name) is not None and e[name] > LIMITS[name] for e in on_target)}
+        return (f"No design within the limits: {len(on_target)} designs reached the target speed, and every one of them "
+                + ("broke " + ", ".join(f"{name} <= {1e3 * LIMITS[name]:g} ms (the best: {1e3 * v:.2f} ms)"
+                                        for name, v in broken.items()) if broken else "broke one limit or another")
+                + ". The closing springs cannot mend it: see what sets that figure in `vcb_closing.md`.\n")
     text = (f"Against the reference springs at their own touch speed the optimum stores {c['gain_at_own_speed_percent']:.0f} % "
             f"less energy, but that compares different speeds: the lower speed alone (energy about as speed squared) "
             f"accounts for {c['speed_squared_share_percent']:.1f} points of it. At equal touch speed "
@@ -224,7 +233,7 @@ def main():
         e = s.count * f * f / (2 * k)
         v = violation(r)
         evaluated.append({"stiffness_N_m": float(k), "preload_N": f, "stored_energy_J": e, "violation": v,
-                          "touch_speed_m_s": speed(r)})
+                          "touch_speed_m_s": speed(r), **{name: r.get(name) for name in LIMITS}})
         return e * (1 + 10 * v)
 
     res = minimize_scalar(objective, bounds=(K_RANGE[0] * k0, K_RANGE[1] * k0), method="bounded",
@@ -325,7 +334,7 @@ def main():
                           for name, d in (("reference springs (their own touch speed)", summary["reference"]),
                                           ("reference stiffness, preload for the target speed", at_target),
                                           ("optimum", opt)) if d]),
-          "\n" + comparison_text(summary["equal_speed_comparison"]),
+          "\n" + comparison_text(summary["equal_speed_comparison"], evaluated),
           "\n## Trade-off (`design_optimum.png`)\n",
           "Stored energy on the target-speed line against stiffness (from the map; right panel):\n",
           markdown_table(["stiffness (kN/m)", "preload on target (N)", "stored energy (J)", "smallest pull (N)"],

@@ -10,7 +10,7 @@ springs, an energy budget a real mechanism could have, the `exact` chain), befor
 the cam-roller contact's law and damping choices, the independent solve
 (vcbmodel/reference/breaker.py) against the Exudyn model, energy balance, step convergence,
 pressure angle, the main shaft's twist between the pole levers and the pole spread it makes (rigid shaft,
-reference shaft, driven at the middle pole, 10 mm thicker).
+reference shaft, driven at the middle pole, the first estimate's 40 mm).
 Writes results/vcb_closing_fig12.png, vcb_closing_detail.png, vcb_closing.{md,json} and
 results/synthetic/vcb_closing.{csv,rig.json}.
 """
@@ -281,8 +281,9 @@ def shaft_twist(rig, result, fom):
 
 def shaft_variants(rig_dict):
     """Rig dicts of the reference breaker with its main shaft rigid, as in parameters.py (driven at the
-    first pole's side), driven at the middle pole, and 10 mm thicker: like with like (same springs,
-    cam, poles and total inertia of the shaft assembly, ``follower.inertia``)."""
+    first pole's side), driven at the middle pole, and as thin as first estimated (the review's 40 mm,
+    the other values kept): like with like (same springs, cam, poles and total inertia of the shaft
+    assembly, ``follower.inertia``)."""
     shaft = rig_dict["breaker"].get("main_shaft")
     if shaft is None:
         return {}
@@ -296,11 +297,11 @@ def shaft_variants(rig_dict):
             d["breaker"]["main_shaft"].update(changes)
         return d
 
-    d_mm = 1e3 * shaft["diameter"]
+    d_mm, first = 1e3 * shaft["diameter"], P.MAIN_SHAFT_FIRST_ESTIMATE_DIAMETER
     return {"rigid main shaft (the model before)": variant(rigid=True),
             f"{d_mm:.0f} mm shaft, driven at pole {shaft['drive_pole']} (reference)": variant(),
             f"{d_mm:.0f} mm shaft, driven at pole {middle} (middle)": variant(drive_pole=middle),
-            f"{d_mm + 10:.0f} mm shaft, driven at pole {shaft['drive_pole']}": variant(diameter=shaft["diameter"] + 0.01)}
+            f"{1e3 * first:.0f} mm shaft, driven at pole {shaft['drive_pole']} (the first estimate)": variant(diameter=first)}
 
 
 def pole_spread_rows(rig_dict, t_end):
@@ -532,12 +533,12 @@ def main():
           "the latch release, against the paper's 'about 30 ms' (which would need about 1.6 m/s).\n",
           "## The main shaft's twist between the pole levers\n",
           f"The reference breaker's main shaft (rig section `breaker.main_shaft`, `MAIN_SHAFT_SECTION` in "
-          f"`parameters.py`): {1e3 * P.MAIN_SHAFT['diameter']:.0f} mm solid steel, pole levers "
+          f"`parameters.py`, sized there with this table): {1e3 * P.MAIN_SHAFT['diameter']:.0f} mm solid steel, pole levers "
           f"{1e3 * P.MAIN_SHAFT['pole_pitch']:.0f} mm apart and {1e3 * P.MAIN_SHAFT['lever_arm']:.0f} mm long, driven at "
           "the first pole's side. Each pole lever turns on its own, tied to its neighbours by the shaft's torsional "
           "stiffness and damping; the drive pole's lever turns with the roller's follower. The closing to the "
           f"cam's rest on the holding latch ({1e3 * P.BREAKER_REST_T_END:.0f} ms), full model, the same breaker "
-          "with the shaft rigid, driven at the middle pole, and 10 mm thicker (equal springs, cam, poles and total "
+          "with the shaft rigid, driven at the middle pole, and as thin as first estimated (equal springs, cam, poles and total "
           "inertia of the shaft assembly). Twist: the largest angle between any two pole levers, and the travel it "
           "makes at the pole:\n",
           markdown_table(POLE_SPREAD_HEADERS, spread_rows),

@@ -99,7 +99,7 @@ def test_realism_study_records_come_back_in_the_plan_order_from_its_workers():
 
 def test_closing_study_compares_main_shafts_like_with_like():
     """The pole-spread variants differ from the reference breaker only in their main shaft: rigid (the
-    section removed), the middle drive, a thicker shaft; springs, cam, poles and follower.inertia equal."""
+    section removed), the middle drive, the first estimate's thinner shaft; springs, cam, poles and follower.inertia equal."""
     from vcbmodel import parameters as P
     sys.path.insert(0, str(STUDIES))
     try:
@@ -108,9 +108,10 @@ def test_closing_study_compares_main_shafts_like_with_like():
         sys.path.remove(str(STUDIES))
     variants = list(study.shaft_variants(P.REFERENCE_BREAKER).values())
     assert len(variants) == 4
-    rigid, ref, middle, thick = variants
+    rigid, ref, middle, thin = variants
     assert "main_shaft" not in rigid["breaker"] and ref["breaker"]["main_shaft"] == P.MAIN_SHAFT_SECTION
-    assert middle["breaker"]["main_shaft"]["drive_pole"] == 2 and thick["breaker"]["main_shaft"]["diameter"] > P.MAIN_SHAFT_SECTION["diameter"]
+    assert middle["breaker"]["main_shaft"]["drive_pole"] == 2
+    assert thin["breaker"]["main_shaft"]["diameter"] == P.MAIN_SHAFT_FIRST_ESTIMATE_DIAMETER < P.MAIN_SHAFT_SECTION["diameter"]
     for d in variants:
         rest = {k: v for k, v in d["breaker"].items() if k != "main_shaft"}
         assert rest == {k: v for k, v in P.REFERENCE_BREAKER["breaker"].items() if k != "main_shaft"}
