@@ -131,10 +131,12 @@ def comparison_text(c, evaluated=()):
                 + ("broke " + ", ".join(f"{name} <= {1e3 * LIMITS[name]:g} ms (the best: {1e3 * v:.2f} ms)"
                                         for name, v in broken.items()) if broken else "broke one limit or another")
                 + ". The closing springs cannot mend it: see what sets that figure in `vcb_closing.md`.\n")
-    text = (f"Against the reference springs at their own touch speed the optimum stores {c['gain_at_own_speed_percent']:.0f} % "
-            f"less energy, but that compares different speeds: the lower speed alone (energy about as speed squared) "
-            f"accounts for {c['speed_squared_share_percent']:.1f} points of it. At equal touch speed "
-            f"({TARGET_TOUCH_SPEED} m/s) the reference stiffness with its preload lowered stores "
+    gain, share = c["gain_at_own_speed_percent"], c["speed_squared_share_percent"]
+    text = (f"Against the reference springs at their own touch speed the optimum stores {abs(gain):.0f} % "
+            f"{'less' if gain >= 0 else 'more'} energy, but that compares different speeds: the "
+            f"{'lower' if share >= 0 else 'higher'} target speed alone (energy about as speed squared) accounts for "
+            f"{abs(share):.1f} points {'less' if share >= 0 else 'more'}. At equal touch speed "
+            f"({TARGET_TOUCH_SPEED} m/s) the reference stiffness with its preload set for that speed stores "
             f"{'more' if c['stored_gain_percent'] > 0 else 'less'} than the optimum: the optimum's gain is "
             f"{c['stored_gain_percent']:+.1f} % in stored energy")
     if "released_gain_percent" in c:

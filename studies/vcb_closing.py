@@ -324,7 +324,8 @@ def pole_spread_rows(rig_dict, t_end):
                      " / ".join("-" if v is None else f"{v:.3f}" for v in per["touch_speed_m_s"]),
                      f"{f['closing_speed_m_s']:.3f}"]
                     + [f"{1e3 * tw[k]:.2f} ({1e3 * tw[k] * arm:.2f})" for k in ("before", "largest", "end")]
-                    + [" / ".join(f"{1e-3 * v:.2f}" for v in closed)])
+                    + [" / ".join(f"{1e-3 * v:.2f}" for v in closed),
+                       " / ".join(f"{1e3 * v:.2f}" for v in per["bounce_duration_s"])])
     return rows, out
 
 
@@ -340,8 +341,9 @@ def pole_spread_sentence(spread):
             f"{1e3 * a['pole_spread_s']:.2f} ms for a rigid one (poles touch in the order {order(b)}, rigid "
             f"{order(a)}); the closing time moves by {1e3 * (b['closing_time_s'] - a['closing_time_s']):+.2f} ms and "
             f"the closing speed by {b['closing_speed_m_s'] - a['closing_speed_m_s']:+.3f} m/s. Under the wipe the "
-            f"levers twist {1e3 * ref['travel_at_pole_m']['largest']:.2f} mm apart at the pole, more than the "
-            "+-0.3 mm gap tolerance, and the far poles keep less of their wipe: closed, the push rod of pole "
+            f"levers twist {1e3 * ref['travel_at_pole_m']['largest']:.2f} mm apart at the pole (the gap tolerance is "
+            "+-0.3 mm), the far levers ring at the shaft's torsional modes and lengthen their poles' bounce (the last "
+            "column), and the far poles keep less of their wipe: closed, the push rod of pole "
             f"{weakest + 1} (its contact force) carries {1e-3 * ref['closed_rod_forces_N'][weakest]:.2f} kN against "
             f"{1e-3 * rigid['closed_rod_forces_N'][weakest]:.2f} kN on a rigid shaft (40 kA interrupters need 3-4 kN, "
             "`parameters.py`). A real breaker's pole spread and each pole's contact force depend on its shaft's "
@@ -362,7 +364,8 @@ def static_check_sentence(static, spread):
 
 POLE_SPREAD_HEADERS = ["main shaft", "touch times, poles 1/2/3 (ms)", "pole spread (ms)", "touch speeds (m/s)",
                        "closing speed (m/s)", "twist before touch, mrad (mm at pole)",
-                       "largest twist, mrad (mm)", "twist at the end, mrad (mm)", "closed push-rod forces (kN)"]
+                       "largest twist, mrad (mm)", "twist at the end, mrad (mm)", "closed push-rod forces (kN)",
+                       "bounce per pole (ms)"]
 
 
 def main():
