@@ -147,19 +147,23 @@ def summary(case):
     return out
 
 
+def residual_panel(ax, disc, time_scale, time_unit, lw, title, legend_at):
+    """The residual of the best registered model and of the model with the discovered torque, with
+    the noise band; times scaled by ``time_scale`` into ``time_unit``."""
+    for fit, label in ((disc.before, "best registered model"), (disc.after, "with the discovered torque")):
+        if fit is not None:
+            ax.plot(time_scale * fit.times[0], 1e3 * fit.residuals[0], lw=lw, label=f"{label}: rms {1e3 * fit.rms:.2f} mrad")
+    ax.axhspan(-1e3 * disc.noise, 1e3 * disc.noise, color="0.85", label="noise band (1 sigma)")
+    ax.set_xlabel(f"t [{time_unit}]")
+    ax.set_ylabel("model - record [mrad]")
+    ax.set_title(title, fontsize=9)
+    ax.legend(fontsize=7, loc=legend_at)
+
+
 def plot(cases, path):
     fig, axes = plt.subplots(len(cases), 2, figsize=(11, 3.6 * len(cases)))
     for row, case in zip(np.atleast_2d(axes), cases):
-        disc = case["discovery"]
-        ax = row[0]
-        for fit, label in ((disc.before, "best registered model"), (disc.after, "with the discovered torque")):
-            if fit is not None:
-                ax.plot(fit.times[0], 1e3 * fit.residuals[0], lw=0.6, label=f"{label}: rms {1e3 * fit.rms:.2f} mrad")
-        ax.axhspan(-1e3 * disc.noise, 1e3 * disc.noise, color="0.85", label="noise band (1 sigma)")
-        ax.set_xlabel("t [s]")
-        ax.set_ylabel("model - record [mrad]")
-        ax.set_title(f"{case['truth']['extra']}: residual", fontsize=9)
-        ax.legend(fontsize=7, loc="upper right")
+        residual_panel(row[0], case["discovery"], 1.0, "s", 0.6, f"{case['truth']['extra']}: residual", "upper right")
         _torque_panel(row[1], case)
     fig.tight_layout()
     fig.savefig(path, dpi=110)
@@ -220,15 +224,7 @@ def cam_plot(cases, path):
     fig, axes = plt.subplots(len(cases), 2, figsize=(11, 3.4 * len(cases)))
     for row, case in zip(np.atleast_2d(axes), cases):
         disc = case["discovery"]
-        ax = row[0]
-        for fit, label in ((disc.before, "best registered model"), (disc.after, "with the discovered torque")):
-            if fit is not None:
-                ax.plot(1e3 * fit.times[0], 1e3 * fit.residuals[0], lw=0.7, label=f"{label}: rms {1e3 * fit.rms:.2f} mrad")
-        ax.axhspan(-1e3 * disc.noise, 1e3 * disc.noise, color="0.85", label="noise band (1 sigma)")
-        ax.set_xlabel("t [ms]")
-        ax.set_ylabel("model - record [mrad]")
-        ax.set_title(f"cam drop, {case['truth']['extra']}: residual", fontsize=9)
-        ax.legend(fontsize=7, loc="upper left")
+        residual_panel(row[0], disc, 1e3, "ms", 0.7, f"cam drop, {case['truth']['extra']}: residual", "upper left")
         ax = row[1]
         est = disc.estimate
         if est is not None:
