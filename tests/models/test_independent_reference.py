@@ -5,7 +5,6 @@ balances, quadratures, hand-written Newton equations), never from vcbmodel code.
 is a clearly marked cross-check against the Exudyn model through its public API.
 """
 import math
-import time
 
 import numpy as np
 import pytest
@@ -356,17 +355,3 @@ def test_cam_stuck_while_spring_masses_swing_then_breaks_away():
     assert np.ptp(E) / E[0] < 1e-9
     # after breaking away the cam turns with the spring torque
     assert r["theta"][-1] > TH0 + 1e-3 and not r["stuck"][-1]
-
-
-def test_reference_solve_runtimes_are_reported(capsys):
-    """Not a pass/fail speed test: records the solve times in the test log (-s to see them)."""
-    cases = {
-        "pendulum 6 s (hybrid friction)": lambda: swing(dict(RIG_FRICTION, viscous=0.6), np.linspace(0, 6, 6001)),
-        "cam 35 ms massless (friction)": lambda: ref.cam_drop(CAM, MASSLESS, G, R, RIG_FRICTION, CAM_T),
-        "cam 35 ms lumped-2 (friction)": lambda: ref.cam_drop(CAM, UNIFORM2, G, R, RIG_FRICTION, CAM_T),
-    }
-    for name, run in cases.items():
-        start = time.perf_counter()
-        run()
-        with capsys.disabled():
-            print(f"\n  independent reference, {name}: {time.perf_counter() - start:.2f} s")
