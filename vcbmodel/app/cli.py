@@ -16,6 +16,7 @@ import signal
 import sys
 from collections.abc import Iterator, Sequence
 from contextlib import contextmanager
+from dataclasses import replace
 from typing import TYPE_CHECKING
 
 from .. import __version__
@@ -24,7 +25,7 @@ from ..analysis.identify import identify
 from ..analysis.sweep import DEFAULT_SEED, SAMPLING, sweep
 from ..errors import InputError, SimulationError
 from ..experiments import experiment_of
-from ..experiments.base import format_summary
+from ..experiments.report import Report, lines_report, report_json, report_text
 from ..experiments.loading import load_pair, load_rig, require_experiment
 from ..experiments.simulation import compiled_path_has, model_spec, output_times, simulate
 from ..model.choice import parse_effects_option
@@ -182,12 +183,13 @@ def cmd_simulate(args: argparse.Namespace) -> int:
     columns = [values for values, _ in channels.values()]
     for k, t in enumerate(result.t):
         buf.write(f"{t:.7f}," + ",".join(f"{c[k]:.9g}" for c in columns) + "\n")
-    lines = record.summary(full, rig)
-    summary = f"{rig.name}: {rig.experiment}, {spec.spring_model.label}\n" + format_summary(lines)
+    report = summary_report(record.summary(full, rig), f"{rig.name}: {rig.experiment}, {spec.spring_model.label} "
+                            f"(solved by {result.info['backend']}; SIMULATED)")
+    summary = report_text(report)
     if args.output:
         write_file(args.output, buf.getvalue())
         # the file holds the data: the summary is the command's result on stdout
-        print(json.dumps(simulate_json(rig, full, lines, args.output)) if args.json else summary)
+        print(json.dumps(simulate_json(rig, full, report, args.output)) if args.json else summary)
     else:
         sys.stdout.write(buf.getvalue())
         print(summary, file=sys.stderr)
@@ -207,16 +209,22 @@ def _plain(value):
     return None if isinstance(value, float) and not math.isfinite(value) else value
 
 
-def simulate_json(rig: Rig, result: SimulationResult, lines: Sequence[tuple], output: str) -> dict:
-    """``simulate --json``: the summary's figures ({what, value, unit}; null for what did not happen
-    in the run), its notes (a truncated run, contacts reopening, a cam running back) and the
-    experiment's figures of merit (SI units in their names), with the envelope."""
-    figures = [line for line in lines if not isinstance(line[1], str)]
-    return {**envelope(rig, {what: unit for what, _, unit in figures}), "output": output,
+def summary_report(summary: Sequence[tuple] | Report, title: str) -> Report:
+    """The experiment's summary (lines or a report) as a report with ``title``."""
+    return replace(summary if isinstance(summary, Report) else lines_report("", summary), title=title)
+
+
+def simulate_json(rig: Rig, result: SimulationResult, report: Report, output: str) -> dict:
+    """``simulate --json``: the report (:func:`vcbmodel.experiments.report.report_json`: the whole run's
+    figures as ``summary`` [{what, value, unit}] in the units the text shows, null for what did not
+    happen in the run; a closing's ``poles`` with each figure against its limit, ``limits`` and
+    ``verdict``; the ``notes``) and the experiment's figures of merit (SI units in their names), with
+    the envelope."""
+    body = _plain(report_json(report))
+    units = {row["what"]: row["unit"] for row in body["summary"]}
+    return {**envelope(rig, units), "output": output,
             "spring_model": result.spec.spring_model.label, "effects": list(result.spec.effects),
-            "backend": result.info["backend"], "end_s": float(result.t[-1]),
-            "summary": [{"what": what, "value": _plain(value), "unit": unit} for what, value, unit in figures],
-            "notes": [value for _, value, _ in lines if isinstance(value, str)],
+            "backend": result.info["backend"], "end_s": float(result.t[-1]), **body,
             "figures_of_merit": _plain(experiment_of(rig.experiment).figures_of_merit(result, rig))}
 
 

@@ -16,7 +16,7 @@ import numpy as np
 
 from ..errors import InputError
 from ..rig.reader import did_you_mean, read_bytes, text_bytes
-from .units import to_si
+from ..rig.units import to_si
 
 
 
