@@ -206,8 +206,9 @@ def pole_rows(fom: dict, extra: list[dict], rig: Rig) -> list[Row]:
     rows = []
     for key, (source, what) in POLE_ROWS.items():
         if source in per_pole:
-            label = f"closing speed, {1e3 * zone[0]:g}-{1e3 * zone[1]:g} mm before touch" if key == "closing_speed_m_s" else what
-            rows.append(Row(key, label, list(per_pole[source]), unit_of_name(key)))
+            if key == "closing_speed_m_s":
+                what = f"closing speed, {1e3 * zone[0]:g}-{1e3 * zone[1]:g} mm before touch"
+            rows.append(Row(key, what, list(per_pole[source]), unit_of_name(key)))
     listed = {source for source, _ in POLE_ROWS.values()}
     for key, values in per_pole.items():
         if key not in listed and isinstance(values, (list, tuple)):
