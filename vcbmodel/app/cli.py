@@ -1,4 +1,4 @@
-"""The ``vcbmodel`` command (docs/cli.md): simulate, identify, diagnose, sweep.
+"""The ``vcbmodel`` command (docs/cli.md): simulate, identify, diagnose, sweep, plot.
 
 Exit status: 0 success; 2 bad input (one line on stderr naming file and field, nothing
 written); 1 the simulation or fit failed (one line saying why). Output paths are checked
@@ -32,7 +32,9 @@ from ..model.choice import parse_effects_option
 from ..rig.spring_model import SpringModel
 from .outputs import check_output, write_file
 from .templates import TEMPLATES, explain, template
+from .closing_plot import plot_closing
 from .plots import plot_diagnosis, plot_simulation, supported_image_formats
+from .table_plot import plot_fit, plot_sweep
 
 if TYPE_CHECKING:
     from ..model.result import SimulationResult
@@ -80,7 +82,8 @@ def build_parser() -> argparse.ArgumentParser:
     s.add_argument("--effects", help="comma-separated effect names (overrides the rig's model)")
     s.add_argument("--t-end", type=float, help="simulated duration in s (default: the experiment's usual duration)")
     s.add_argument("-o", "--output", help="output CSV (default: stdout)")
-    s.add_argument("--plot", help="also draw the written channels; the format by the file's suffix")
+    s.add_argument("--plot", help="also draw the run (a closing: travel, speed, contact timing, bounces and energy per "
+                   "pole, as a breaker analyser shows it); the format by the file's suffix")
     s.add_argument("--force", action="store_true", help="replace the output (and plot) file if it exists")
     s.add_argument("--json", action="store_true", help="print the summary as one JSON object (needs -o for the CSV)")
     s.add_argument("--backend", choices=("exudyn", "compiled", "fast"), default="exudyn",
@@ -101,6 +104,9 @@ def build_parser() -> argparse.ArgumentParser:
     i.add_argument("--law", choices=("hybrid", "stick-slip"), default="hybrid",
                    help="hybrid: Coulomb + Stribeck + viscous; stick-slip: Coulomb with stick band only")
     i.add_argument("--json", action="store_true", help="print one JSON object")
+    i.add_argument("--plot", help="write a figure of the fit (measured and fitted, residual, per record); the format "
+                   "by the file's suffix")
+    i.add_argument("--force", action="store_true", help="replace the --plot file if it exists")
 
     d = sub.add_parser("diagnose", parents=[common], help="find the effect the rig's model is missing")
     d.add_argument("measurement", help="measurement file NAME.csv")
@@ -132,6 +138,17 @@ def build_parser() -> argparse.ArgumentParser:
     w.add_argument("--force", action="store_true", help="replace -o if it exists (without it an existing table is refused)")
     w.add_argument("--backend", choices=("fast", "exudyn"), default="fast",
                    help="fast: the compiled path where it covers the model, else Exudyn (default); exudyn: every run on Exudyn")
+
+    pl = sub.add_parser("plot", parents=[common], help="draw a sweep's table: figures of merit against a varied field",
+                        description="Draws figures of merit of a sweep's table (vcbmodel sweep -o) against one varied "
+                        "rig field: a line per combination of the other varied fields (a grid), else points; each axis "
+                        "in the unit an engineer reads (ms, mm, kN, deg), from the column's name.")
+    pl.add_argument("table", help="a sweep's table OUT.csv")
+    pl.add_argument("--x", required=True, metavar="PATH", help="the varied rig field on the x axis (a column of the table)")
+    pl.add_argument("--y", required=True, action="append", metavar="FIGURE",
+                    help="a figure of merit (closing_time_s, bounce_duration_s, ...); repeat for one panel each")
+    pl.add_argument("-o", "--output", help="image file; the format by its suffix (default: the table's name, .png)")
+    pl.add_argument("--force", action="store_true", help="replace the output if it exists")
     return p
 
 
@@ -193,7 +210,9 @@ def cmd_simulate(args: argparse.Namespace) -> int:
     else:
         sys.stdout.write(buf.getvalue())
         print(summary, file=sys.stderr)
-    if args.plot:
+    if args.plot and rig.breaker is not None:  # a closing: the analyser's view, at the solver's step
+        plot_closing(full, rig, args.plot, f"{rig.name}: {spec.spring_model.label}", report)
+    elif args.plot:
         plot_simulation(result, channels, args.plot, f"{rig.name}: {spec.spring_model.label}")
     return 0
 
@@ -248,8 +267,12 @@ def cmd_identify(args: argparse.Namespace) -> int:
     pairs = [load_pair(m, args.rig) for m in args.measurements]
     for rig, _ in pairs:
         require_experiment(rig, "pendulum", "identify")
+    check_output(args.plot, "--plot", inputs=tuple(args.measurements) + tuple(r.path for r, _ in pairs), force=args.force,
+                 formats=supported_image_formats())
     with results_only_on_stdout():
         result = identify(pairs, law=args.law)
+        if args.plot:
+            plot_fit(result, args.plot)
     if result.warning:
         print(f"vcbmodel: warning: {result.warning}", file=sys.stderr)
     if args.json:
@@ -289,7 +312,16 @@ def cmd_sweep(args: argparse.Namespace) -> int:
     return 0 if len(table) else 1
 
 
-COMMANDS = {"check": cmd_check, "init": cmd_init, "simulate": cmd_simulate, "identify": cmd_identify, "diagnose": cmd_diagnose, "sweep": cmd_sweep}
+def cmd_plot(args: argparse.Namespace) -> int:
+    output = args.output or os.path.splitext(args.table)[0] + ".png"
+    check_output(output, "-o", inputs=(args.table,), force=args.force, formats=supported_image_formats())
+    plot_sweep(args.table, args.x, args.y, output)
+    log.info("plot: wrote %s", output)
+    return 0
+
+
+COMMANDS = {"check": cmd_check, "init": cmd_init, "simulate": cmd_simulate, "identify": cmd_identify, "diagnose": cmd_diagnose, "sweep": cmd_sweep,
+            "plot": cmd_plot}
 
 
 class Terminated(KeyboardInterrupt):
