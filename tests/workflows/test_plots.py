@@ -136,3 +136,15 @@ def test_identify_plot_shows_measured_fitted_and_the_residual(tmp_path):
     residual = bottom.get_lines()[0]
     assert np.sqrt(np.mean(residual.get_ydata() ** 2)) == pytest.approx(1e3 * result.fit.rms, rel=0.05)
     matplotlib.pyplot.close(fig)
+
+
+def test_random_draws_are_points_coloured_by_the_other_field():
+    rng = np.random.default_rng(1)
+    table = pd.DataFrame({"run": range(1, 13), "friction.mu_k": rng.uniform(0.1, 0.16, 12),
+                          "closing_spring.stiffness": rng.normal(24230, 500, 12),
+                          "closing_speed_m_s": rng.uniform(1.2, 1.3, 12), "status": "ok"})
+    fig = sweep_figure(table, "friction.mu_k", ["closing_speed_m_s"], "t")
+    ax, bar = fig.axes
+    assert ax.get_ylabel() == "closing speed (m/s)" and bar.get_ylabel() == "closing_spring.stiffness (N/m)"
+    assert len(ax.collections) == 1 and len(ax.collections[0].get_offsets()) == 12
+    matplotlib.pyplot.close(fig)

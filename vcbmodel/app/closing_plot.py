@@ -157,9 +157,12 @@ def bounce_closeup(ax: Axes, result: SimulationResult, rig: Rig, fom: dict, t_ms
         last = max(1e3 * (t + d) for t, d in zip(pp["touch_s"], pp["bounce_duration_s"]) if t is not None)
         pad = max(0.15 * (last - first), 0.2)
         ax.set_xlim(first - pad, last + pad)
+    else:
+        ax.set_xlim(float(t_ms[0]), float(t_ms[-1]))
     counts = ", ".join(f"pole {i} {count} ({format_value(1e3 * duration, 1e-3)} ms)" for i, (count, duration)
                        in enumerate(zip(pp["bounces"], pp["bounce_duration_s"]), start=1))
-    ax.set_title(f"bounce close-up; bounces (touch to last re-closing): {counts}", fontsize=9, loc="left")
+    ax.set_title(f"bounce close-up; bounces (touch to last re-closing): {counts}" if touches else
+                 "bounce close-up: no pole touches before the run ends", fontsize=9, loc="left")
     ax.set_xlabel("t (ms from the latch release)")
 
 

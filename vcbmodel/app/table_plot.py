@@ -100,9 +100,10 @@ def varied_columns(table: pd.DataFrame) -> list[str]:
 
 
 def sweep_figure(table: pd.DataFrame, x: str, ys: Sequence[str], title: str) -> Figure:
-    """One panel per figure ``ys`` against the varied field ``x``: a line per combination of the other
-    varied fields (a grid, at most MAX_GROUPS of them), else points; runs that failed (``status`` not
-    ``ok``) left out and counted in the title."""
+    """One panel per figure ``ys`` against the varied field ``x``: on a grid, a line per combination of
+    the other varied fields (at most MAX_GROUPS); otherwise (random draws) points coloured by the first
+    other varied field, with its colour bar. Runs that failed (``status`` not ``ok``) are left out and
+    counted in the title."""
     ok = table[table["status"] == "ok"] if "status" in table.columns else table
     others = [c for c in varied_columns(table) if c != x]
     groups = list(ok.groupby(others)) if others else [((), ok)]
@@ -111,19 +112,22 @@ def sweep_figure(table: pd.DataFrame, x: str, ys: Sequence[str], title: str) -> 
     fx, x_label = axis_of(x)
     for ax, y in zip(axes[:, 0], ys):
         fy, y_label = axis_of(y)
-        for k, (key, g) in enumerate(groups):
-            g = g.sort_values(x)
-            key = key if isinstance(key, tuple) else (key,)
-            label = ", ".join(group_label(c, v) for c, v in zip(others, key)) or None
-            style = dict(color=f"C{k % 10}", label=label)
-            if lines:
-                ax.plot(fx * g[x], fy * g[y], "o-", ms=4, lw=1.3, **style)
-            else:
-                ax.plot(fx * g[x], fy * g[y], "o", ms=3, alpha=0.7, **style)
+        if lines:
+            for k, (key, g) in enumerate(groups):
+                g = g.sort_values(x)
+                key = key if isinstance(key, tuple) else (key,)
+                label = ", ".join(group_label(c, v) for c, v in zip(others, key)) or None
+                ax.plot(fx * g[x], fy * g[y], "o-", ms=4, lw=1.3, color=f"C{k % 10}", label=label)
+            if others:
+                ax.legend(fontsize=7)
+        elif others:
+            fc, c_label = axis_of(others[0])
+            points = ax.scatter(fx * ok[x], fy * ok[y], c=fc * ok[others[0]], s=14, cmap="viridis")
+            fig.colorbar(points, ax=ax, label=c_label)
+        else:
+            ax.plot(fx * ok[x], fy * ok[y], "o", ms=4, color="C0")
         ax.set_ylabel(y_label)
         ax.grid(alpha=0.3)
-        if others and len(groups) <= MAX_GROUPS:
-            ax.legend(fontsize=7)
     axes[-1, 0].set_xlabel(x_label)
     left_out = len(table) - len(ok)
     fig.suptitle(title + (f"; {left_out} run(s) that did not finish left out" if left_out else ""), fontsize=9)
