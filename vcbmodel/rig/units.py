@@ -47,7 +47,7 @@ class Display(NamedTuple):
 #: m/s, forces in kN to the newton, angles in degrees.
 DISPLAY = {
     "s": Display("ms", 1e3, 1e-3), "m": Display("mm", 1e3, 1e-3), "m/s": Display("m/s", 1.0, 1e-3),
-    "N": Display("kN", 1e-3, 1e-3), "J": Display("J", 1.0, 0.1), "rad": Display("deg", 180 / math.pi, 0.01),
+    "N": Display("kN", 1e-3, 1e-3), "J": Display("J", 1.0, 0.1), "rad": Display("deg", 180 / math.pi, 0.001),
     "deg": Display("deg", 1.0, 0.01), "rad/s": Display("rad/s", 1.0, 0.01), "N m": Display("N m", 1.0, 0.01),
     "A": Display("kA", 1e-3, 1e-3), "W": Display("W", 1.0, 0.1), "1/s": Display("1/s", 1.0, 1e-4),
     "-": Display("", 1.0, 1.0), "Hz": Display("Hz", 1.0, 0.01), "kg": Display("kg", 1.0, 1e-4),
