@@ -34,7 +34,7 @@ def analyser_export(src, dst, units_row=False, separator=","):
     keep = [j for j, name in enumerate(header) if unit[name] is not None]
     scale = np.array([1e3 if unit[header[j]] in ("ms", "mm") else 1.0 for j in keep])
     values = rows[:, keep] * scale
-    names = ["Time" if header[j] == "t" else header[j] for j in keep]
+    names = ["T" if header[j] == "t" else header[j] for j in keep]
     if units_row:
         head = [separator.join(names), separator.join(unit[header[j]] for j in keep)]
     else:
@@ -67,7 +67,7 @@ def test_diagnose_gives_an_analyser_export_the_verdict_of_the_si_record(tmp_path
     export = tmp_path / "closing_ms.csv"
     analyser_export(CLOSING.with_suffix(".csv"), export)
     shutil.copy(CLOSING.with_suffix(".rig.json"), tmp_path / "closing_ms.rig.json")
-    assert "t [ms]" not in export.read_text() and "Time [ms],follower_displacement [mm]" in export.read_text()
+    assert "T [ms],follower_displacement [mm]" in export.read_text()
     reports = []
     for record in (CLOSING.with_suffix(".csv"), export):
         assert main(["diagnose", str(record), "--json", "--processes", "1", "-q"]) == 0

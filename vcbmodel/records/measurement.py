@@ -88,10 +88,6 @@ def _cells(text, delimiter, decimal_comma):
     return [c.replace(",", ".") for c in cells] if decimal_comma else cells
 
 
-#: Names an analyser's export gives the time column, read as ``t``
-TIME_NAMES = ("t", "time")
-
-
 def _factor(stated, name, want, path, field, where):
     """The factor that takes a column stated in ``stated`` to its channel's SI unit ``want`` (None:
     any SI unit); a unit of another quantity, or one this reader does not know, is refused naming both."""
@@ -116,8 +112,6 @@ def _header(cells, path, line, units):
         m = HEADER_UNIT.fullmatch(cell)
         name, unit = (m.group("name"), next(u for u in m.group("a", "b", "c") if u is not None).strip()) if m else (cell, None)
         name = name.lower()
-        if not names and name in TIME_NAMES:
-            name = "t"
         want = "s" if name == "t" else (units or {}).get(name)
         factors.append(None if unit is None else _factor(unit, name, want, path, f"column {cell[:40]!r}", ""))
         names.append(name)
@@ -153,7 +147,7 @@ def load_measurement(path: str | Path, channel: str | None = None, known: Iterab
     the header or a units row are converted to (``ms`` to ``s``, ``mm`` to ``m``, ``deg`` to ``rad``;
     a unit of another quantity is refused). Accepted variants (docs/rig-format.md): ``;`` with decimal
     commas, tabs, quoted values, a trailing delimiter, capitals, units in the header or in a row under
-    it, and ``time`` for ``t``.
+    it.
 
     Parameters
     ----------
