@@ -111,7 +111,7 @@ def fake_run_all(tmp_path, monkeypatch, statuses):
     folder = tmp_path / "studies"
     folder.mkdir()
     for k, (name, status) in enumerate(statuses.items()):
-        text = FAKE_STUDY.replace("NAME", name).replace("PAUSE", str(0.3 if k == 0 else 0.05))
+        text = FAKE_STUDY.replace("NAME", name).replace("PAUSE", str(1.5 if k == 0 else 0.05))
         (folder / f"{name}.py").write_text(text.replace("STATUS", str(status)).replace("FIGURE", str(k)))
     names = [f"{n}.py" for n in statuses]
     monkeypatch.setattr(run_all, "HERE", folder)
