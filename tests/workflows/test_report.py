@@ -38,12 +38,13 @@ def run(tmp_path_factory):
 
 def table(text):
     """{row label: [cells]} of the per-pole table (label, unit, a value per pole, limit, result)."""
+    lines = text.splitlines()
+    cut = lines[1].index("unit")  # the labels' column ends where the header's "unit" begins
     rows = {}
-    for line in text.splitlines()[2:]:
+    for line in lines[2:]:
         if line.strip() == "whole breaker":
             break
-        label, rest = line[:46].strip(), line[46:].split()
-        rows[label] = rest
+        rows[line[:cut].strip()] = line[cut:].split()
     return rows
 
 
