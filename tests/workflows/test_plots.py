@@ -148,3 +148,14 @@ def test_random_draws_are_points_coloured_by_the_other_field():
     assert ax.get_ylabel() == "closing speed (m/s)" and bar.get_ylabel() == "closing_spring.stiffness (N/m)"
     assert len(ax.collections) == 1 and len(ax.collections[0].get_offsets()) == 12
     matplotlib.pyplot.close(fig)
+
+
+def test_identify_plot_refuses_an_existing_file_or_an_input_before_fitting(tmp_path, capsys):
+    record = ROOT / "results" / "synthetic" / "pendulum_10deg.csv"
+    old = tmp_path / "fit.png"
+    old.write_bytes(b"mine")
+    for target, words in ((old, "--force"), (record, "is an input")):
+        assert main(["identify", str(record), "--plot", str(target), "-q"]) == 2
+        err = capsys.readouterr().err.strip()
+        assert len(err.splitlines()) == 1 and words in err
+    assert old.read_bytes() == b"mine"
