@@ -10,7 +10,6 @@ import numpy as np
 
 from ..compiled import OdeModel
 from ..errors import InputError
-from .report import Report, lines_report, report_text
 
 if TYPE_CHECKING:
     from ..records.measurement import Measurement
@@ -59,15 +58,6 @@ def figures_summary(result: SimulationResult, rig: Rig) -> list[tuple]:
     """[(what, value, unit)]: the experiment's figures of merit (``simulate``'s one-run summary)."""
     fom = experiment_of(rig.experiment).figures_of_merit(result, rig)
     return [(name, fom.get(name), unit) for name, unit in experiment_of(rig.experiment).figure_units]
-
-
-def format_summary(lines: Sequence[tuple] | Report, title: str = "") -> str:
-    """``simulate``'s summary as text: a :class:`~vcbmodel.experiments.report.Report` as it is, or
-    lines ``(what, SI value, SI unit[, unit to show])``, one per figure, in the unit an engineer reads
-    (ms, mm, deg, kN) to 3-4 significant figures (``-`` for something that did not happen before the
-    run ended); a line whose value is text (a note: ``("note", text, None)``) is printed as
-    ``note: text`` after the figures."""
-    return report_text(lines if isinstance(lines, Report) else lines_report(title, lines))
 
 
 @dataclass(frozen=True)
