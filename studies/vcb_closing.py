@@ -11,7 +11,8 @@ the cam-roller contact's law and damping choices, the independent solve
 (vcbmodel/reference/breaker.py) against the Exudyn model, energy balance, step convergence,
 pressure angle, the main shaft's twist between the pole levers and the pole spread it makes (rigid shaft,
 reference shaft, driven at the middle pole, the first estimate's 40 mm).
-Writes results/vcb_closing_fig12.png, vcb_closing_detail.png, vcb_closing.{md,json} and
+Writes results/vcb_closing_fig12.png, vcb_closing_detail.png, vcb_closing_analyser.png (the full model's
+closing as a breaker analyser draws it, its report in the .md), vcb_closing.{md,json} and
 results/synthetic/vcb_closing.{csv,rig.json}.
 """
 import copy
@@ -22,11 +23,14 @@ from _common import markdown_table, parse_args, write_json
 
 from vcbmodel import parameters as P
 from vcbmodel.analysis.synthetic import synthetic_measurement, write_rig
+from vcbmodel.app.closing_plot import closing_figure
 from vcbmodel.app.plots import plt, save
 from vcbmodel.experiments.closing_evaluation import SPLIT_TERMS, energy_balance, energy_split, figures_of_merit
 from vcbmodel.experiments.closing_evaluation import main_shaft_twist as twist_of_run
 from vcbmodel.experiments.loading import load_rig, rig_from_data
+from vcbmodel.experiments.report import report_text
 from vcbmodel.experiments.simulation import model_spec, simulate
+from vcbmodel.experiments.summaries import closing_report
 from vcbmodel.laws.breaker import BreakerLaws, massless_pull, pressure_angle_curve
 from vcbmodel.laws.coil import spring_check
 from vcbmodel.laws.mechanics import cam_pin, main_shaft_twist
@@ -494,6 +498,10 @@ def main():
     axes[1, 1].set_ylabel("pressure angle (deg)")
     axes[1, 1].set_title(f"cam profile: max {pressure.max():.1f} deg")
     save(fig, out / "vcb_closing_detail.png")
+    # the full model's closing as a breaker analyser reports and draws it (vcbmodel simulate, --plot)
+    report = closing_report(full, rig)
+    save(closing_figure(full, rig, f"{rig.name}: full model (lumped-2)", report), out / "vcb_closing_analyser.png",
+         tight=False)
 
     rest = simulate(rig, t_end=P.BREAKER_REST_T_END)
     split_rows = energy_split_figure(rig, full, rest, summary, out)
@@ -624,6 +632,9 @@ def main():
           f"{1e6 * conv['closing_time_difference_s']:.2f} us (the passive stick band's share: it widens with the step). "
           f"Largest pressure angle: {summary['max_pressure_angle_closing_deg']:.1f} deg while the roller rises, "
           f"{pressure.max():.1f} deg over a whole cam turn (the return; limit for roller followers about 30 deg).\n"]
+    md += ["\n## The analyser's report of the full model (`vcb_closing_analyser.png`)\n",
+           "What `vcbmodel simulate` prints for the reference breaker: each pole against the rig's limits "
+           "(`breaker.limits`, from `parameters.py`).\n", "```\n" + report_text(report) + "\n```\n"]
     (out / "vcb_closing.md").write_text("\n".join(md))
     print("\n".join(md))
 

@@ -172,8 +172,9 @@ def test_common_csv_variants_read_as_the_plain_file(variant, tmp_path):
 
 
 @pytest.mark.parametrize("text, words", [
-    ("t [ms],cam_angle\n0,0.17\n1,0.171\n2,0.175\n", ["'ms'", "'s'"]),
-    ("t,cam_angle [deg]\n0,10\n0.001,10.1\n0.002,10.2\n", ["'deg'", "'rad'"]),
+    ("t [m],cam_angle\n0,0.17\n1,0.171\n2,0.175\n", ["'m'", "'s'"]),
+    ("t,cam_angle [mm]\n0,10\n0.001,10.1\n0.002,10.2\n", ["'mm'", "'rad'"]),
+    ("t,cam_angle [furlong]\n0,10\n0.001,10.1\n0.002,10.2\n", ["'furlong'", "not a unit"]),
     ("t,cam_angle\n0,0,17\n0,001,0,171\n0,002,0,175\n", ["decimal comma", "';'"]),
 ])
 def test_ambiguous_or_wrong_csv_variants_name_the_cause(text, words, tmp_path):

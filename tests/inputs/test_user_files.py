@@ -45,7 +45,20 @@ def test_a_units_row_in_the_channels_units_is_read_as_meant(tmp_path, units, sep
     assert np.array_equal(with_units.channel("pendulum_angle"), plain.channel("pendulum_angle"))
 
 
-@pytest.mark.parametrize("units, column", [("s,deg", "pendulum_angle"), ("ms,rad", "t")])
+def test_a_units_row_in_ms_and_deg_is_converted_to_seconds_and_radians(tmp_path):
+    _, plain = load_pair(PENDULUM.with_suffix(".csv"))
+    lines = PENDULUM.with_suffix(".csv").read_text().splitlines()
+    header = next(i for i, line in enumerate(lines) if not line.startswith("#"))
+    rows = [[float(c) for c in line.split(",")] for line in lines[header + 1:]]
+    body = lines[:header + 1] + ["ms,deg"] + [f"{1e3 * t!r},{math.degrees(a)!r}" for t, a in rows]
+    (tmp_path / "deg.csv").write_text("\n".join(body) + "\n")
+    (tmp_path / "deg.rig.json").write_text(PENDULUM.with_suffix(".rig.json").read_text())
+    _, converted = load_pair(tmp_path / "deg.csv")
+    assert np.allclose(converted.t, plain.t, rtol=0, atol=1e-12)
+    assert np.allclose(converted.channel("pendulum_angle"), plain.channel("pendulum_angle"), rtol=1e-12, atol=1e-15)
+
+
+@pytest.mark.parametrize("units, column", [("s,m", "pendulum_angle"), ("m,rad", "t")])
 def test_a_units_row_in_another_unit_is_refused_naming_line_and_column(tmp_path, capsys, units, column):
     f = record_with(tmp_path, "other_units", units)
     assert main(["identify", str(f), "--json"]) == 2

@@ -22,7 +22,8 @@ EXPECTED = {
     "diagnosis_realism.py": ["diagnosis_realism.json", "diagnosis_realism.md", "diagnosis_realism.png"],
     "benchmark.py": ["benchmark.json", "benchmark.md"],
     "spring_reading.py": ["spring_reading.json", "spring_reading.md"],
-    "vcb_closing.py": ["vcb_closing_fig12.png", "vcb_closing_detail.png", "vcb_closing_energy_split.png", "vcb_closing.json", "vcb_closing.md",
+    "vcb_closing.py": ["vcb_closing_fig12.png", "vcb_closing_detail.png", "vcb_closing_energy_split.png",
+                       "vcb_closing_analyser.png", "vcb_closing.json", "vcb_closing.md",
                        "synthetic/vcb_closing.csv"],
     "design_sensitivity.py": ["design_sensitivity_tornado.png", "design_sensitivity_sobol.png",
                               "design_sensitivity.json", "design_sensitivity.md"],
@@ -88,6 +89,67 @@ def fake(task):
 S._made_and_diagnosed = fake
 print(json.dumps([[r["seed"] for r in S.diagnose_plan(True, "unused", workers=w)] for w in (1, 2, 3)]))
 """
+
+
+FAKE_STUDY = """import sys, time
+from pathlib import Path
+out = Path(sys.argv[sys.argv.index("--out") + 1])
+for k in range(300):
+    print(f"NAME: progress line {k}", {"a": k})  # chatter, a raw dict: the log's, not the console's
+time.sleep(PAUSE)
+(out / "NAME.json").write_text("{}")
+(out / "synthetic").mkdir(exist_ok=True)
+(out / "synthetic" / "NAME.csv").write_text("t,x")
+(out / "shared_figure_FIGURE.png").write_text("png")
+sys.exit(STATUS)
+"""
+
+
+def fake_run_all(tmp_path, monkeypatch, statuses):
+    """run_all over fake studies (two lanes and one alone): its console and its log."""
+    run_all = _load_study("run_all")
+    folder = tmp_path / "studies"
+    folder.mkdir()
+    for k, (name, status) in enumerate(statuses.items()):
+        text = FAKE_STUDY.replace("NAME", name).replace("PAUSE", str(1.5 if k == 0 else 0.05))
+        (folder / f"{name}.py").write_text(text.replace("STATUS", str(status)).replace("FIGURE", str(k)))
+    names = [f"{n}.py" for n in statuses]
+    monkeypatch.setattr(run_all, "HERE", folder)
+    monkeypatch.setattr(run_all, "LANES", ([names[0]], names[1:-1]))
+    monkeypatch.setattr(run_all, "ALONE", names[-1:])
+    monkeypatch.setattr(run_all, "STUDIES", names)
+    out, log = tmp_path / "out", tmp_path / "run.log"
+    out.mkdir()
+    monkeypatch.setattr(sys, "argv", ["run_all.py", "--quick", "--out", str(out), "--log", str(log)])
+    return run_all, out, log
+
+
+def test_run_all_prints_one_line_per_study_with_its_files_and_logs_the_rest(tmp_path, monkeypatch, capsys):
+    run_all, out, log = fake_run_all(tmp_path, monkeypatch, {"long_one": 0, "alpha": 0, "beta": 0, "bench": 0})
+    run_all.main()
+    lines = capsys.readouterr().out.strip().splitlines()
+    assert len(lines) == 6 and lines[0].startswith("run_all: 4 studies") and str(log) in lines[-1]
+    by_study = {line.split()[0]: line for line in lines[1:-1]}
+    assert set(by_study) == {"long_one.py", "alpha.py", "beta.py", "bench.py"}
+    assert "progress line" not in "\n".join(lines) and "{" not in "\n".join(lines)
+    for name, k in (("alpha", 1), ("beta", 2), ("bench", 3)):
+        files = by_study[f"{name}.py"].split("processor)", 1)[1]
+        assert f"{name}.json" in files and f"synthetic/{name}.csv" in files and f"shared_figure_{k}.png" in files
+        assert "long_one" not in files
+    assert "long_one.json" in by_study["long_one.py"] and "alpha" not in by_study["long_one.py"]
+    text = log.read_text()
+    assert text.count("progress line 299") == 4 and "== beta.py (exit status 0" in text
+    assert json.loads((out / "run_all_timing.json").read_text())["quick"] is True
+
+
+def test_run_all_shows_a_failed_studys_last_lines(tmp_path, monkeypatch, capsys):
+    run_all, _, log = fake_run_all(tmp_path, monkeypatch, {"long_one": 0, "broken": 3, "never": 0})
+    with pytest.raises(SystemExit) as e:
+        run_all.main()
+    printed = capsys.readouterr().out
+    assert "broken.py" in str(e.value) and str(log) in str(e.value)
+    assert "FAILED (exit status 3)" in printed and "   | broken: progress line 299" in printed
+    assert "never.py" not in printed  # no study starts after a failure
 
 
 def test_realism_study_records_come_back_in_the_plan_order_from_its_workers():

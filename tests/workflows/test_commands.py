@@ -42,11 +42,20 @@ def test_a_closing_writes_every_pole_channel_and_a_summary_with_units(tmp_path, 
     capsys.readouterr()
     assert main(["simulate", str(rig), "-o", str(csv)]) == 0
     summary = capsys.readouterr().out
-    for words in ("pole 1 closes at", "pole 3 closes at", "touch speed", "pole spread", "bounces", "overtravel"):
+    for words in ("pole 1", "pole 3", "closing time (touch)", "speed at touch", "pole spread", "bounces", "overtravel",
+                  "contact force closed"):
         assert words in summary
-    assert " m/s" in summary and " s\n" in summary
+    assert " m/s " in summary and " ms " in summary and " mm " in summary and " kN " in summary
+    lines = [line for line in csv.read_text().splitlines() if line.startswith("#")]
     header = [line for line in csv.read_text().splitlines() if not line.startswith("#")][0].split(",")
-    assert header == ["t", "follower_displacement"] + [f"pole_{i}_{c}" for i in (1, 2, 3) for c in ("travel", "contact")]
+    per_pole = [f"pole_{i}_{c}" for i in (1, 2, 3) for c in ("travel", "velocity", "contact")]
+    forces = [f"pole_{i}_{c}_force" for i in (1, 2, 3) for c in ("contact", "rod")] + ["cam_roller_force"]
+    assert header[:11] == ["t", "follower_displacement"] + per_pole and set(forces) <= set(header)
+    assert {"cam_angle", "shaft_velocity"} <= set(header)
+    # every column's unit is stated, none unknown
+    stated = dict(part.strip().split(" in ") for part in lines[1].lstrip("# ").split(",")[:-1])
+    assert set(stated) == set(header) and "?" not in stated.values()
+    assert stated["pole_1_velocity"] == "m/s" and stated["cam_roller_force"] == "N"
     meas = load_record(csv, load_rig(rig))
     assert set(meas.channels["pole_1_contact"]) == {0.0, 1.0}  # the analyser's timing channel: open, then closed
 

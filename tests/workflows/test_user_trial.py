@@ -21,11 +21,15 @@ def breaker(tmp_path):
 def test_simulate_summary_gives_the_sweeps_figures(breaker, tmp_path, capsys):
     assert main(["simulate", str(breaker), "-o", str(tmp_path / "c.csv"), "-q"]) == 0
     printed = capsys.readouterr().out
-    touch = float(next(ln for ln in printed.splitlines() if "touch speed" in ln).split()[-2])
+    def shown(words):  # the value printed on the whole breaker's line, in ms
+        line = next(ln for ln in printed.splitlines() if ln.strip().startswith(words))
+        return float(line.split(" ms ", 1)[1].split()[0])
     assert main(["sweep", str(breaker), "--vary", "friction.mu_k=0.13:0.13:1", "-o", str(tmp_path / "s.csv"), "-q",
                  "--workers", "1"]) == 0
     row = pd.read_csv(tmp_path / "s.csv").iloc[0]
-    assert touch == pytest.approx(row["touch_speed_m_s"], rel=1e-5)
+    # printed to 4 significant figures, in ms
+    assert shown("closing time (last pole)") == pytest.approx(1e3 * row["closing_time_s"], abs=0.006)
+    assert shown("pole spread") == pytest.approx(1e3 * row["pole_spread_s"], abs=6e-4)
 
 
 def test_a_datasheet_field_that_changes_nothing_is_not_swept(breaker, tmp_path, capsys):

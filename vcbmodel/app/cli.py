@@ -1,4 +1,4 @@
-"""The ``vcbmodel`` command (docs/cli.md): simulate, identify, diagnose, sweep.
+"""The ``vcbmodel`` command (docs/cli.md): simulate, identify, diagnose, sweep, plot.
 
 Exit status: 0 success; 2 bad input (one line on stderr naming file and field, nothing
 written); 1 the simulation or fit failed (one line saying why). Output paths are checked
@@ -16,6 +16,7 @@ import signal
 import sys
 from collections.abc import Iterator, Sequence
 from contextlib import contextmanager
+from dataclasses import replace
 from typing import TYPE_CHECKING
 
 from .. import __version__
@@ -24,14 +25,16 @@ from ..analysis.identify import identify
 from ..analysis.sweep import DEFAULT_SEED, SAMPLING, sweep
 from ..errors import InputError, SimulationError
 from ..experiments import experiment_of
-from ..experiments.base import format_summary
+from ..experiments.report import Report, lines_report, report_json, report_text
 from ..experiments.loading import load_pair, load_rig, require_experiment
 from ..experiments.simulation import compiled_path_has, model_spec, output_times, simulate
 from ..model.choice import parse_effects_option
 from ..rig.spring_model import SpringModel
 from .outputs import check_output, write_file
 from .templates import TEMPLATES, explain, template
+from .closing_plot import plot_closing
 from .plots import plot_diagnosis, plot_simulation, supported_image_formats
+from .table_plot import plot_fit, plot_sweep
 
 if TYPE_CHECKING:
     from ..model.result import SimulationResult
@@ -79,7 +82,8 @@ def build_parser() -> argparse.ArgumentParser:
     s.add_argument("--effects", help="comma-separated effect names (overrides the rig's model)")
     s.add_argument("--t-end", type=float, help="simulated duration in s (default: the experiment's usual duration)")
     s.add_argument("-o", "--output", help="output CSV (default: stdout)")
-    s.add_argument("--plot", help="also draw the written channels; the format by the file's suffix")
+    s.add_argument("--plot", help="also draw the run (a closing: travel, speed, contact timing, bounces and energy per "
+                   "pole, as a breaker analyser shows it); the format by the file's suffix")
     s.add_argument("--force", action="store_true", help="replace the output (and plot) file if it exists")
     s.add_argument("--json", action="store_true", help="print the summary as one JSON object (needs -o for the CSV)")
     s.add_argument("--backend", choices=("exudyn", "compiled", "fast"), default="exudyn",
@@ -100,6 +104,9 @@ def build_parser() -> argparse.ArgumentParser:
     i.add_argument("--law", choices=("hybrid", "stick-slip"), default="hybrid",
                    help="hybrid: Coulomb + Stribeck + viscous; stick-slip: Coulomb with stick band only")
     i.add_argument("--json", action="store_true", help="print one JSON object")
+    i.add_argument("--plot", help="write a figure of the fit (measured and fitted, residual, per record); the format "
+                   "by the file's suffix")
+    i.add_argument("--force", action="store_true", help="replace the --plot file if it exists")
 
     d = sub.add_parser("diagnose", parents=[common], help="find the effect the rig's model is missing")
     d.add_argument("measurement", help="measurement file NAME.csv")
@@ -131,6 +138,17 @@ def build_parser() -> argparse.ArgumentParser:
     w.add_argument("--force", action="store_true", help="replace -o if it exists (without it an existing table is refused)")
     w.add_argument("--backend", choices=("fast", "exudyn"), default="fast",
                    help="fast: the compiled path where it covers the model, else Exudyn (default); exudyn: every run on Exudyn")
+
+    pl = sub.add_parser("plot", parents=[common], help="draw a sweep's table: figures of merit against a varied field",
+                        description="Draws figures of merit of a sweep's table (vcbmodel sweep -o) against one varied "
+                        "rig field: a line per combination of the other varied fields (a grid), else points; each axis "
+                        "in the unit an engineer reads (ms, mm, kN, deg), from the column's name.")
+    pl.add_argument("table", help="a sweep's table OUT.csv")
+    pl.add_argument("--x", required=True, metavar="PATH", help="the varied rig field on the x axis (a column of the table)")
+    pl.add_argument("--y", required=True, action="append", metavar="FIGURE",
+                    help="a figure of merit (closing_time_s, bounce_duration_s, ...); repeat for one panel each")
+    pl.add_argument("-o", "--output", help="image file; the format by its suffix (default: the table's name, .png)")
+    pl.add_argument("--force", action="store_true", help="replace the output if it exists")
     return p
 
 
@@ -182,16 +200,19 @@ def cmd_simulate(args: argparse.Namespace) -> int:
     columns = [values for values, _ in channels.values()]
     for k, t in enumerate(result.t):
         buf.write(f"{t:.7f}," + ",".join(f"{c[k]:.9g}" for c in columns) + "\n")
-    lines = record.summary(full, rig)
-    summary = f"{rig.name}: {rig.experiment}, {spec.spring_model.label}\n" + format_summary(lines)
+    report = summary_report(record.summary(full, rig), f"{rig.name}: {rig.experiment}, {spec.spring_model.label} "
+                            f"(solved by {result.info['backend']}; SIMULATED)")
+    summary = report_text(report)
     if args.output:
         write_file(args.output, buf.getvalue())
         # the file holds the data: the summary is the command's result on stdout
-        print(json.dumps(simulate_json(rig, full, lines, args.output)) if args.json else summary)
+        print(json.dumps(simulate_json(rig, full, report, args.output)) if args.json else summary)
     else:
         sys.stdout.write(buf.getvalue())
         print(summary, file=sys.stderr)
-    if args.plot:
+    if args.plot and rig.breaker is not None:  # a closing: the analyser's view, at the solver's step
+        plot_closing(full, rig, args.plot, f"{rig.name}: {spec.spring_model.label}", report)
+    elif args.plot:
         plot_simulation(result, channels, args.plot, f"{rig.name}: {spec.spring_model.label}")
     return 0
 
@@ -207,16 +228,22 @@ def _plain(value):
     return None if isinstance(value, float) and not math.isfinite(value) else value
 
 
-def simulate_json(rig: Rig, result: SimulationResult, lines: Sequence[tuple], output: str) -> dict:
-    """``simulate --json``: the summary's figures ({what, value, unit}; null for what did not happen
-    in the run), its notes (a truncated run, contacts reopening, a cam running back) and the
-    experiment's figures of merit (SI units in their names), with the envelope."""
-    figures = [line for line in lines if not isinstance(line[1], str)]
-    return {**envelope(rig, {what: unit for what, _, unit in figures}), "output": output,
+def summary_report(summary: Sequence[tuple] | Report, title: str) -> Report:
+    """The experiment's summary (lines or a report) as a report with ``title``."""
+    return replace(summary if isinstance(summary, Report) else lines_report("", summary), title=title)
+
+
+def simulate_json(rig: Rig, result: SimulationResult, report: Report, output: str) -> dict:
+    """``simulate --json``: the report (:func:`vcbmodel.experiments.report.report_json`: the whole run's
+    figures as ``summary`` [{what, value, unit}] in the units the text shows, null for what did not
+    happen in the run; a closing's ``poles`` with each figure against its limit, ``limits`` and
+    ``verdict``; the ``notes``) and the experiment's figures of merit (SI units in their names), with
+    the envelope."""
+    body = _plain(report_json(report))
+    units = {row["what"]: row["unit"] for row in body["summary"]}
+    return {**envelope(rig, units), "output": output,
             "spring_model": result.spec.spring_model.label, "effects": list(result.spec.effects),
-            "backend": result.info["backend"], "end_s": float(result.t[-1]),
-            "summary": [{"what": what, "value": _plain(value), "unit": unit} for what, value, unit in figures],
-            "notes": [value for _, value, _ in lines if isinstance(value, str)],
+            "backend": result.info["backend"], "end_s": float(result.t[-1]), **body,
             "figures_of_merit": _plain(experiment_of(rig.experiment).figures_of_merit(result, rig))}
 
 
@@ -240,8 +267,12 @@ def cmd_identify(args: argparse.Namespace) -> int:
     pairs = [load_pair(m, args.rig) for m in args.measurements]
     for rig, _ in pairs:
         require_experiment(rig, "pendulum", "identify")
+    check_output(args.plot, "--plot", inputs=tuple(args.measurements) + tuple(r.path for r, _ in pairs), force=args.force,
+                 formats=supported_image_formats())
     with results_only_on_stdout():
         result = identify(pairs, law=args.law)
+        if args.plot:
+            plot_fit(result, args.plot)
     if result.warning:
         print(f"vcbmodel: warning: {result.warning}", file=sys.stderr)
     if args.json:
@@ -281,7 +312,16 @@ def cmd_sweep(args: argparse.Namespace) -> int:
     return 0 if len(table) else 1
 
 
-COMMANDS = {"check": cmd_check, "init": cmd_init, "simulate": cmd_simulate, "identify": cmd_identify, "diagnose": cmd_diagnose, "sweep": cmd_sweep}
+def cmd_plot(args: argparse.Namespace) -> int:
+    output = args.output or os.path.splitext(args.table)[0] + ".png"
+    check_output(output, "-o", inputs=(args.table,), force=args.force, formats=supported_image_formats())
+    plot_sweep(args.table, args.x, args.y, output)
+    log.info("plot: wrote %s", output)
+    return 0
+
+
+COMMANDS = {"check": cmd_check, "init": cmd_init, "simulate": cmd_simulate, "identify": cmd_identify, "diagnose": cmd_diagnose, "sweep": cmd_sweep,
+            "plot": cmd_plot}
 
 
 class Terminated(KeyboardInterrupt):

@@ -6,16 +6,17 @@ import os
 from typing import TYPE_CHECKING
 
 import matplotlib
+import numpy as np
 
 matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 from matplotlib.backend_bases import FigureCanvasBase  # noqa: E402
 
 from ..experiments import experiment_of  # noqa: E402
+from ..rig.units import display  # noqa: E402
 from .outputs import write_file  # noqa: E402
 
 if TYPE_CHECKING:
-    import numpy as np
     from matplotlib.figure import Figure
 
     from ..model.result import SimulationResult
@@ -28,29 +29,38 @@ def supported_image_formats() -> tuple[str, ...]:
     return tuple(sorted(FigureCanvasBase.get_supported_filetypes()))
 
 
-def save(fig: Figure, path: str | os.PathLike) -> None:
-    """Save ``fig`` to ``path`` in the format its suffix names; a failed write (a full disk) leaves no
-    partial file."""
-    fig.tight_layout()
+def save(fig: Figure, path: str | os.PathLike, tight: bool = True) -> None:
+    """Save ``fig`` to ``path`` in the format its suffix names (``tight``: lay it out tightly first); a
+    failed write (a full disk) leaves no partial file."""
+    if tight:
+        fig.tight_layout()
     buf = io.BytesIO()
     fig.savefig(buf, dpi=DPI, format=os.path.splitext(str(path))[1].lstrip(".").lower() or "png")
     plt.close(fig)
     write_file(path, buf.getvalue())
 
 
+def time_axis(t: np.ndarray) -> tuple[np.ndarray, str]:
+    """(times, label): in ms for a run under 2 s, else in s."""
+    return (1e3 * t, "t (ms)") if t[-1] - t[0] < 2.0 else (t, "t (s)")
+
+
 def plot_simulation(result: SimulationResult, channels: dict[str, tuple[np.ndarray, str]], path: str | os.PathLike, title: str) -> None:
-    """The channels ``simulate`` writes ({name: (values, unit)}) against time, one axis per unit;
-    labelled SIMULATED."""
+    """The channels ``simulate`` writes ({name: (values, SI unit)}) against time, one axis per unit, in
+    the units an engineer reads (deg, mm, ms; :func:`vcbmodel.rig.units.display`); labelled SIMULATED."""
     units = list(dict.fromkeys(unit for _, unit in channels.values()))
     fig, axes = plt.subplots(len(units), 1, figsize=(8, 2.6 * len(units) + 0.6), sharex=True, squeeze=False)
+    t, t_label = time_axis(result.t)
     for ax, unit in zip(axes[:, 0], units):
+        shown = display(unit)
         for name, (values, u) in channels.items():
             if u == unit:
-                ax.plot(result.t, values, lw=1.2, label=name)
-        ax.set_ylabel(unit)
+                ax.plot(t, shown.factor * values, lw=1.2, label=name.replace("_", " "))
+        ax.set_ylabel(f"{' / '.join(n.replace('_', ' ') for n, (_, u) in channels.items() if u == unit)[:40]} "
+                      f"({shown.unit or '-'})", fontsize=8)
         ax.legend(fontsize=8, loc="best")
         ax.grid(alpha=0.3)
-    axes[-1, 0].set_xlabel("t (s)")
+    axes[-1, 0].set_xlabel(t_label)
     fig.suptitle(f"{title} (SIMULATED, not measured)", fontsize=10)
     save(fig, path)
 

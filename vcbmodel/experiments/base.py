@@ -60,20 +60,6 @@ def figures_summary(result: SimulationResult, rig: Rig) -> list[tuple]:
     return [(name, fom.get(name), unit) for name, unit in experiment_of(rig.experiment).figure_units]
 
 
-def format_summary(lines: Sequence[tuple]) -> str:
-    """One line per figure: what, value and unit (``not in this run`` for something that did not
-    happen before the run ended); a line whose value is text (a note: ``("note", text, None)``) is
-    printed as ``what: text`` after the figures."""
-    figures = [line for line in lines if not isinstance(line[1], str)]
-    width = max((len(what) for what, _, _ in figures), default=0)
-    out = []
-    for what, value, unit in figures:
-        text = "not in this run" if value is None or (isinstance(value, float) and value != value) else f"{value:.6g} {unit}"
-        out.append(f"  {what:<{width}}  {text}")
-    out += [f"  {what}: {value}" for what, value, _ in lines if isinstance(value, str)]
-    return "\n".join(out)
-
-
 @dataclass(frozen=True)
 class Experiment:
     """One experiment kind. Callables receive the loaded :class:`vcbmodel.rig.data.Rig`.
@@ -96,7 +82,8 @@ class Experiment:
     - ``figure_units``: the figures of merit a sweep tabulates, {column: unit}, in column order;
     - ``fit_step(rig, spring_kind)``, ``scan_step``, ``fit_user_function``: how fits run this experiment
       (each choice measured, with its reasoning at the record);
-    - ``summary(result, rig)``: ``simulate``'s one-run summary, [(what, value, unit)];
+    - ``summary(result, rig)``: ``simulate``'s one-run summary, [(what, SI value, SI unit[, unit shown])]
+      or a :class:`~vcbmodel.experiments.report.Report` (a closing's per-pole table against its limits);
     - ``record_channels(result, rig)``: the channels ``simulate`` writes, as a record file carries them;
     - ``sensor``, ``random_rig``: the usual sensor's kind and randomised rigs of this kind, for
       synthetic records with a known truth (:mod:`.random_rigs`; None: the studies use the
@@ -141,7 +128,7 @@ class Experiment:
     fit_step: Callable = default_fit_step  # (rig, spring kind) -> step (s) of fits, None: ``step(rig)``
     scan_step: float | None = None  # step (s) of the grid scans ranking a fit's starts; None: the fit's
     fit_user_function: str = "python"  # friction connector of fits: python | symbolic (measured per experiment)
-    summary: Callable = figures_summary  # (result, rig) -> [(what, value, unit)]: simulate's summary
+    summary: Callable = figures_summary  # (result, rig) -> [(what, value, unit)] or a Report: simulate's summary
     record_channels: Callable = measured_only  # (result, rig) -> {channel: (values, unit)}: simulate's CSV
     ode_model: OdeModel | None = None  # its equations for the compiled backend (vcbmodel.compiled); None: Exudyn only
     reference: Callable | None = None  # (rig, spec, law, chain, t_end, method, step) -> (data, info): the solve without Exudyn

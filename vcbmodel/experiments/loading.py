@@ -13,7 +13,7 @@ from ..errors import InputError
 from ..model.choice import read_model
 from ..model.result import unit_of
 from ..model.values import rig_values
-from ..records.analyser import analyser_channels, check_contacts
+from ..records.analyser import analyser_channels, check_contacts, simulated_channels
 from ..records.measurement import load_measurement, sibling_rig_path
 from ..rig.data import Rig
 from ..rig.reader import Reader, read_json
@@ -86,10 +86,11 @@ def load_record(measurement_path: str | Path, rig: Rig) -> Measurement:
 
 def known_channels(rig: Rig | None = None) -> tuple[str, ...]:
     """Channel names a measurement file may carry: every experiment's measured channel, and for
-    a closing the breaker analyser's ``pole_i_contact`` (0/1) and ``pole_i_travel`` (m)."""
+    a closing the breaker analyser's ``pole_i_contact`` (0/1) and ``pole_i_travel`` (m), and the
+    further channels ``simulate`` writes (speeds, forces; read back, not fitted)."""
     names = tuple(dict.fromkeys(r.measured_channel for r in EXPERIMENTS.values()))
     if rig is not None and rig.breaker is not None:
-        names += analyser_channels(rig.breaker.poles.count)
+        names += analyser_channels(rig.breaker.poles.count) + simulated_channels(rig.breaker.poles.count)
     return names
 
 

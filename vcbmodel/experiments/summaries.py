@@ -10,9 +10,13 @@ from typing import TYPE_CHECKING
 import numpy as np
 
 from ..laws.breaker import pole_gaps
+from ..laws.cam_follower import follower_displacement
+from ..records.analyser import simulated_channels, travel_figures
 from ..records.signals import decay_shape, swing_peaks
+from ..rig.units import unit_of_name
 from .base import experiment_of, measured_only
 from .closing_evaluation import main_shaft_twist
+from .report import Report, Row, label
 
 if TYPE_CHECKING:
     from ..model.result import SimulationResult
@@ -20,29 +24,38 @@ if TYPE_CHECKING:
 
 
 def closing_record_channels(result: SimulationResult, rig: Rig) -> dict[str, tuple[np.ndarray, str]]:
-    """The follower's travel and, as a breaker analyser records them, each pole's travel (m) and
-    contact (0 open, 1 closed: travel beyond the pole's gap); a file ``vcbmodel diagnose`` reads."""
+    """What a closing's CSV holds, each channel with its SI unit: the follower's travel (the measured
+    channel); per pole, as a breaker analyser records them, travel (m), speed (m/s) and contact (0
+    open, 1 closed: travel beyond the pole's gap), then its contact force and push-rod force (N); the
+    cam's angle (rad) and speed (rad/s), the cam-roller force (N) and the end stop's and holding
+    latch's forces (N) where the rig has them. A file ``vcbmodel diagnose`` reads (the analyser's
+    channels are fitted, the others ignored)."""
     out = measured_only(result, rig)
+    ch = result.channels
     for i, gap in enumerate(pole_gaps(rig.breaker.poles), start=1):
-        travel = result.channels[f"pole_{i}_travel"]
+        travel = ch[f"pole_{i}_travel"]
         out[f"pole_{i}_travel"] = (travel, "m")
+        out[f"pole_{i}_velocity"] = (ch[f"pole_{i}_velocity"], "m/s")
         out[f"pole_{i}_contact"] = ((travel > gap).astype(float), "-")
+    for name in simulated_channels(rig.breaker.poles.count):
+        if name in ch and name not in out:
+            out[name] = (ch[name], result.units[name])
     return out
 
 
 def pendulum_summary(result: SimulationResult, rig: Rig) -> list[tuple]:
-    """[(what, value, unit)]: swing period, first peak, how the amplitude decays, when it stops."""
+    """[(what, value, SI unit, unit shown)]: swing period, first peak, how the amplitude decays, when it stops."""
     t, y = result.t, result.measured
     times, amps = swing_peaks(t, y)
     period = 2 * float(np.mean(np.diff(times))) if times.size >= 2 else float("nan")
     decay = decay_shape(times, amps)
     fom = result_figures(result, rig)
-    lines = [("swing period", period, "s"), ("first peak", fom["first_peak_rad"], "rad"),
-             ("stops at", fom["stop_time_s"], "s"), ("peaks", float(times.size), "-")]
+    lines = [("swing period", period, "s", "s"), ("first peak", fom["first_peak_rad"], "rad", "deg"),
+             ("stops at", fom["stop_time_s"], "s", "s"), ("peaks", times.size, "-")]
     if decay["shape"] != "unknown":
         lines.append((f"amplitude decay ({decay['shape']})",
                       decay["linear_slope"] if decay["shape"] == "linear" else decay["exponential_rate"],
-                      "rad/s" if decay["shape"] == "linear" else "1/s"))
+                      "rad/s" if decay["shape"] == "linear" else "1/s", "deg/s" if decay["shape"] == "linear" else None))
     return lines
 
 
@@ -52,22 +65,28 @@ def cam_drop_summary(result: SimulationResult, rig: Rig) -> list[tuple]:
             ("peak shaft speed", fom["peak_shaft_velocity_rad_s"], "rad/s")]
 
 
+def breaker_figures(fom: dict, rig: Rig) -> list[tuple]:
+    """[(figure, what, SI value, SI unit)]: the whole breaker's figures of a closing (the per-pole
+    ones are :func:`pole_rows`'); the follower's travel is the mechanism's, as an analyser's
+    transducer on the operating rod reads it."""
+    geometric = "" if rig.breaker.end_stop is not None else " (no end stop: cam geometry)"
+    return [("closing_time_s", "closing time (last pole)", fom["closing_time_s"], "s"),
+            ("pole_spread_s", "pole spread", fom["pole_spread_s"], "s"),
+            ("wipe_m", "mechanism wipe (after first touch)", fom["wipe_m"], "m"),
+            ("overtravel_m", "mechanism overtravel" + geometric, fom["overtravel_m"], "m"),
+            ("rebound_m", "mechanism rebound", fom["rebound_m"], "m"),
+            ("travel_settled_s", "travel settled (within 0.05 mm)", fom["travel_settled_s"], "s"),
+            ("peak_cam_roller_force_N", "peak cam-roller force", fom["peak_cam_roller_force_N"], "N"),
+            ("min_cam_roller_force_before_touch_N", "least cam-roller force before touch",
+             fom["min_cam_roller_force_before_touch_N"], "N"),
+            ("roller_lift_off_s", "roller off the cam (in all)", fom["roller_lift_off_s"], "s")]
+
+
 def closing_summary(result: SimulationResult, rig: Rig) -> list[tuple]:
+    """[(what, SI value, SI unit)]: the whole breaker's figures, the end stop's, the main shaft's twist,
+    and notes (``("note", text, None)``); each pole's figures: :func:`closing_report`."""
     fom = result_figures(result, rig)
-    per_pole = fom["per_pole"]
-    geometric = ")" if rig.breaker.end_stop is not None else "; no end stop in the rig: the cam's geometry, not dynamics)"
-    lines = [(f"pole {i} closes at", v, "s") for i, v in enumerate(per_pole["touch_s"], start=1)]
-    lines += [("closing time (last pole)", fom["closing_time_s"], "s"),
-              ("touch speed (mean of poles)", fom["touch_speed_m_s"], "m/s"),
-              (f"closing speed ({1e3 * rig.breaker.speed_zone[0]:g} to {1e3 * rig.breaker.speed_zone[1]:g} mm "
-               "before touch)", fom["closing_speed_m_s"], "m/s"),
-              ("pole spread", fom["pole_spread_s"], "s"), ("bounces (worst pole)", float(fom["bounce_count"]), "-"),
-              ("bounce duration (worst pole)", fom["bounce_duration_s"], "s"),
-              ("wipe (follower travel after the first touch, to its final position)", fom["wipe_m"], "m"),
-              ("overtravel (follower travel beyond its final position" + geometric, fom["overtravel_m"], "m"),
-              ("rebound (follower travel back below its final position after the peak)", fom["rebound_m"], "m"),
-              ("follower travel settled (within 0.05 mm of its final position)", fom["travel_settled_s"], "s"),
-              ("peak cam-roller force", fom["peak_cam_roller_force_N"], "N")]
+    lines = [(what, value, unit) for _, what, value, unit in breaker_figures(fom, rig)]
     return lines + stop_summary(result, rig) + twist_summary(result, rig) + closing_notes(fom, rig)
 
 
@@ -139,3 +158,87 @@ def stop_summary(result: SimulationResult, rig: Rig) -> list[tuple]:
 
 def result_figures(result: SimulationResult, rig: Rig) -> dict:
     return experiment_of(rig.experiment).figures_of_merit(result, rig)
+
+
+#: The per-pole rows, in order: {key in the report: (key in figures_of_merit()["per_pole"], label)};
+#: the pole's travel figures and its contact force closed come from :func:`pole_travel_figures`. A
+#: per-pole figure the evaluation adds that is not listed gets a row after these, named from its key.
+POLE_ROWS = {"closing_time_s": ("touch_s", "closing time (touch)"),
+             "closing_speed_m_s": ("closing_speed_m_s", "closing speed over the zone"),
+             "touch_speed_m_s": ("touch_speed_m_s", "speed at touch"),
+             "bounce_count": ("bounces", "bounces"),
+             "bounce_duration_s": ("bounce_duration_s", "bounce duration"),
+             "overtravel_m": ("overtravel_m", "overtravel"),
+             "rebound_m": ("rebound_m", "rebound"),
+             "wipe_m": ("wipe_m", "wipe (travel after touch)"),
+             "contact_force_closed_N": ("contact_force_closed_N", "contact force closed")}
+
+
+def pole_drive_travel(result: SimulationResult, rig: Rig, pole: int) -> np.ndarray:
+    """The travel (m) that drives pole ``pole`` (1-based): the output point F's travel at the pole's
+    lever angle (``pole_{i}_lever_angle`` on an elastic main shaft, else the follower's), as a
+    transducer on that pole's operating rod reads it; the moving contact's own travel stops at the touch."""
+    ch = result.channels
+    angle = ch.get(f"pole_{pole}_lever_angle", ch["follower_angle"])
+    return follower_displacement(angle, rig.breaker.follower, result.info["initial"].follower_angle)
+
+
+def pole_travel_figures(result: SimulationResult, rig: Rig, touches: list) -> list[dict]:
+    """Per pole, from the travel that drives it (:func:`pole_drive_travel`), as analysers define them
+    (:func:`vcbmodel.records.analyser.travel_figures`): ``overtravel_m`` beyond the final position,
+    ``rebound_m`` below it after the peak, ``wipe_m`` from the pole's touch to the final position (None
+    if it never touches); and ``contact_force_closed_N``: the contact force at rest, the median of the
+    run's last 2 % (0 for a pole open at the end)."""
+    out = []
+    for i, touch in enumerate(touches, start=1):
+        figures = travel_figures(result.t, pole_drive_travel(result, rig, i), touch)
+        force = result.channels[f"pole_{i}_contact_force"]
+        out.append({"overtravel_m": figures["overtravel_m"], "rebound_m": figures["rebound_m"],
+                    "wipe_m": figures.get("wipe_m"),
+                    "contact_force_closed_N": float(np.median(force[-max(3, force.size // 50):]))})
+    return out
+
+
+def pole_rows(fom: dict, extra: list[dict], rig: Rig) -> list[Row]:
+    """The per-pole table's rows: :data:`POLE_ROWS`, then any other per-pole figure of the evaluation."""
+    per_pole = {**fom["per_pole"], **{k: [e[k] for e in extra] for k in extra[0]}} if extra else dict(fom["per_pole"])
+    zone = rig.breaker.speed_zone
+    rows = []
+    for key, (source, what) in POLE_ROWS.items():
+        if source in per_pole:
+            if key == "closing_speed_m_s":
+                what = f"closing speed, {1e3 * zone[0]:g}-{1e3 * zone[1]:g} mm before touch"
+            rows.append(Row(key, what, list(per_pole[source]), unit_of_name(key)))
+    listed = {source for source, _ in POLE_ROWS.values()}
+    for key, values in per_pole.items():
+        if key not in listed and isinstance(values, (list, tuple)):
+            rows.append(Row(key, label(key), list(values), unit_of_name(key)))
+    return rows
+
+
+#: Whole-run figures the report shows elsewhere (per pole, in the notes) or leaves out: the mean of the
+#: poles' touch speeds moves with one pole caught mid-vibration (per pole in the table instead).
+NOT_BREAKER_ROWS = {"touch_speed_m_s", "closing_speed_m_s", "first_touch_s", "bounce_count", "bounce_duration_s",
+                    "final_travel_m", "end_s", "contacts_reopen_s", "cam_falls_back_s", "lift_lost_m",
+                    "shaft_velocity_end_rad_s", "cam_angle_end_deg", "roller_first_lift_off_s", "max_pressure_angle_deg"}
+
+
+def closing_report(result: SimulationResult, rig: Rig) -> Report:
+    """``simulate``'s report of a closing: each pole's figures in a column against ``breaker.limits``,
+    then the whole breaker's (:func:`breaker_figures`, then any other figure of the evaluation whose
+    name ends in its unit), the end stop's and the main shaft's, and the notes."""
+    fom = result_figures(result, rig)
+    rows = [Row(key, what, [value], unit) for key, what, value, unit in breaker_figures(fom, rig)]
+    shown = {key for key, *_ in breaker_figures(fom, rig)} | NOT_BREAKER_ROWS
+    rows += [Row(key, label(key), [value], unit_of_name(key)) for key, value in fom.items()
+             if key not in shown and unit_of_name(key) and isinstance(value, (int, float, type(None)))
+             and not isinstance(value, bool)]
+    rows += [Row("", what, [value], unit) for what, value, unit in stop_summary(result, rig)]
+    twist = main_shaft_twist(result, rig)
+    for key, what in (("before_touch", "before first touch"), ("largest", "largest"), ("end", "at the end")):
+        if twist is not None:
+            rows += [Row("", f"main shaft twist, {what}", [twist[f"{key}_rad"]], "rad"),
+                     Row("", f"  as pole travel, {what}", [twist[f"{key}_m"]], "m")]
+    extra = pole_travel_figures(result, rig, fom["per_pole"]["touch_s"])
+    return Report(f"{rig.name}: {rig.experiment}", rows, pole_rows(fom, extra, rig), rig.breaker.poles.count,
+                  [text for _, text, _ in closing_notes(fom, rig)], rig.breaker.limits)

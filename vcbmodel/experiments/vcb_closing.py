@@ -14,7 +14,7 @@ from ..reference.solve import reference_closing
 from ..compiled.equations import closing_equations, closing_prestep, prepare_closing
 from ..rig.sections import read_closing
 from .base import Experiment
-from .summaries import closing_record_channels, closing_summary
+from .summaries import closing_record_channels, closing_report
 from .cam_drop import spring_signature
 from .closing_evaluation import closing_channels, figures_of_merit
 
@@ -68,7 +68,7 @@ VCB_CLOSING = Experiment(
     figure_units=(("closing_time_s", "s"), ("touch_speed_m_s", "m/s"), ("closing_speed_m_s", "m/s"), ("pole_spread_s", "s"), ("bounce_count", "-"),
                   ("bounce_duration_s", "s"), ("wipe_m", "m"), ("overtravel_m", "m"), ("rebound_m", "m"),
                   ("travel_settled_s", "s"), ("peak_cam_roller_force_N", "N")),
-    missing_means=(("closing_time_s", "not_closed"),), summary=closing_summary,
+    missing_means=(("closing_time_s", "not_closed"),), summary=closing_report,
     record_channels=closing_record_channels, fit_step=fit_step, scan_step=CLOSING_SCAN_STEP,
     fit_user_function="python", release_from_model=True,
     ode_model=OdeModel("vcb_closing", prepare_closing, closing_equations, closing_prestep), reference=reference_closing,

@@ -15,7 +15,9 @@ if TYPE_CHECKING:
 #: Unit of each channel name (first matching pattern wins).
 CHANNEL_UNITS = (
     (r"(pendulum_angle|cam_angle|follower_angle|pressure_angle)", "rad"),
-    (r"(shaft_velocity|follower_velocity)", "rad/s"),
+    (r"(shaft_velocity|follower_velocity|pole_\d+_lever_velocity)", "rad/s"),
+    (r"pole_\d+_lever_angle", "rad"),
+    (r"(hold_latch_engaged|pole_\d+_contact)", "-"),
     (r"friction_torque", "N m"),
     (r".*(force|_N)$", "N"),
     (r".*(penetration_rate|rod_rate|pole_\d+_velocity|spring_velocity_\d+_[xy])$", "m/s"),

@@ -56,6 +56,14 @@ def analyser_channels(poles: int) -> tuple[str, ...]:
     return tuple(f"pole_{i}_{kind}" for i in range(1, poles + 1) for kind in ("contact", "travel"))
 
 
+def simulated_channels(poles: int) -> tuple[str, ...]:
+    """Channels ``vcbmodel simulate`` writes into a closing's record beside the analyser's: each pole's
+    speed (m/s), contact force and push-rod force (N), the cam's angle (rad) and speed (rad/s), the
+    cam-roller force and the end stop's and holding latch's forces (N). Read back, never fitted."""
+    per_pole = tuple(f"pole_{i}_{kind}" for i in range(1, poles + 1) for kind in ("velocity", "contact_force", "rod_force"))
+    return per_pole + ("cam_angle", "shaft_velocity", "cam_roller_force", "end_stop_force", "hold_latch_force")
+
+
 def check_contacts(measurement: Measurement) -> None:
     """Refuse a contact channel that is not 0/1 (one line naming the channel)."""
     for name, values in measurement.channels.items():

@@ -1,7 +1,9 @@
 """Measurement files ``NAME.csv``: ``#`` comment lines (free text), a header starting with
-``t`` (s), channels in SI units (the experiment records say which channels exist). Reading
-refuses anything malformed with one line naming the file and the line or column; writing is the
-inverse."""
+``t``, channels in SI units or in the units the header states (the experiment records say which
+channels exist). A breaker analyser's export reads as written: ``t [ms]``, ``pole_1_travel [mm]``,
+or a units row under the header (``ms,mm,-``); every column is converted to SI on reading
+(:mod:`.units`). Reading refuses anything malformed with one line naming the file and the line or
+column; writing is the inverse (SI)."""
 from __future__ import annotations
 
 import math
@@ -14,6 +16,7 @@ import numpy as np
 
 from ..errors import InputError
 from ..rig.reader import did_you_mean, read_bytes, text_bytes
+from ..rig.units import to_si
 
 
 
@@ -85,19 +88,34 @@ def _cells(text, delimiter, decimal_comma):
     return [c.replace(",", ".") for c in cells] if decimal_comma else cells
 
 
+def _factor(stated, name, want, path, field, where):
+    """The factor that takes a column stated in ``stated`` to its channel's SI unit ``want`` (None:
+    any SI unit); a unit of another quantity, or one this reader does not know, is refused naming both."""
+    known = to_si(stated)
+    if known is not None and want in (None, "?", known[0]):
+        return known[1]
+    if stated == want:
+        return 1.0
+    said = f"{where} {stated!r}" if where else f"is in {stated!r}"
+    if known is None:
+        raise InputError(path, field, f"{said}: not a unit this reader knows (for {name!r}: {want or 'its SI unit'}, "
+                         "or ms, mm, deg for time, travel, angle)")
+    raise InputError(path, field, f"{said}: this channel is read in {want!r} (convert the column, or leave the "
+                     "unit out of the header)")
+
+
 def _header(cells, path, line, units):
-    """Channel names from header cells: lower-case, a stated unit checked against the channel's."""
-    names = []
+    """(channel names, factors to SI) from header cells: lower-case, a stated unit converted to the
+    channel's (``t [ms]``: 1e-3) or refused if it is another quantity's; None where no unit is stated."""
+    names, factors = [], []
     for cell in cells:
         m = HEADER_UNIT.fullmatch(cell)
         name, unit = (m.group("name"), next(u for u in m.group("a", "b", "c") if u is not None).strip()) if m else (cell, None)
         name = name.lower()
         want = "s" if name == "t" else (units or {}).get(name)
-        if unit is not None and want not in (None, "?") and unit != want:
-            raise InputError(path, f"column {cell[:40]!r}", f"is in {unit!r}: this channel is read in {want!r} "
-                             "(convert the column, or leave the unit out of the header)")
+        factors.append(None if unit is None else _factor(unit, name, want, path, f"column {cell[:40]!r}", ""))
         names.append(name)
-    return names
+    return names, factors
 
 
 #: A cell of a units row (a logger's second header line: ``s,rad`` or ``[s];[m]``): a unit symbol,
@@ -105,39 +123,38 @@ def _header(cells, path, line, units):
 UNIT_CELL = re.compile(r"[\[(]?\s*(?P<unit>[A-Za-z][A-Za-z0-9/^.*]*|-|1)\s*[\])]?")
 
 
-def _units_row(cells, header, path, line, units) -> bool:
-    """True if ``cells`` is a units row under the header (every cell a unit or empty, none a
-    number): each unit checked against its channel's like a unit in the header (``deg`` for a channel read in
-    rad is refused, naming both)."""
+def _units_row(cells, header, path, line, units) -> list[float] | None:
+    """The factors to SI if ``cells`` is a units row under the header (every cell a unit or empty,
+    none a number), else None: each unit converted or refused like a unit in the header (``m`` for
+    a time is refused, naming both)."""
     if len(cells) != len(header) or any(NUMBER.fullmatch(c) for c in cells) or not any(cells):
-        return False
+        return None
     matches = [UNIT_CELL.fullmatch(c) for c in cells]
     if not all(m or c == "" for m, c in zip(matches, cells)):
-        return False
+        return None
+    factors = []
     for name, m in zip(header, matches):
-        if m is None:
-            continue  # no unit stated (an empty cell)
-        unit = m.group("unit")
         want = "s" if name == "t" else (units or {}).get(name)
-        if want not in (None, "?") and unit != want:
-            raise InputError(path, f"line {line}, column {name!r}", f"the units row says {unit!r}: this channel is "
-                             f"read in {want!r} (convert the column, or leave the unit out)")
-    return True
+        factors.append(None if m is None else _factor(m.group("unit"), name, want, path, f"line {line}, column {name!r}",
+                                                      "the units row says"))
+    return factors
 
 
 def load_measurement(path: str | Path, channel: str | None = None, known: Iterable[str] | None = None,
                      units: dict[str, str] | None = None) -> Measurement:
     """Read and check ``NAME.csv``; ``channel``: a column the file must have; ``known``: the
-    channel names a file may carry (default: any); ``units``: {channel: unit} to check units
-    stated in the header against. Accepted variants (docs/rig-format.md): ``;`` with decimal
-    commas, tabs, quoted values, a trailing delimiter, capitals and units in the header.
+    channel names a file may carry (default: any); ``units``: {channel: SI unit} that units stated in
+    the header or a units row are converted to (``ms`` to ``s``, ``mm`` to ``m``, ``deg`` to ``rad``;
+    a unit of another quantity is refused). Accepted variants (docs/rig-format.md): ``;`` with decimal
+    commas, tabs, quoted values, a trailing delimiter, capitals, units in the header or in a row under
+    it.
 
     Parameters
     ----------
     path : the measurement file.
     channel : a column the file must have.
     known : the channel names a file may carry (default: any).
-    units : {channel: SI unit, e.g. ``rad``, ``m``} to check units stated in the header against.
+    units : {channel: SI unit, e.g. ``rad``, ``m``} that stated units are converted to.
 
     Returns
     -------
@@ -145,7 +162,7 @@ def load_measurement(path: str | Path, channel: str | None = None, known: Iterab
         ``t`` in s; each channel in its SI unit (rad, m; 0/1 for contact channels).
     """
     path = str(path)
-    comments, rows, header, header_line, units_row = [], [], None, 0, False
+    comments, rows, header, header_line, units_row = [], [], None, 0, None
     dialect = (",", False)
     for i, s in _lines(path, read_bytes(path)):
         if not s:
@@ -155,13 +172,20 @@ def load_measurement(path: str | Path, channel: str | None = None, known: Iterab
             continue
         if header is None:
             dialect = _dialect(s)
-            header, header_line = _header(_cells(s, *dialect), path, i, units), i
+            (header, factors), header_line = _header(_cells(s, *dialect), path, i, units), i
             _check_header(header, path, i, known)
             continue
         cells = _cells(s, *dialect)
-        if not rows and not units_row and _units_row(cells, header, path, i, units):
-            units_row = True  # a logger's units row under the header, checked like units in the header
-            continue
+        if not rows and units_row is None:
+            units_row = _units_row(cells, header, path, i, units)
+            if units_row is not None:  # a logger's units row under the header, read like units in the header
+                for name, a, b in zip(header, factors, units_row):
+                    if a is not None and b is not None and a != b:
+                        raise InputError(path, f"line {i}, column {name!r}", "the units row and the header state "
+                                         "different units: keep one")
+                factors = [b if a is None else a for a, b in zip(factors, units_row)]
+                continue
+            units_row = []
         if len(cells) != len(header):
             raise InputError(path, f"line {i}", f"has {len(cells)} values, the header has {len(header)}"
                              + (" (a decimal comma in a comma-separated file? use ';' between values)"
@@ -175,7 +199,7 @@ def load_measurement(path: str | Path, channel: str | None = None, known: Iterab
         raise InputError(path, "header", "missing (no line other than comments)")
     if len(rows) < 3:
         raise InputError(path, "data", f"needs at least 3 samples, has {len(rows)}")
-    arr = np.array(rows)
+    arr = np.array(rows) * np.array([1.0 if f is None else f for f in factors])
     t = arr[:, 0]
     bad = np.nonzero(np.diff(t) <= 0)[0]
     if bad.size:

@@ -141,6 +141,7 @@ class Breaker:
     end_stop: EndStop | None = None  # the closing end stop (breaker.end_stop); None: not modelled
     hold_latch: HoldLatch | None = None  # the holding latch (breaker.hold_latch); None: not modelled
     main_shaft: MainShaft | None = None  # the pole levers' shaft (breaker.main_shaft); None: rigid, not modelled
+    limits: tuple = ()  # the acceptance limits (breaker.limits: vcbmodel.rig.limits.Limit); (): none given
 
 
 # --- the rig ------------------------------------------------------------------------------------

@@ -20,6 +20,7 @@ from ..laws.coil import coil_mass, coil_stiffness
 from ..laws.mechanics import cam_pin
 from .cam_points import check_point_pairs, read_points_file, settle_scatter
 from .datasheet import check_datasheet
+from .limits import read_limits
 from .paths import numeric_at
 from .reader import Reader
 from .data import (Breaker, Cam, CamProfile, ClosingSpring, ContactLaw, Follower, OpeningSpring, Pendulum,
@@ -180,7 +181,7 @@ def read_cam_and_spring(rd: Reader, data: dict) -> dict:
 
 BREAKER_KEYS = {
     "": ("cam_profile", "roller_radius", "follower", "poles", "opening_spring", "contact", "latch", "speed_zone",
-         "end_stop", "hold_latch", "main_shaft"),
+         "end_stop", "hold_latch", "main_shaft", "limits"),
     "cam_profile": ("base_radius", "lift", "rise_start", "rise_end", "return_start", "return_end", "points",
                     "radius_points", "points_file", "smoothing"),
     "follower": ("pivot", "inertia", "roller_arm", "output_arm", "output_angle", "rest_angle"),
@@ -242,7 +243,8 @@ def read_breaker(rd, data, cam) -> Breaker:
     end_stop, hold_latch = read_stops(rd, b, cam)
     breaker = Breaker(profile, roller_radius, follower, poles, opening,
                       contact, release, roller_law, latch_point,
-                      read_speed_zone(rd, b, poles), end_stop, hold_latch, read_main_shaft(rd, b, follower, poles))
+                      read_speed_zone(rd, b, poles), end_stop, hold_latch, read_main_shaft(rd, b, follower, poles),
+                      read_limits(rd, b))
     try:
         rest_geometry(breaker, cam.pivot)
     except ValueError as e:

@@ -1,0 +1,161 @@
+"""The figures a breaker engineer reads: simulate --plot of a closing (the analyser's view), vcbmodel plot
+of a sweep's table, identify --plot. Checked on matplotlib's objects: the panels, the units in every
+axis label, the same colour for a pole in every panel, the zone, touches and limits drawn where the
+figures of merit put them."""
+import matplotlib
+import numpy as np
+import pandas as pd
+import pytest
+from matplotlib.colors import to_rgba
+
+from vcbmodel import parameters as P
+from vcbmodel.analysis.identify import identify
+from vcbmodel.app.cli import main
+from vcbmodel.app.closing_plot import closing_figure, pole_colour
+from vcbmodel.app.table_plot import fit_figure, sweep_figure
+from vcbmodel.experiments.loading import load_pair, load_rig
+from vcbmodel.experiments.simulation import simulate
+from vcbmodel.experiments.summaries import closing_report, result_figures
+
+from conftest import ROOT, write_rig
+
+
+@pytest.fixture(scope="module")
+def closing(tmp_path_factory):
+    rig = load_rig(write_rig(tmp_path_factory.mktemp("plots"), P.REFERENCE_BREAKER, "ref"))
+    result = simulate(rig, backend="fast")
+    fig = closing_figure(result, rig, "reference", closing_report(result, rig))
+    yield rig, result, result_figures(result, rig), fig
+    matplotlib.pyplot.close(fig)
+
+
+def pole_lines(ax):
+    return {line.get_label(): line for line in ax.get_lines() if line.get_label().startswith("pole ")}
+
+
+def test_the_closing_figure_has_the_analysers_panels_with_units(closing):
+    _, _, _, fig = closing
+    travel, speed, timing, closeup, energy = fig.axes
+    assert travel.get_ylabel() == "travel (mm)" and speed.get_ylabel() == "speed (m/s)"
+    assert energy.get_ylabel() == "energy (J)"
+    for ax in (timing, closeup, energy):
+        assert ax.get_xlabel() == "t (ms from the latch release)"
+    assert [t.get_text() for t in timing.get_yticklabels()] == ["pole 3", "pole 2", "pole 1"]
+    assert "SIMULATED" in fig._suptitle.get_text() and "all pass" in fig._suptitle.get_text()
+    labels = [line.get_label() for line in energy.get_lines()]
+    assert "released by the closing springs" in labels and any(label.startswith("kinetic") for label in labels)
+
+
+def test_a_pole_has_one_colour_in_every_panel(closing):
+    _, _, _, fig = closing
+    travel, speed, timing, closeup, _ = fig.axes
+    for i in (1, 2, 3):
+        want = to_rgba(pole_colour(i))
+        assert to_rgba(pole_lines(travel)[f"pole {i}"].get_color()) == want
+        assert to_rgba(pole_lines(speed)[f"pole {i}"].get_color()) == want
+        for ax in (timing, closeup):  # bars: pole 1 on the top row
+            bars = [c for c in ax.collections if abs(c.get_paths()[0].vertices[:, 1].mean() - (3 - i)) < 0.5]
+            assert len(bars) == 1 and tuple(bars[0].get_facecolor()[0]) == pytest.approx(want)
+    assert len({to_rgba(pole_colour(i)) for i in (1, 2, 3)}) == 3
+
+
+def test_touches_zone_bounces_and_limits_are_where_the_figures_put_them(closing):
+    rig, result, fom, fig = closing
+    travel, speed, _, closeup, _ = fig.axes
+    touches = sorted(line.get_xdata()[0] for line in travel.get_lines() if line.get_marker() == "o" and len(line.get_xdata()))
+    assert touches == pytest.approx(sorted(1e3 * t for t in fom["per_pole"]["touch_s"]))
+    zone = [p for p in travel.patches if p.get_label().startswith("speed zone")]
+    gap_mm = 1e3 * rig.breaker.poles.contact_gap
+    assert len(zone) == 1 and np.ptp(zone[0].get_path().vertices[:, 1]) == pytest.approx(1.0)  # axes fraction
+    y0, y1 = zone[0].get_extents().y0, zone[0].get_extents().y1
+    assert y1 > y0 and gap_mm - 4.0 == pytest.approx(travel.transData.inverted().transform((0, y0))[1], abs=1e-6)
+    limits = sorted(line.get_ydata()[0] for line in speed.get_lines() if line.get_linestyle() == ":" and len(line.get_ydata()))
+    assert limits == pytest.approx([1.0, 1.5])
+    lo, hi = closeup.get_xlim()
+    first = 1e3 * min(fom["per_pole"]["touch_s"])
+    last = max(1e3 * (t + d) for t, d in zip(fom["per_pole"]["touch_s"], fom["per_pole"]["bounce_duration_s"]))
+    assert lo < first < last < hi and hi - lo < 5.0  # a close-up of a few ms
+    for i, n in enumerate(fom["per_pole"]["bounces"], start=1):
+        assert f"pole {i} {n} (" in closeup.get_title(loc="left")
+
+
+def test_simulate_plot_draws_a_closing(tmp_path, capsys):
+    rig = write_rig(tmp_path, P.REFERENCE_BREAKER, "ref")
+    png = tmp_path / "c.png"
+    assert main(["simulate", str(rig), "--backend", "fast", "-o", str(tmp_path / "c.csv"), "--plot", str(png), "-q"]) == 0
+    assert png.read_bytes()[:8] == b"\x89PNG\r\n\x1a\n" and png.stat().st_size > 50_000
+
+
+def sweep_table():
+    rows = []
+    for k, (mu, offset) in enumerate([(m, o) for o in (-3e-4, 3e-4) for m in (0.10, 0.13, 0.16)], start=1):
+        rows.append({"run": k, "friction.mu_k": mu, "breaker.poles.gap_offsets.1": offset,
+                     "closing_time_s": 0.038 + 0.07 * (mu - 0.1) + offset, "bounce_count": 2,
+                     "peak_cam_roller_force_N": 25e3 + 1e5 * mu, "status": "ok"})
+    rows.append(dict(rows[0], run=7, status="not_closed"))
+    return pd.DataFrame(rows)
+
+
+def test_a_sweep_is_drawn_per_group_in_engineering_units():
+    fig = sweep_figure(sweep_table(), "friction.mu_k", ["closing_time_s", "peak_cam_roller_force_N"], "t")
+    top, bottom = fig.axes
+    assert top.get_ylabel() == "closing time (ms)" and bottom.get_ylabel() == "peak cam roller force (kN)"
+    assert bottom.get_xlabel() == "friction.mu_k"
+    lines = top.get_lines()
+    assert [line.get_label() for line in lines] == ["breaker.poles.gap_offsets.1 = -0.3 mm",
+                                                    "breaker.poles.gap_offsets.1 = 0.3 mm"]
+    assert list(lines[0].get_ydata()) == pytest.approx([38.0 - 0.3, 40.1 - 0.3, 42.2 - 0.3])  # ms
+    assert to_rgba(lines[0].get_color()) != to_rgba(lines[1].get_color())
+    assert "1 run(s) that did not finish left out" in fig._suptitle.get_text()
+    matplotlib.pyplot.close(fig)
+
+
+def test_the_plot_command_writes_and_refuses_in_one_line(tmp_path, capsys):
+    table = tmp_path / "s.csv"
+    sweep_table().to_csv(table, index=False)
+    assert main(["plot", str(table), "--x", "friction.mu_k", "--y", "closing_time_s", "-q"]) == 0
+    assert (tmp_path / "s.png").stat().st_size > 10_000  # beside the table by default
+    assert main(["plot", str(table), "--x", "friction.mu_k", "--y", "closing_time_s", "-q"]) == 2
+    assert "--force" in capsys.readouterr().err
+    for args, words in ((["--x", "friction.mu_k", "--y", "closing_tme_s"], "--y: no column 'closing_tme_s'"),
+                        (["--x", "friction.mu_k", "--y", "status"], "is not numeric")):
+        assert main(["plot", str(table), *args, "-o", str(tmp_path / "x.png")]) == 2
+        err = capsys.readouterr().err.strip()
+        assert len(err.splitlines()) == 1 and words in err and not (tmp_path / "x.png").exists()
+
+
+def test_identify_plot_shows_measured_fitted_and_the_residual(tmp_path):
+    pair = load_pair(ROOT / "results" / "synthetic" / "pendulum_10deg.csv")
+    result = identify([pair], verbose=False)
+    fig = fit_figure(result)
+    top, bottom = fig.axes
+    assert top.get_ylabel() == "shaft angle (deg)" and bottom.get_ylabel() == "model - measured (mrad)"
+    assert bottom.get_xlabel() == "t (s)"
+    measured = next(line for line in top.get_lines() if line.get_label() == "measured")
+    assert np.max(measured.get_ydata()) == pytest.approx(10.0, abs=0.2)  # the 10 deg release, in degrees
+    residual = bottom.get_lines()[0]
+    assert np.sqrt(np.mean(residual.get_ydata() ** 2)) == pytest.approx(1e3 * result.fit.rms, rel=0.05)
+    matplotlib.pyplot.close(fig)
+
+
+def test_random_draws_are_points_coloured_by_the_other_field():
+    rng = np.random.default_rng(1)
+    table = pd.DataFrame({"run": range(1, 13), "friction.mu_k": rng.uniform(0.1, 0.16, 12),
+                          "closing_spring.stiffness": rng.normal(24230, 500, 12),
+                          "closing_speed_m_s": rng.uniform(1.2, 1.3, 12), "status": "ok"})
+    fig = sweep_figure(table, "friction.mu_k", ["closing_speed_m_s"], "t")
+    ax, bar = fig.axes
+    assert ax.get_ylabel() == "closing speed (m/s)" and bar.get_ylabel() == "closing_spring.stiffness (N/m)"
+    assert len(ax.collections) == 1 and len(ax.collections[0].get_offsets()) == 12
+    matplotlib.pyplot.close(fig)
+
+
+def test_identify_plot_refuses_an_existing_file_or_an_input_before_fitting(tmp_path, capsys):
+    record = ROOT / "results" / "synthetic" / "pendulum_10deg.csv"
+    old = tmp_path / "fit.png"
+    old.write_bytes(b"mine")
+    for target, words in ((old, "--force"), (record, "is an input")):
+        assert main(["identify", str(record), "--plot", str(target), "-q"]) == 2
+        err = capsys.readouterr().err.strip()
+        assert len(err.splitlines()) == 1 and words in err
+    assert old.read_bytes() == b"mine"

@@ -1,0 +1,151 @@
+"""simulate's report, as a breaker analyser prints one: per pole in ms, mm, m/s and kN to 3-4 significant
+figures, each figure against the rig's limits (breaker.limits) with pass or FAIL; the same in JSON; a
+figure the evaluation adds gets its row; other experiments in degrees and milliseconds."""
+import copy
+import json
+import re
+
+import pytest
+
+from vcbmodel import parameters as P
+from vcbmodel.app.cli import main
+from vcbmodel.experiments.loading import load_rig
+from vcbmodel.experiments.report import report_json, report_text
+from vcbmodel.experiments.simulation import simulate
+from vcbmodel.experiments import summaries
+from vcbmodel.rig.units import format_value
+
+from conftest import write_rig
+
+
+def breaker(limits=None, name="b"):
+    data = copy.deepcopy(P.REFERENCE_BREAKER)
+    if limits is None:
+        data["breaker"].pop("limits")
+    else:
+        data["breaker"]["limits"] = limits
+    return data, name
+
+
+@pytest.fixture(scope="module")
+def run(tmp_path_factory):
+    """The reference breaker simulated once (fast backend), its rig, result and figures of merit."""
+    folder = tmp_path_factory.mktemp("report")
+    rig = load_rig(write_rig(folder, P.REFERENCE_BREAKER, "ref"))
+    result = simulate(rig, backend="fast")
+    return rig, result, summaries.result_figures(result, rig)
+
+
+def table(text):
+    """{row label: [cells]} of the per-pole table (label, unit, a value per pole, limit, result)."""
+    lines = text.splitlines()
+    cut = lines[1].index("unit")  # the labels' column ends where the header's "unit" begins
+    rows = {}
+    for line in lines[2:]:
+        if line.strip() == "whole breaker":
+            break
+        rows[line[:cut].strip()] = line[cut:].split()
+    return rows
+
+
+def test_the_per_pole_table_is_in_engineering_units_against_the_limits(run):
+    rig, result, fom = run
+    text = report_text(summaries.closing_report(result, rig))
+    assert re.search(r"per pole\s+unit\s+pole 1\s+pole 2\s+pole 3\s+limit\s+result", text)
+    rows = table(text)
+    touch = rows["closing time (touch)"]
+    assert touch[0] == "ms" and touch[4:] == ["<=", "80", "ms", "pass"]
+    for cell, t in zip(touch[1:4], fom["per_pole"]["touch_s"]):
+        assert float(cell) == pytest.approx(1e3 * t, abs=0.006) and len(cell.replace(".", "")) == 4  # 4 figures
+    speed = rows["closing speed, 4-0 mm before touch"]
+    assert speed[0] == "m/s" and [float(v) for v in speed[1:4]] == pytest.approx(fom["per_pole"]["closing_speed_m_s"], abs=6e-4)
+    assert rows["contact force closed"][0] == "kN" and rows["wipe (travel after touch)"][0] == "mm"
+    assert rows["bounces"][:3] == [str(n) for n in fom["per_pole"]["bounces"]]
+    # no base SI with six digits, no exponents, no mean of the poles' touch speeds
+    assert not re.search(r"\de[-+]\d", text) and "mean" not in text
+    assert "limits (breaker.limits): 5 of 5 judged: all pass" in text
+
+
+def test_a_tighter_limit_fails_on_the_poles_that_break_it(run, tmp_path):
+    rig, result, fom = run
+    bounces = fom["per_pole"]["bounce_duration_s"]
+    cut = sorted(bounces)[1]  # between the poles: at least one passes, at least one fails
+    limits = {"bounce_duration": {"max": 1e3 * cut, "unit": "ms"}, "pole_spread": {"max": 100, "unit": "us"}}
+    tight = load_rig(write_rig(tmp_path, breaker(limits)[0], "tight"))
+    report = summaries.closing_report(result, tight)
+    text = report_text(report)
+    failing = [i for i, b in enumerate(bounces, start=1) if b > cut]
+    row = table(text)["bounce duration"]
+    assert row[-3:] == ["FAIL", "pole", ", ".join(map(str, failing))] and failing
+    assert "FAIL: bounce duration on pole" in text and "pole spread (" in text  # 0.538 ms > 100 us
+    body = report_json(report)
+    assert [p["bounce_duration"]["pass"] for p in body["poles"]] == [b <= cut for b in bounces]
+    assert {lim["figure"]: lim["result"].split()[0] for lim in body["limits"]} == {"bounce_duration": "FAIL",
+                                                                                  "pole_spread": "FAIL"}
+    assert next(lim for lim in body["limits"] if lim["figure"] == "pole_spread")["max_si"] == pytest.approx(1e-4)
+
+
+def test_without_limits_the_report_says_so_and_judges_nothing(run, tmp_path):
+    _, result, _ = run
+    plain = load_rig(write_rig(tmp_path, breaker(None)[0], "plain"))
+    text = report_text(summaries.closing_report(result, plain))
+    assert table(text)["closing time (touch)"][-3:] == ["no", "limit", "given"]
+    assert "pass" not in text and "FAIL" not in text
+    assert "limits: none given (breaker.limits): no figure is judged" in text
+
+
+def test_a_figure_the_evaluation_adds_gets_its_row(run, monkeypatch):
+    """h4's figures slot in: a per-pole entry and a whole-breaker figure named with their unit."""
+    rig, result, fom = run
+    more = dict(fom, kinetic_margin_J=12.34, per_pole=dict(fom["per_pole"], making_current_A=[31e3, 32e3, 33e3]))
+    monkeypatch.setattr(summaries, "result_figures", lambda r, g: more)
+    report = summaries.closing_report(result, rig)
+    text = report_text(report)
+    assert re.search(r"making current\s+kA\s+31.00\s+32.00\s+33.00", text)
+    assert re.search(r"kinetic margin\s+J\s+12.3\b", text)
+    assert report_json(report)["poles"][2]["making_current"] == {"what": "making current", "value": 33.0, "unit": "kA",
+                                                                 "figure": "making_current_A"}
+
+
+def test_simulate_json_gives_each_pole_with_its_limit(tmp_path, capsys):
+    rig = write_rig(tmp_path, P.REFERENCE_BREAKER, "ref")
+    assert main(["simulate", str(rig), "--backend", "fast", "-o", str(tmp_path / "c.csv"), "--json", "-q"]) == 0
+    body = json.loads(capsys.readouterr().out)
+    fom = body["figures_of_merit"]
+    assert [p["pole"] for p in body["poles"]] == [1, 2, 3]
+    for pole, touch in zip(body["poles"], fom["per_pole"]["touch_s"]):
+        assert pole["closing_time"]["unit"] == "ms" and pole["closing_time"]["value"] == pytest.approx(1e3 * touch)
+        assert pole["closing_time"]["limit"] == "<= 80 ms" and pole["closing_time"]["pass"] is True
+    assert body["verdict"].endswith("all pass") and len(body["limits"]) == 5
+    assert all(lim["source"] for lim in body["limits"])
+    assert "touch_speed" not in {s.get("figure", "")[:11] for s in body["summary"]}  # no mean of the poles
+
+
+@pytest.mark.parametrize("limits, field, words", [
+    ({"pole_spread": {"max": 2}}, "breaker.limits.pole_spread.unit", "missing"),
+    ({"pole_spread": {"max": 2, "unit": "mm"}}, "breaker.limits.pole_spread.unit", "not a unit of pole_spread"),
+    ({"pole_sprad": {"max": 2, "unit": "ms"}}, "breaker.limits.pole_sprad", "pole_spread"),
+    ({"closing_speed": {"min": 1.5, "max": 1.0, "unit": "m/s"}}, "breaker.limits.closing_speed.max", "below min"),
+    ({"closing_speed": {"unit": "m/s"}}, "breaker.limits.closing_speed.min", "min, max or both"),
+])
+def test_bad_limits_are_refused_in_one_line(tmp_path, capsys, limits, field, words):
+    rig = write_rig(tmp_path, breaker(limits)[0], "bad")
+    assert main(["check", str(rig)]) == 2
+    err = capsys.readouterr().err.strip()
+    assert len(err.splitlines()) == 1 and field in err and words in err and "Traceback" not in err
+
+
+@pytest.mark.parametrize("value, step, text", [(38.84214, 1e-3, "38.84"), (0.537937, 1e-3, "0.538"),
+                                               (25646.4e-3, 1e-3, "25.65"), (8.1e-6, 1e-3, "0.000"),
+                                               (-1e-7, 1e-3, "0.000"), (252.119, 0.01, "252.1"), (1234.6, 0.0, "1235"),
+                                               (None, 1e-3, "-"), (float("nan"), 1e-3, "-"), (2, 1.0, "2")])
+def test_values_are_printed_to_four_figures_and_no_finer_than_their_unit(value, step, text):
+    assert format_value(value, step) == text
+
+
+def test_a_cam_drop_reports_in_milliseconds_and_degrees(tmp_path, capsys):
+    rig = write_rig(tmp_path, P.REFERENCE_CAM, "cam")
+    assert main(["simulate", str(rig), "--t-end", "0.02", "-o", str(tmp_path / "c.csv"), "-q"]) == 0
+    lines = capsys.readouterr().out.splitlines()[1:]
+    assert re.fullmatch(r"\s+end time\s+ms\s+20.00", lines[0]) and " deg " in lines[1] + " "
+    assert not any(re.search(r"\d\.\d{5}|e-0", line) for line in lines)

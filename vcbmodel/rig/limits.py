@@ -1,0 +1,93 @@
+"""A breaker's acceptance limits (rig section ``breaker.limits``), as a breaker analyser checks a
+closing against them: each figure with a lowest and/or highest value, the unit they are stated in
+and where they come from.
+
+``"limits": {"closing_speed": {"min": 1.0, "max": 1.3, "unit": "m/s", "source": "..."},
+"pole_spread": {"max": 2, "unit": "ms"}, ...}``. The unit is required (no unit is assumed); it must
+be one of the figure's quantity (``ms`` or ``s`` for a time, ``mm`` or ``m`` for a travel, ``kN`` or
+``N`` for a force). A rig without the section has no limits: the report says "no limit given".
+"""
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+from .units import to_si
+from .reader import Reader
+
+#: The figures a limit may bound: {name: (SI unit, what it is)}; the name is the figure's without its
+#: unit (``closing_time`` bounds ``closing_time_s``), checked per pole where the report has the figure
+#: per pole, else for the whole breaker.
+LIMITED_FIGURES = {
+    "closing_time": ("s", "latch release to the contacts touching (per pole; the breaker's: the last pole)"),
+    "pole_spread": ("s", "first to last pole touching"),
+    "closing_speed": ("m/s", "mean speed over breaker.speed_zone before the touch"),
+    "touch_speed": ("m/s", "contact speed at the touch"),
+    "bounce_duration": ("s", "first touch to the last re-closing"),
+    "bounce_count": ("-", "separations after the first touch"),
+    "wipe": ("m", "travel after the touch, to the final position"),
+    "overtravel": ("m", "largest travel beyond the final position"),
+    "rebound": ("m", "travel back below the final position after the peak"),
+    "contact_force_closed": ("N", "contact force at the end of the run"),
+    "peak_cam_roller_force": ("N", "largest cam-roller force"),
+    "travel_settled": ("s", "travel within 0.05 mm of its final position"),
+}
+LIMIT_KEYS = ("min", "max", "unit", "source")
+
+
+@dataclass(frozen=True)
+class Limit:
+    """One figure's limit: ``low``/``high`` in SI units (None: no bound on that side), the ``unit``
+    the rig states them in (the report prints them so) and their ``source`` (free text)."""
+
+    figure: str
+    low: float | None
+    high: float | None
+    unit: str
+    source: str = ""
+
+    def holds(self, value: float | None) -> bool | None:
+        """Whether an SI value is within the limit; None if there is no value (the run did not show it)."""
+        if value is None or (isinstance(value, float) and not math.isfinite(value)):
+            return None
+        return (self.low is None or value >= self.low) and (self.high is None or value <= self.high)
+
+    def text(self) -> str:
+        """The limit as the rig states it: ``1-1.3 m/s``, ``<= 2 ms``, ``>= 3 kN``."""
+        factor = to_si(self.unit)[1]
+        lo, hi = (None if v is None else f"{v / factor:.4g}" for v in (self.low, self.high))
+        unit = "" if self.unit == "-" else f" {self.unit}"
+        if lo is not None and hi is not None:
+            return f"{lo}-{hi}{unit}"
+        return f"<= {hi}{unit}" if hi is not None else f">= {lo}{unit}"
+
+
+def read_limits(rd: Reader, b: dict) -> tuple[Limit, ...]:
+    """``breaker.limits`` (optional): {figure: {min, max, unit, source}}; () when absent."""
+    if "limits" not in b:
+        return ()
+    section = rd.optional_section(b, "limits", "breaker.", tuple(LIMITED_FIGURES))
+    limits = []
+    for name, entry in section.items():
+        if name.startswith("_"):
+            continue
+        p = f"breaker.limits.{name}."
+        entry = rd.optional_section(section, name, "breaker.limits.", LIMIT_KEYS)
+        si_unit = LIMITED_FIGURES[name][0]
+        unit = entry.get("unit")
+        if not isinstance(unit, str):
+            rd.fail(p + "unit", f"missing: say the unit the limits are stated in ({si_unit} or a multiple)")
+        known = to_si(unit)
+        if known is None or known[0] != si_unit:
+            rd.fail(p + "unit", f"{unit!r} is not a unit of {name} ({si_unit}, or a multiple such as "
+                    f"{ {'s': 'ms', 'm': 'mm', 'N': 'kN', 'm/s': 'mm/ms'}.get(si_unit, si_unit)})")
+        low, high = (rd.number(entry, key, p) * known[1] if key in entry else None for key in ("min", "max"))
+        if low is None and high is None:
+            rd.fail(p + "min", "give min, max or both")
+        if low is not None and high is not None and low > high:
+            rd.fail(p + "max", "is below min")
+        source = entry.get("source", "")
+        if not isinstance(source, str):
+            rd.fail(p + "source", "must be text")
+        limits.append(Limit(name, low, high, unit.strip(), source))
+    return tuple(limits)
