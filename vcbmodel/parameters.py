@@ -254,9 +254,13 @@ MAIN_SHAFT_FIRST_ESTIMATE_DIAMETER = 0.04
 #:   closing" of [Siemens 3AP]) met by a stop lever on the cam shaft at 250 deg, 10 deg past the
 #:   rise's end, so the roller sits on the dwell and the contacts keep their full stroke while the
 #:   cam is stopped; lever arm 60 mm; 2e6 N/m and 6e3 N s/m: about 0.9 of the critical damping of the
-#:   cam shaft's inertia seen at the lever (0.0215 kg m^2 / 0.06^2 m^2 = 6 kg). The cam meets it at
-#:   52 ms at 4.8 m/s (at the lever), runs 2.7 deg (2.8 mm) into it and is pushed back with at most
-#:   29 kN; the cam brings 65 J to it;
+#:   cam shaft's inertia seen at the lever (0.0215 kg m^2 / 0.06^2 m^2 = 6 kg). The damping builds
+#:   up over the first damping_depth = 1 mm of the buffer's travel (laws.breaker.end_stop_damping:
+#:   c d / 1 mm, then c), so the buffer's force rises from zero at contact as a real buffer's does
+#:   (its striker cap and the damper's piston take up the first millimetre; a judgement: a plain
+#:   dashpot's force would jump to c v = 29.8 kN at the 4.97 m/s of contact). The cam meets it at
+#:   52.2 ms at 5.0 m/s (at the lever), runs 3.3 mm into it and is pushed back with at most
+#:   27.7 kN; the cam brings 65 J to it;
 #: - holding latch (breaker.hold_latch): a pawl that drops behind the cam's latch face at 248 deg
 #:   (2 deg before the stop) and keeps the recharging springs from turning the cam back, as the roller
 #:   that "jumps behind the cam to prevent backward swinging of the charging shaft" [Siemens 3AP];
@@ -291,7 +295,7 @@ REFERENCE_BREAKER_SECTION = {
                 "cam_roller_damping_factor": 0.2, "cam_roller_stiffness": 1e11, "pole_stiffness": 1e10,
                 "exponent": 1.5, "restitution": 0.8, "min_impact_speed": 0.05},
     "latch": {"release_time": 0.002, "arm": 0.051935, "angle": 0.0},
-    "end_stop": {"angle": 4.36332, "arm": 0.06, "stiffness": 2e6, "damping": 6e3},
+    "end_stop": {"angle": 4.36332, "arm": 0.06, "stiffness": 2e6, "damping": 6e3, "damping_depth": 0.001},
     "hold_latch": {"angle": 4.32842, "arm": 0.06, "stiffness": 5e7, "damping": 5e3},
     "main_shaft": MAIN_SHAFT_SECTION,
 }

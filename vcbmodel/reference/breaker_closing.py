@@ -142,7 +142,11 @@ class Closing(Geometry):
 
     @staticmethod
     def _stop_values(part):
-        return None if part is None else (float(part.angle), float(part.arm), float(part.stiffness), float(part.damping))
+        """(angle, arm, stiffness, damping, depth over which the damping builds up: 0 at once)."""
+        if part is None:
+            return None
+        return (float(part.angle), float(part.arm), float(part.stiffness), float(part.damping),
+                float(getattr(part, "damping_depth", 0.0)))
 
     # -- contact distance ---------------------------------------------------------------------
     def roller_contact(self, theta: float, omega: float, phi: float, phid: float):
@@ -213,14 +217,17 @@ class Closing(Geometry):
         """(torque N m, Fx N, Fy N, end stop force N, latch force N) of the end stop and, once
         engaged, the holding latch on the cam. Each is a buffer: stiffness times penetration plus
         damping times its rate while in contact, never pulling, acting at its arm on A->B and
-        perpendicular to it (the stop against the forward turn, the latch with it)."""
+        perpendicular to it (the stop against the forward turn, the latch with it); the end stop's
+        damping grows in proportion to the penetration up to its damping depth, when it has one."""
         d_stop, d_hold = self.stop_penetrations(theta)
         f_stop = f_hold = 0.0
         if d_stop > 0.0:
-            _, arm, k, c = self.stop
+            _, arm, k, c, depth = self.stop
+            if depth > 0.0 and d_stop < depth:  # the buffer's damping builds up over its first `depth`
+                c = c * d_stop / depth
             f_stop = max(0.0, k * d_stop + c * arm * omega)
         if self.engaged and d_hold > 0.0:
-            _, arm, k, c = self.hold
+            _, arm, k, c, _ = self.hold
             f_hold = max(0.0, k * d_hold - c * arm * omega)
         push = (f_hold * self.hold[1] if f_hold else 0.0) - (f_stop * self.stop[1] if f_stop else 0.0)
         net = f_hold - f_stop  # along the forward direction (-sin theta, cos theta) of a point on A->B
