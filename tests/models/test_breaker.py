@@ -372,7 +372,8 @@ def test_reference_breaker_closes_as_designed(rig, fom):
 
 def test_reference_breaker_comes_to_rest_on_its_holding_latch(rig):
     """The end stop (250 deg) and the holding latch (248 deg) of the reference breaker: the cam meets
-    the buffer at 52.3 ms, runs 2.72 deg into it, rebounds onto the latch and rests there from about
+    the buffer at 52.3 ms, runs 3.04 deg into it (2.72 deg when its damping acted in full from the
+    first contact: its damping now builds up over 1 mm), rebounds onto the latch and rests there from about
     66 ms at 247.96 deg (the recharging springs press it against the pawl); the roller is on the
     dwell, so the follower keeps its full travel throughout. Measured (compiled path, which the end
     stop's own tests hold to the Exudyn model)."""
@@ -381,7 +382,7 @@ def test_reference_breaker_comes_to_rest_on_its_holding_latch(rig):
     stop, latch = rig.breaker.end_stop, rig.breaker.hold_latch
     hit = int(np.argmax(th > stop.angle))
     assert r.t[hit] == pytest.approx(0.0523, abs=1e-4)
-    assert math.degrees(th.max() - stop.angle) == pytest.approx(2.72, abs=0.05)
+    assert math.degrees(th.max() - stop.angle) == pytest.approx(3.04, abs=0.05)
     assert np.max(np.abs(w[r.t > 0.068])) < 0.5  # at rest
     assert math.degrees(th[-1]) == pytest.approx(math.degrees(latch.angle) - 0.04, abs=0.03)
     travel = r.channels["follower_displacement"]
