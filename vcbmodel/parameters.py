@@ -51,6 +51,46 @@ STEEL_DENSITY = 7850.0
 DEFAULT_SHEAR_MODULUS = 79.3e9
 DEFAULT_YOUNGS_MODULUS = 206e9
 
+# --- spring strength as a spring maker checks it (vcbmodel/laws/spring_strength.py) ----------------
+#: The closing spring is a tension (extension) spring: the paper calls it "인장" (tension), and the
+#: model's spring pulls its pin (it refuses an unstretched spring). Its wire: oil-tempered
+#: chromium-silicon (ASTM A401), S_ut = A / d^m (Shigley Table 10-4; laws/coil.py WIRE_STRENGTH).
+SPRING_WIRE = "chromium_silicon"
+#: Allowable static stresses of a helical extension spring as fractions of S_ut (Shigley, Mechanical
+#: Engineering Design, 9th-10th ed., Table 10-7; Standard Handbook of Machine Design ch. 24): hardened
+#: and tempered carbon and low-alloy steels, set not removed: body in torsion 45-50 % (the low end
+#: taken), hook in torsion 40 %, hook in bending 75 %. A compression spring with set removed: 65 %
+#: in torsion (Table 10-6), kept for the compression reading.
+EXTENSION_ALLOWABLE = {"body_torsion": 0.45, "hook_torsion": 0.40, "hook_bending": 0.75}
+COMPRESSION_ALLOWABLE = 0.65
+#: Fatigue of extension springs (Shigley Table 10-8, for ASTM A228 and 302 stainless, not shot-peened,
+#: no surging, stress ratio R = 0: the largest stress a spring cycling from zero may see, as a fraction
+#: of S_ut): {cycles: (body torsion, hook torsion, hook bending)}. Fewer cycles than the table's first
+#: row are checked at that row (conservative); applied to Cr-Si wire through its S_ut (its fatigue
+#: strength is at least music wire's at the same fraction: Shigley sec. 10-9, Zimmerli's finding that
+#: the endurance of spring steels under 10 mm does not depend on the steel).
+EXTENSION_FATIGUE = {1e5: (0.36, 0.34, 0.51), 1e6: (0.33, 0.30, 0.47), 1e7: (0.30, 0.28, 0.45)}
+#: Ultimate shear strength of spring wire as a fraction of S_ut (Shigley eq. 10-30: S_su = 0.67 S_ut),
+#: the Goodman line's end in torsion.
+SHEAR_ULTIMATE_FRACTION = 0.67
+#: Rated mechanical operations: IEC 62271-100 class M2 (extended mechanical endurance) = 10 000
+#: operating cycles (class M1: 2 000). Each closing charges the springs and discharges them once: one
+#: stress cycle per operation (the surge's smaller cycles are left out, as Table 10-8's "no surging").
+RATED_OPERATIONS = 10000
+#: Hook geometry of a standard machine hook (Shigley Fig. 10-7): the bend where the hook turns up has
+#: mean radius r1 = D/2 (C1 = 2 r1 / d = C); the bend from the body into the hook has r2 with
+#: C2 = 2 r2 / d, "preferably greater than 4" (Shigley sec. 10-11): 4, the tightest recommended.
+HOOK_BEND_INDEX = 4.0
+#: Initial tension of an extension spring: the preferred range of the uncorrected torsional stress
+#: tau_i = 231 / exp(0.105 C) +- 6.9 (4 - (C - 3) / 6.5) MPa (Shigley eq. 10-39, converted from psi).
+INITIAL_TENSION_STRESS = (231.0, 0.105, 6.9)
+#: Compression reading: buckling (Shigley eq. 10-10 to 10-13): end-condition constant alpha 0.5 for
+#: ends squared and ground between flat parallel plates, 0.707 for one plate and one pivot, 1 for both
+#: ends pivoted; solid length (n_a + 2) d (squared and ground ends); free length solid length plus the
+#: largest deflection plus 15 % of it as clash allowance (Shigley sec. 10-5).
+BUCKLING_END_CONSTANTS = {"fixed-fixed": 0.5, "fixed-pivoted": 0.707, "pivoted-pivoted": 1.0}
+CLASH_ALLOWANCE = 0.15
+
 # --- records ------------------------------------------------------------------------------
 #: Largest relative error of a record's clock the diagnosis's time-scale nuisance may take (its
 #: bounds): a camera's frame rate or a logger's crystal is off by a fraction of a percent (crystals
@@ -193,11 +233,23 @@ MAIN_SHAFT_FIRST_ESTIMATE_DIAMETER = 0.04
 #: Closing springs and the cam (the breaker's own, not REFERENCE_CAM's):
 #: - springs: k0 = 24230 N/m (paper), 0.830 kg each (PAPER_SPRING_MASS), two of them. The lightest
 #:   steel coil of this rate and mass at spring index 6 has 7.84 mm wire on a 47.0 mm mean diameter
-#:   (14.9 active coils; laws/coil.py): at 3000 N its Wahl-corrected shear stress is 0.93 GPa, below
-#:   the 1.04 GPa (0.65 S_ut, chromium-silicon wire, Shigley Table 10-6) of a compression spring with
-#:   set removed. VCB closing springs are compression springs charged by the motor [Machines 2023],
-#:   worked here through a pull rod, so the compression allowable applies (an extension spring's body,
-#:   0.45 S_ut = 0.72 GPa, would not carry it). The pair stores 371 J and releases 361 J from 3000 N
+#:   (14.9 active coils; laws/coil.py). The paper's springs are tension springs ("인장"), and the model's
+#:   pull their pin, so they are checked as extension springs (laws/spring_strength.py, `vcbmodel
+#:   check`), cycling 500-3000 N over IEC 62271-100 class M2's 10 000 operations. THIS SPRING FAILS
+#:   THEM: body 0.92 GPa (Bergstrasser) against 0.45 S_ut = 0.72 GPa (Cr-Si, Shigley Table 10-7);
+#:   standard hook 1.76 GPa in bending against 0.75 S_ut = 1.20 GPa and 0.93 GPa in torsion (C2 = 4)
+#:   against 0.40 S_ut = 0.64 GPa; fatigue factors of safety 0.68 (body), 0.51 (hook bending), 0.64
+#:   (hook torsion) (Table 10-8, Goodman); its smallest pull, 500 N, stays above the lowest preferred
+#:   initial tension (397 N). Read as a compression spring its body passes (0.65 S_ut = 1.04 GPa, set
+#:   removed) but it buckles unguided (free length 275 mm, 124 mm of deflection, y/L0 0.45; pivoted
+#:   ends buckle at 24 mm), and a guide holds the lateral motion the spring study is about. A spring
+#:   of the same rate and pulls that passes every check at index 6: 11.2 mm wire on 67 mm, 21.4 active
+#:   coils, 3.52 kg with standard hooks; 9.6 mm on 58 mm, 18.3 coils, 1.89 kg with screwed-in plug
+#:   ends (no hook stress). No steel spring of this rate and pull has the paper's mass: the active mass
+#:   of a spring is set by its energy over its allowable stress, so the paper's k0, m0 and forces cannot
+#:   all hold for one buildable spring. We keep k0, m0 and the forces (the paper's) and say so; with the
+#:   1.89 kg spring the closing takes 40.64 ms at 1.216 m/s over the zone (39.08 ms and 1.287 m/s
+#:   with 0.83 kg), the bounce 1.89 ms (1.93). The pair stores 371 J and releases 361 J from 3000 N
 #:   to 500 N (the springs' dead centre);
 #: - anchor O at the origin, free length 0.30 m (as the cam drop's); crank (arm l_AB) 51.9 mm and cam
 #:   axis A at 0.3726 m from O: solved so that each spring pulls 3000 N at the start angle, 10 deg
