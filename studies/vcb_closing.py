@@ -30,7 +30,6 @@ from vcbmodel.experiments.simulation import model_spec, simulate
 from vcbmodel.laws.breaker import BreakerLaws, massless_pull, pressure_angle_curve
 from vcbmodel.laws.coil import spring_check
 from vcbmodel.laws.mechanics import cam_pin, main_shaft_twist
-from vcbmodel.laws.springs import chain_for
 from vcbmodel.records.measurement import write_measurement
 from vcbmodel.reference.breaker import solve_closing
 
@@ -152,12 +151,11 @@ def independent_agreement(rig, t_end):
     """The Exudyn model against the independent solve (vcbmodel/reference/breaker.py): literal and
     passive stick band, and what the model's first-order penetration costs."""
     spec = model_spec(rig)
-    chain = chain_for(rig.closing_spring, spec.spring_model)
     out = {}
     for sticking in ("literal", "passive"):
         a = simulate(rig, t_end=t_end, sticking=sticking)
         t = a.t[::10]
-        ref = solve_closing(rig, spec, t, chain)
+        ref = solve_closing(rig, spec, t)
         f = figures_of_merit(a, rig)
         out[sticking] = {
             "touch_time_difference_s": float(np.max(np.abs(np.array(f["per_pole"]["touch_s"]) - np.array(ref["touch_times"])))),
@@ -165,7 +163,7 @@ def independent_agreement(rig, t_end):
                                                               - np.array(ref["touch_speeds"])))),
             **{f"max_{k}_difference": float(np.max(np.abs(a.channels[k][::10] - ref[k])))
                for k in ("follower_displacement", "cam_angle", "pole_1_travel", "cam_roller_force")}}
-    first = solve_closing(rig, spec, t, chain, distance="first_order")
+    first = solve_closing(rig, spec, t, distance="first_order")
     out["first_order_penetration_cost"] = {
         "follower_displacement_m": float(np.max(np.abs(first["follower_displacement"] - ref["follower_displacement"]))),
         "penetration_m": float(np.max(np.abs(first["cam_roller_penetration"] - ref["cam_roller_penetration"]))),

@@ -223,7 +223,7 @@ def compare_with_independent(rig, spring, sticking, t_end=T_END, effects=None):
     every = 10  # compare at 1e-4 s
     t = a.t[::every]
     spec = model_spec(rig, effects, spring_model=spring)
-    ref = solve_closing(rig, spec, t, chain_for(rig.closing_spring, spec.spring_model))
+    ref = solve_closing(rig, spec, t)
     f = figures_of_merit(a, rig)
     d = {name: np.max(np.abs(a.channels[name][::every] - ref[name]))
          for name in ("cam_angle", "follower_displacement", "pole_1_travel", "cam_roller_force")}
@@ -291,10 +291,9 @@ def test_first_order_penetration_costs_nanometres(rig):
     follower displacement differs by less than 0.05 um, the penetration by under 2 nm, the touches
     by 27 ns (6 ns before issue 19: the poles now touch slower, 1.15 against 1.27 m/s, and later)."""
     spec = model_spec(rig)
-    chain = chain_for(rig.closing_spring, spec.spring_model)
     t = np.arange(0.0, FULL_T_END + 1e-9, 1e-4)
-    exact = solve_closing(rig, spec, t, chain)
-    first = solve_closing(rig, spec, t, chain, distance="first_order")
+    exact = solve_closing(rig, spec, t)
+    first = solve_closing(rig, spec, t, distance="first_order")
     d = np.max(np.abs(exact["follower_displacement"] - first["follower_displacement"]))
     assert 1e-9 < d < 5e-8
     assert np.max(np.abs(exact["cam_roller_penetration"] - first["cam_roller_penetration"])) < 2e-9

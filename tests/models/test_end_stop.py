@@ -203,7 +203,7 @@ def _against_independent(rig, step=None, t_end=0.04):
     every = int(round(1e-4 / (step or P.BREAKER_STEP)))
     t = a.t[::every]
     spec = model_spec(rig, effects, spring_model="massless")
-    ref = solve_closing(rig, spec, t, None)
+    ref = solve_closing(rig, spec, t)
     d = {name: float(np.max(np.abs(a.channels[name][::every] - ref[name])))
          for name in ("cam_angle", "follower_displacement", "pole_1_travel")}
     return d, ref

@@ -12,8 +12,9 @@ The roller's penetration comes from :mod:`.breaker_distance`, the geometry from
 :mod:`.breaker_geometry`.
 
 Shares no code with the model. It shares the reading of the spec and rig: the friction law and
-its values (``mu_s`` taken as at least ``mu_k``), a lumped chain's numbers (``count`` identical
-springs lumped as one chain of ``count`` times the masses and stiffnesses), the contact constants
+its values (``mu_s`` taken as at least ``mu_k``), the lumped chain's conventions (it solves the chain
+itself from k0, m0 and n, :mod:`.breaker_chain`; ``count`` identical springs lumped as one chain of
+``count`` times the masses and stiffnesses), the contact constants
 (Hertz or Palmgren line stiffness, Lankarani-Nikravesh or Hunt-Crossley damping, the impact-speed
 floor), the latch ramp T_h (1 - t / t_r) and the planar layout; for the end stop and the holding
 latch, the reading of their rig fields: a linear spring and damper at ``arm`` on A->B,
@@ -33,6 +34,7 @@ import numpy as np
 from scipy.optimize import brentq
 
 from ..errors import SimulationError
+from .breaker_chain import chain_of
 from .breaker_distance import DISTANCES, roller_contact
 from .breaker_geometry import Geometry
 from .breaker_shaft import Shaft
@@ -49,13 +51,13 @@ class Closing(Geometry):
     the free pole levers' angles psi_j and speeds psi_j' in pole order (rad, rad/s, m, m/s).
     """
 
-    def __init__(self, rig: Any, spec: Any, chain: Any = None, distance: str = "exact"):
+    def __init__(self, rig: Any, spec: Any, distance: str = "exact"):
         if distance not in DISTANCES:
             raise ValueError("distance must be 'exact' or 'first_order'")
         self.distance = distance
         super().__init__(rig)
         self.g = rig.gravity
-        self._cam_and_spring(rig.cam, rig.closing_spring, chain)
+        self._cam_and_spring(rig.cam, rig.closing_spring, spec.spring_model)
         self._friction(spec, rig.shaft_radius)
         self.If = rig.breaker.follower.inertia
         self._poles_and_springs(rig.breaker, spec)
@@ -67,19 +69,23 @@ class Closing(Geometry):
         self._stops(rig.breaker)
 
     # -- parameters ---------------------------------------------------------------------------
-    def _cam_and_spring(self, cam, spring, chain):
-        """The cam's mass and the closing spring, lumped: ``count`` springs as one chain."""
+    def _cam_and_spring(self, cam, spring, spring_model):
+        """The cam's mass and the closing spring, lumped: ``count`` springs as one chain, the chain
+        solved here from the spring's k0, m0 and the spec's n and convention (:mod:`.breaker_chain`)."""
         self.mc, self.lg, self.psi = cam.mass, cam.com_distance, cam.com_angle
         c = spring.count
         self.O = (float(spring.anchor[0]), float(spring.anchor[1]))
         self.weight = bool(spring.weight)
-        if chain is None:
+        if spring_model.kind == "massless":
             self.masses, self.ks, self.ls, self.mpin = [], [c * spring.stiffness], [spring.free_length], 0.0
+        elif spring_model.kind == "lumped":
+            chain = chain_of(spring.stiffness, spring.mass, spring.free_length, spring_model.masses, spring_model.convention)
+            self.masses = [c * m for m in chain.masses]
+            self.ks = [c * k for k in chain.stiffnesses]
+            self.ls = list(chain.free_lengths)
+            self.mpin = c * chain.pin_mass
         else:
-            self.masses = [c * float(m) for m in chain.masses]
-            self.ks = [c * float(k) for k in chain.stiffnesses]
-            self.ls = [float(x) for x in chain.free_lengths]
-            self.mpin = c * float(getattr(chain, "pin_mass", 0.0))
+            raise ValueError(f"the independent breaker reference has massless and lumped springs only, not {spring_model.kind}")
         self.nm = len(self.masses)
         self.IA = cam.inertia_com + self.mc * self.lg**2 + self.mpin * self.lab**2
         self.theta0 = cam.initial_angle
