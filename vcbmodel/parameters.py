@@ -410,6 +410,40 @@ BREAKER_REST_T_END = 0.075
 #: the independent solve (vcbmodel/reference/breaker.py) the touch times agree to 10 ns.
 BREAKER_STEP = 1e-5
 
+# --- design studies: the uncertain inputs and where each comes from (vcbmodel/analysis/design.py) -----
+#: Viscous friction of the cam shaft's bearings (N m s/rad), a bearing estimate: Petroff's law for a
+#: lightly loaded full journal, T = 2 pi mu r^3 L omega / c per bearing, so Cv = 2 pi mu r^3 L / c
+#: (Petroff 1883; Shigley, Mechanical Engineering Design, sec. 12-4). The cam shaft: journal radius
+#: r = 20 mm (the rigs' shaft.radius), two plain bearings of L = 30 mm (a 40 mm shaft's bushes, L/d
+#: 0.75), radial clearance c = 12.5-37.5 um (an ISO 286 40 H7/f7 running fit: 25-75 um on the
+#: diameter), greased: NLGI 2 grease of ISO VG 100-150 mineral base oil, whose viscosity at the shear
+#: rates of the closing (r omega / c ~ 1e5 /s, where a grease's viscosity approaches its base oil's)
+#: spans mu = 0.05 Pa s (warm, 60 C) to 0.4 Pa s (cold, 20 C, with the thickener's share). Then
+#: Cv = 2 x 2 pi x 0.05 x 0.02^3 x 0.03 / 37.5e-6 = 0.0040 to 2 x 2 pi x 0.4 x 0.02^3 x 0.03 / 12.5e-6 =
+#: 0.097 N m s/rad: 0.6-15 N m at the cam's 150 rad/s against the springs' 47.6 N m at release. Not
+#: the pendulum's identified Cv (about 0.6 at ~0.5 rad/s, REFERENCE_PENDULUM_TRUTH): a viscous term
+#: fitted at 0.5 rad/s holds the low-speed friction's shape, not the bearing's film at 150 rad/s
+#: (0.6 x 150 = 90 N m, twice the springs' torque). The design studies draw Cv uniform over this range.
+VISCOUS_BEARING_ESTIMATE = (0.0040, 0.097)
+#: The viscous range the design studies drew before (uniform from 0 to the pendulum's Cv), kept to
+#: show what it did to their headline fractions (design_tolerance.md, "the viscous range").
+VISCOUS_PENDULUM_RANGE = (0.0, 0.6)
+#: Coefficient of restitution of the pole contacts (Cu-Cr butt contacts closing at about 1 m/s), an
+#: uncertain input, uniform over this range: metal-on-metal impacts at 0.3-3 m/s give e of about
+#: 0.5-0.95, falling with the impact speed and the softness of the metal (Goldsmith, Impact, 1960,
+#: ch. 8 tables; Johnson, Contact Mechanics, 1985, sec. 11.4 and Fig. 11.10: copper and brass at the
+#: low end, hardened steel at the high end). No measurement of Cu-Cr vacuum contacts at closing
+#: speed was found; Cu-Cr (Cu with 25-50 % Cr) is harder than copper and softer than steel, so
+#: 0.5-0.9. The reference breaker's 0.8 sits inside it (the model gives 0.99 / 1.93 / 2.89 ms of bounce
+#: at e = 0.5 / 0.8 / 0.9).
+RESTITUTION_RANGE = (0.5, 0.9)
+#: Gap patterns of the poles (offsets from contact_gap, m) the shaft and optimum claims are checked
+#: over: equal gaps, the reference's +0/+0.3/-0.3 mm, its mirror, the far pole first or last, and
+#: the middle pole short or long (an assembly tolerance of +-0.3 mm, parameters above).
+GAP_PATTERNS = {"equal": (0.0, 0.0, 0.0), "reference +0/+0.3/-0.3": (0.0, 0.0003, -0.0003),
+                "mirror +0/-0.3/+0.3": (0.0, -0.0003, 0.0003), "far pole last +0/0/+0.3": (0.0, 0.0, 0.0003),
+                "far pole first +0/0/-0.3": (0.0, 0.0, -0.0003), "middle short 0/-0.3/0": (0.0, -0.0003, 0.0)}
+
 # --- friction truths outside the fitted family (vcbmodel/reference/truth_friction.py) -----------
 #: The realism study's records may take their shaft friction from laws the diagnosis does not fit
 #: (issue 20). Their mu_s, mu_k, Stribeck (Tustin: decay) velocity and viscous coefficient are
