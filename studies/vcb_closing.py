@@ -77,7 +77,10 @@ def energy_split_figure(rig, result, rest, summary, out):
 def energy_row(label, rig, result):
     e = energy_balance(result, rig)
     released = float(np.max(e["spring_energy_released"]))
-    laws_end = {k: float(e[k][-1]) for k in ("kinetic", "opening_spring", "wipe_and_rods", "contacts", "dissipated")}
+    # each term's change since the release (the opening spring's preload energy is not the closing's work),
+    # as the energy split's table counts them
+    laws_end = {k: float(e[k][-1] - e[k][0]) for k in ("kinetic", "opening_spring", "wipe_and_rods", "contacts",
+                                                       "dissipated")}
     return {"model": label, "spring_energy_released_max_J": released,
             "residual_max_J": float(np.max(np.abs(e["residual"]))),
             "residual_percent_of_released": 100 * float(np.max(np.abs(e["residual"]))) / released, **laws_end}
@@ -614,8 +617,9 @@ def main():
                            f"{e['opening_spring']:.2f}", f"{e['wipe_and_rods']:.2f}", f"{e['contacts']:.3f}",
                            f"{e['dissipated']:.1f}", f"{e['residual_max_J']:.3g}",
                            f"{e['residual_percent_of_released']:.4f}"] for e in energy]),
-          "\nResidual = kinetic + potential + dissipated (shaft friction, contact hysteresis, rod damping) - latch work "
-          "- initial energy, at every step.\n",
+          "\nEach column is the change since the latch release (the opening spring's preload energy at the release is "
+          "not counted, as in the energy split above). Residual = kinetic + potential + dissipated (shaft friction, contact "
+          "hysteresis, rod damping) - latch work - initial energy, at every step.\n",
           "## Step convergence and cam profile\n",
           f"Halving the step ({P.BREAKER_STEP:g} s) changes the follower displacement by at most "
           f"{1e6 * conv['max_displacement_difference_m']:.2f} um and the closing time by "
