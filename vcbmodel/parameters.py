@@ -380,6 +380,12 @@ MAIN_SHAFT = dict(MAIN_SHAFT_SECTION, lever_arm=REFERENCE_BREAKER_SECTION["follo
 #: Simulated closing (s): latch release to contacts settled and the rise's end (about 50 ms: the
 #: full wipe, so the overtravel is the profile's).
 BREAKER_T_END = 0.055
+#: The closing speed's zone (m before each pole's touch: start, end), the one zone of simulations
+#: (rig field breaker.speed_zone's default) and of records (records.analyser's touch-speed zone): the
+#: last 4 mm, where a vacuum gap prestrikes (contacts within 2-4 mm of touch); analysers average the
+#: speed over a zone the user programs on the travel curve (e.g. Vanguard CT-7500 manual, sec. 9.14.5,
+#: "analysis points"). The reference breaker is specified on it (1.0-1.3 m/s, above).
+SPEED_ZONE = (0.004, 0.0)
 #: Largest lift or pitch radius of a cam given by points (m): a vacuum breaker's closing cam is a
 #: few centimetres across (the reference cam: 45 mm base circle, 9.4 mm lift); a value above half a
 #: metre is a table in millimetres read as metres, refused with that hint.

@@ -350,10 +350,9 @@ def read_main_shaft(rd: Reader, b: dict, follower: Follower, poles: Poles) -> Ma
     return shaft
 
 
-#: The closing speed's default zone (m before each pole's touch): the last 4 mm, where a vacuum gap
-#: prestrikes (contacts within 2-4 mm of touch); analysers average the speed over a zone the user
-#: programs on the travel curve (e.g. Vanguard CT-7500 manual, sec. 9.14.5, "analysis points")
-DEFAULT_SPEED_ZONE = (0.004, 0.0)
+#: The closing speed's default zone (m before each pole's touch): parameters.SPEED_ZONE, the records'
+#: analyser's too.
+DEFAULT_SPEED_ZONE = P.SPEED_ZONE
 
 
 def read_speed_zone(rd: Reader, b: dict, poles: Poles) -> tuple[float, float]:
