@@ -151,6 +151,27 @@ def bounce_by_restitution(ok, count):
     return rows
 
 
+def viscous_range(data, table, columns, count, fr):
+    """The same draws closed with the viscous friction at the bearing estimate's two ends and over the
+    range the studies drew before (the pendulum's Cv), each draw mapped along its range: their fractions
+    out of limits, the main run's interval half-widths, and whether the two ends differ by less."""
+    lo, hi = P.VISCOUS_BEARING_ESTIMATE
+    old_lo, old_hi = P.VISCOUS_PENDULUM_RANGE
+    ends = {f"Cv {lo:g} N m s/rad (the bearing estimate's low end)": table.assign(**{"friction.viscous": lo}),
+            f"Cv {hi:g} N m s/rad (its high end)": table.assign(**{"friction.viscous": hi})}
+    variants = dict(ends, **{f"Cv {old_lo:g}-{old_hi:g} N m s/rad (the pendulum's Cv, drawn before)":
+                             table.assign(**{"friction.viscous": old_lo + (table["friction.viscous"] - lo) / (hi - lo)
+                                             * (old_hi - old_lo)})})
+    viscous = {f"Cv {lo:g}-{hi:g} N m s/rad (bearing estimate, this study)": fr}
+    for name, t in variants.items():
+        d = sweep(data, runs=t, evaluate=closing_poles, columns=columns, label=f"tolerance study, {name}")
+        viscous[name] = fractions(out_of_limits(d, count))
+    half = {k: 0.5 * (v["fraction_95ci"][1] - v["fraction_95ci"][0]) for k, v in fr.items()}
+    low, high = (viscous[name] for name in ends)
+    return {"fractions": viscous, "interval_half_widths": half,
+            "ends_within_the_intervals": {k: abs(high[k]["fraction"] - low[k]["fraction"]) <= half[k] for k in fr}}
+
+
 def nominal_vector(rig, table):
     """The nominal value of every drawn path (the rig's; viscous 0: the reference has none)."""
     values = {"closing_spring.free_length": rig.closing_spring.free_length, "closing_spring.mass": rig.closing_spring.mass,
@@ -228,22 +249,6 @@ def main():
     ok = df[df.status == "ok"]
     fr = fractions(out_of_limits(df, count))
 
-    # the viscous assumption: the same draws with no viscous friction, and with the range drawn before
-    lo, hi = P.VISCOUS_BEARING_ESTIMATE
-    old_lo, old_hi = P.VISCOUS_PENDULUM_RANGE
-    ends = {f"Cv {lo:g} N m s/rad (the bearing estimate's low end)": table.assign(**{"friction.viscous": lo}),
-            f"Cv {hi:g} N m s/rad (its high end)": table.assign(**{"friction.viscous": hi})}
-    variants = dict(ends, **{f"Cv {old_lo:g}-{old_hi:g} N m s/rad (the pendulum's Cv, drawn before)":
-                             table.assign(**{"friction.viscous": old_lo + (table["friction.viscous"] - lo) / (hi - lo)
-                                             * (old_hi - old_lo)})})
-    viscous = {f"Cv {lo:g}-{hi:g} N m s/rad (bearing estimate, this study)": fr}
-    for name, t in variants.items():
-        d = sweep(data, runs=t, evaluate=closing_poles, columns=columns, label=f"tolerance study, {name}")
-        viscous[name] = fractions(out_of_limits(d, count))
-    half = {k: 0.5 * (v["fraction_95ci"][1] - v["fraction_95ci"][0]) for k, v in fr.items()}
-    low, high = (viscous[name] for name in ends)
-    within = {k: abs(high[k]["fraction"] - low[k]["fraction"]) <= half[k] for k in fr}
-
     nominal = closing_poles(rig)
     paths, nominal_values = nominal_vector(rig, table)
     shifts = {}
@@ -263,8 +268,7 @@ def main():
         "limits": {col: {"low": lo_, "high": hi_, "unit_of_limits": "SI", "source": why, **fr[col]}
                    for col, (lo_, hi_, _, _, why) in LIMITS.items()},
         "out_of_any_limit": fr["any"],
-        "viscous_range": {"fractions": viscous, "interval_half_widths": half,
-                          "ends_within_the_intervals": within},
+        "viscous_range": viscous_range(data, table, columns, count, fr),
         "bounce": {**bounce_distributions(ok, count), "over_limit_by_restitution": bounce_by_restitution(ok, count)},
         "mean_against_nominal": shifts, "nominal": nominal,
         "statistics": {}, "quick": bool(args.quick), "sweep_wall_s": df.attrs["wall_s"],
