@@ -26,6 +26,14 @@ from vcbmodel.experiments.loading import rig_from_data
 
 MASS = (0.2, 1.5)  # kg, each closing spring
 MU_K = (0.05, 0.2)
+#: Where each axis's range comes from (written into the outputs).
+SOURCES = {"closing_spring.mass": "0.2-1.5 kg: brackets the paper's chain parameter m0 = 0.3364 kg (eq. 8), the "
+                                  "settled active mass 0.83 kg (pi^2/4 m0) and the text's 'each spring about 1 kg'; a "
+                                  "spring of the reference's rate that passes the extension-spring checks weighs 1.9 kg "
+                                  "(plug ends, parameters.py), beyond the map",
+           "friction.mu_k": "0.05-0.2: the example pendulum records' 0.09-0.16 (about +-25 % around the reference's "
+                            "0.13) widened to a well-greased and a dry journal; mu_s follows mu_k where it would fall "
+                            "below it; the viscous term stays off (the reference breaker has none)"}
 GRID_FULL, GRID_QUICK = (8, 7), (3, 3)  # (masses, mu_k values)
 RATIOS = [("ratio_rms", "follower displacement (rms change)"), ("ratio_closing_time", "closing time (|change|)")]
 
@@ -100,7 +108,7 @@ def main():
 
     summary = {"model": {"effects": list(rig.model.effects), "spring_model": rig.model.spring_model.label},
                "grid": {"spring_mass_kg": masses.tolist(), "mu_k": mus.tolist()},
-               "reference": ref, "runs": int(len(df)), "closings": 3 * int(len(df)),
+               "grid_sources": SOURCES, "reference": ref, "runs": int(len(df)), "closings": 3 * int(len(df)),
                "failed": int((df.status != "ok").sum()), "quick": bool(args.quick),
                "definition": "ratio = (change when the shaft friction is dropped) / (change when the spring is made "
                              "massless), each against the full model (friction + lumped-2 exact)",
@@ -108,7 +116,8 @@ def main():
     md = ["# The paper's conclusion as a map\n",
           f"{summary['definition']}; on the follower displacement (rms over the {1e3 * P.BREAKER_T_END:.0f} ms run) and on the closing time. "
           f"Grid: {len(masses)} spring masses x {len(mus)} mu_k, {summary['closings']} closings "
-          f"({summary['failed']} points failed).{' **Quick mode: a coarse grid.**' if args.quick else ''}\n"]
+          f"({summary['failed']} points failed).{' **Quick mode: a coarse grid.**' if args.quick else ''}\n",
+          markdown_table(["axis", "range and where it comes from"], [[k, v] for k, v in SOURCES.items()])]
     for col, name in RATIOS:
         g = grids[col]
         frac = float(np.mean(g[np.isfinite(g)] > 1)) if np.isfinite(g).any() else float("nan")

@@ -1,13 +1,18 @@
-"""Design sensitivity of the reference breaker's closing: which uncertain parameter moves the
-closing time, the touch speed and the pole spread, one at a time (tornado chart) and all at
-once (variance-based Sobol indices with bootstrap confidence intervals, SALib).
+"""Design sensitivity of the reference breaker's closing: which uncertain input moves the closing
+time, every pole's zone speed, the pole spread and the bounce, one at a time (tornado chart) and
+all at once (variance-based Sobol indices with bootstrap confidence intervals, SALib); and the main
+shaft's sizing checked across gap patterns and restitutions.
 
 The breaker is vcbmodel.parameters.REFERENCE_BREAKER. It has no viscous shaft friction; the
-viscous term is varied from 0 to the value the pendulum test identifies (REFERENCE_PENDULUM_TRUTH),
-so that all friction terms can be ranked. The uncertain parameters and their ranges are
-vcbmodel.analysis.design.breaker_factors / TOLERANCES (assumptions, stated in the outputs): the
-closing-spring preload is varied through the springs' free length at fixed stiffness. All runs
-go through the sweep (vcbmodel.analysis.sweep) on all cores.
+viscous term is varied over the bearing estimate (parameters.VISCOUS_BEARING_ESTIMATE, Petroff),
+and the contact restitution over its published range (parameters.RESTITUTION_RANGE), so that the
+restitution's share of the bounce shows. The uncertain inputs and their ranges are
+vcbmodel.analysis.design.breaker_factors (TOLERANCES and RANGES, each with its source, stated in
+the outputs): the closing-spring preload is varied through the springs' free length at fixed
+stiffness. The tornado's centre is each range's middle. The shaft check closes the breaker with main
+shafts of 40-80 mm (damping kept at 2 % of critical, lever inertia as the reference's) for every gap
+pattern of parameters.GAP_PATTERNS at restitutions 0.5, 0.8 and 0.9: the worst pole's bounce. All
+runs go through the sweep (vcbmodel.analysis.sweep) on all cores.
 Writes design_sensitivity_tornado.png, design_sensitivity_sobol.png, design_sensitivity.{json,md}.
 """
 from pathlib import Path
@@ -18,17 +23,27 @@ from SALib.analyze import sobol as sobol_analyze
 from SALib.sample import sobol as sobol_sample
 
 from vcbmodel import parameters as P
-from vcbmodel.analysis.design import breaker_factors, json_ready, runs_of, with_viscous_shaft
+from vcbmodel.analysis.design import (breaker_factors, closing_poles, json_ready, pole_columns, runs_of,
+                                      with_viscous_shaft)
 from vcbmodel.analysis.sweep import sweep
 from vcbmodel.app.plots import plt, save
 from vcbmodel.experiments.loading import rig_from_data
 
 #: (column, label, unit, display scale)
-OUTPUTS = [("closing_time_s", "closing time", "ms", 1e3), ("touch_speed_m_s", "touch speed", "m/s", 1.0),
-           ("pole_spread_s", "pole spread", "ms", 1e3)]
+OUTPUTS = [("closing_time_s", "closing time", "ms", 1e3),
+           ("zone_speed_min_m_s", "slowest pole's zone speed", "m/s", 1.0),
+           ("zone_speed_max_m_s", "fastest pole's zone speed", "m/s", 1.0),
+           ("pole_spread_s", "pole spread", "ms", 1e3),
+           ("bounce_duration_s", "bounce duration (worst pole)", "ms", 1e3),
+           ("bounce_count", "bounces (worst pole)", "-", 1.0)]
 SEED = 2002  # the Sobol sequence's scramble and the bootstrap
 #: Sobol base samples N (runs: N (k + 2) for k factors, first-order and total indices)
 N_FULL, N_QUICK = 128, 2
+#: The shaft check: diameters (m) and restitutions; quick: fewer of each and two gap patterns.
+SHAFT_FULL = ((0.04, 0.05, 0.06, 0.07, 0.08), (0.5, 0.8, 0.9))
+SHAFT_QUICK = ((0.04, 0.06), (0.8,))
+#: The bounce limit the shaft was sized against (s; studies/design_tolerance.py's, assumed).
+BOUNCE_LIMIT = 2e-3
 
 
 def tornado(df, factors):
@@ -66,8 +81,8 @@ def sobol(df, problem, n):
 
 def plot_tornado(result, factors, path):
     labels = {f.key: f.label for f in factors}
-    fig, axes = plt.subplots(1, 3, figsize=(15, 5.2))
-    for ax, (col, name, unit, scale) in zip(axes, OUTPUTS):
+    fig, axes = plt.subplots(2, 3, figsize=(16, 9.5))
+    for ax, (col, name, unit, scale) in zip(axes.flat, OUTPUTS):
         bars = result[col]["bars"][::-1]
         y = np.arange(len(bars))
         ax.barh(y, [scale * b["change_low"] for b in bars], color="tab:blue", label="factor at its low value")
@@ -75,15 +90,15 @@ def plot_tornado(result, factors, path):
         ax.set_yticks(y, [labels[b["factor"]] for b in bars], fontsize=8)
         ax.axvline(0, color="k", lw=0.8)
         ax.set_xlabel(f"change of {name} ({unit}); nominal {scale * result[col]['nominal']:.4g} {unit}")
-        ax.set_title(f"{name}: one factor at a time")
-    axes[0].legend(fontsize=8, loc="lower left")
+        ax.set_title(f"{name}: one factor at a time", fontsize=9)
+    axes.flat[0].legend(fontsize=8, loc="lower left")
     save(fig, path)
 
 
 def plot_sobol(result, factors, path, n, runs):
     labels = {f.key: f.label for f in factors}
-    fig, axes = plt.subplots(1, 3, figsize=(15, 5.2), sharey=True)
-    for ax, (col, name, unit, scale) in zip(axes, OUTPUTS):
+    fig, axes = plt.subplots(2, 3, figsize=(16, 9.5), sharey=True)
+    for ax, (col, name, unit, scale) in zip(axes.flat, OUTPUTS):
         if "indices" not in result[col]:
             ax.set_title(f"{name}: {result[col]['error']}")
             continue
@@ -97,8 +112,8 @@ def plot_sobol(result, factors, path, n, runs):
         ax.invert_yaxis()
         ax.axvline(0, color="k", lw=0.6)
         ax.set_xlabel("Sobol index (share of the variance), 95 % bootstrap interval")
-        ax.set_title(f"{name}: sd {scale * result[col]['sd']:.3g} {unit}")
-    axes[0].legend(fontsize=8, loc="lower right")
+        ax.set_title(f"{name}: sd {scale * result[col]['sd']:.3g} {unit}", fontsize=9)
+    axes.flat[0].legend(fontsize=8, loc="lower right")
     fig.suptitle(f"Global sensitivity (Saltelli/Sobol, N = {n}, {runs} closings, uniform over the ranges)", fontsize=10)
     save(fig, path)
 
@@ -107,13 +122,85 @@ def fmt(v, scale=1.0):
     return "-" if v is None or not np.isfinite(v) else f"{scale * v:.4g}"
 
 
+def shaft_runs(diameters, restitutions, patterns):
+    """Override dicts of the shaft check: every diameter x gap pattern x restitution, the shaft's damping
+    kept at the reference's share of critical (c ~ sqrt(k) ~ d^2)."""
+    ref = P.MAIN_SHAFT_SECTION
+    runs = []
+    for d in diameters:
+        for name in patterns:
+            for e in restitutions:
+                o = {"breaker.main_shaft.diameter": d, "breaker.main_shaft.damping": ref["damping"] * (d / ref["diameter"]) ** 2,
+                     "breaker.contact.restitution": e}
+                o.update({f"breaker.poles.gap_offsets.{i}": v for i, v in enumerate(P.GAP_PATTERNS[name])})
+                runs.append(o)
+    return runs
+
+
+def shaft_check(quick, columns):
+    """The worst pole's bounce (count, s) for every main-shaft diameter, gap pattern and restitution, and
+    what it says of the sizing: whether the bounce falls with the diameter for every pattern, and the
+    diameters that keep it within BOUNCE_LIMIT for every pattern at each restitution."""
+    diameters, restitutions = SHAFT_QUICK if quick else SHAFT_FULL
+    patterns = list(P.GAP_PATTERNS)[:2] if quick else list(P.GAP_PATTERNS)
+    df = sweep(P.REFERENCE_BREAKER, runs=shaft_runs(diameters, restitutions, patterns), evaluate=closing_poles,
+               columns=columns, label="main shaft across gap patterns")
+    rows, i = [], 0
+    for d in diameters:
+        for name in patterns:
+            for e in restitutions:
+                r = df.iloc[i]
+                rows.append({"diameter_m": d, "pattern": name, "restitution": e, "bounces": r["bounce_count"],
+                             "bounce_s": r["bounce_duration_s"], "status": r["status"]})
+                i += 1
+    verdict = {}
+    for e in restitutions:
+        worst = {d: max(x["bounce_s"] for x in rows if x["diameter_m"] == d and x["restitution"] == e) for d in diameters}
+        monotone = {}
+        for name in patterns:
+            b = [next(x["bounce_s"] for x in rows if x["diameter_m"] == d and x["pattern"] == name and x["restitution"] == e)
+                 for d in diameters]
+            monotone[name] = all(b0 >= b1 for b0, b1 in zip(b[:-1], b[1:]))
+        verdict[str(e)] = {"worst_over_patterns_s": worst, "falls_with_diameter": monotone,
+                           "within_limit_for_every_pattern": [d for d in diameters if worst[d] <= BOUNCE_LIMIT]}
+    return {"diameters_m": list(diameters), "restitutions": list(restitutions), "patterns": {p: P.GAP_PATTERNS[p] for p in patterns},
+            "damping": "2 % of critical at every diameter (the reference's 6.1 N m s/rad x (d / 60 mm)^2)",
+            "limit_s": BOUNCE_LIMIT, "runs": rows, "verdict": verdict}
+
+
+def shaft_report(shaft):
+    """The shaft check's section of design_sensitivity.md."""
+    ds = shaft["diameters_m"]
+    md = ["\n## The main shaft across gap patterns\n",
+          f"The worst pole's bounce (ms, with its count) for main shafts of {', '.join(f'{1e3 * d:g}' for d in ds)} mm "
+          f"({shaft['damping']}), for each gap pattern (offsets of poles 1/2/3) and restitution:\n"]
+    for e in shaft["restitutions"]:
+        rows = [[name] + [next(f"{1e3 * x['bounce_s']:.2f} ({x['bounces']:.0f})" for x in shaft["runs"]
+                               if x["pattern"] == name and x["diameter_m"] == d and x["restitution"] == e) for d in ds]
+                for name in shaft["patterns"]]
+        v = shaft["verdict"][str(e)]
+        md.append(f"**restitution {e:g}**\n")
+        md.append(markdown_table(["gap pattern", *(f"{1e3 * d:g} mm" for d in ds)], rows))
+        falls = [p for p, ok in v["falls_with_diameter"].items() if not ok]
+        within = v["within_limit_for_every_pattern"]
+        md.append("\nWorst over the patterns: " + ", ".join(f"{1e3 * d:g} mm {1e3 * b:.2f} ms" for d, b in
+                                                            v["worst_over_patterns_s"].items())
+                  + (f". The bounce does not fall with the diameter for {', '.join(falls)}" if falls else
+                     ". The bounce falls with the diameter for every pattern")
+                  + (f"; within {1e3 * shaft['limit_s']:g} ms for every pattern: "
+                     f"{', '.join(f'{1e3 * d:g} mm' for d in within)}." if within else
+                     f"; no diameter keeps it within {1e3 * shaft['limit_s']:g} ms for every pattern.") + "\n")
+    return md
+
+
 def main():
     args = parse_args(__doc__)
     out = Path(args.out)
     data = with_viscous_shaft(P.REFERENCE_BREAKER)
     rig = rig_from_data(data, "REFERENCE_BREAKER")
-    factors = breaker_factors(rig, viscous_upper=P.REFERENCE_PENDULUM_TRUTH["viscous"])
+    factors = breaker_factors(rig)
     k = len(factors)
+    columns = pole_columns(rig.breaker.poles.count)
 
     nominal = [f.nominal for f in factors]
     oat = [nominal]
@@ -122,24 +209,29 @@ def main():
             row = list(nominal)
             row[i] = v
             oat.append(row)
-    df_oat = sweep(data, runs=runs_of(factors, oat, rig), label="tornado (one factor at a time)")
+    df_oat = sweep(data, runs=runs_of(factors, oat, rig), evaluate=closing_poles, columns=columns,
+                   label="tornado (one factor at a time)")
     tor = tornado(df_oat, factors)
 
     n = N_QUICK if args.quick else N_FULL
     problem = {"num_vars": k, "names": [f.key for f in factors], "bounds": [[f.low, f.high] for f in factors]}
     x = sobol_sample.sample(problem, n, calc_second_order=False, seed=SEED)
-    df_sobol = sweep(data, runs=runs_of(factors, x, rig), label=f"Sobol (N = {n})")
+    df_sobol = sweep(data, runs=runs_of(factors, x, rig), evaluate=closing_poles, columns=columns,
+                     label=f"Sobol (N = {n})")
     sob = sobol(df_sobol, problem, n)
 
+    shaft = shaft_check(args.quick, columns)
     plot_tornado(tor, factors, out / "design_sensitivity_tornado.png")
     plot_sobol(sob, factors, out / "design_sensitivity_sobol.png", n, len(x))
 
     summary = {
-        "breaker": "vcbmodel.parameters.REFERENCE_BREAKER (viscous shaft friction listed, at the rig's value)",
+        "breaker": "vcbmodel.parameters.REFERENCE_BREAKER (viscous shaft friction listed, varied over the bearing "
+                   "estimate)",
         "model": {"effects": list(rig.model.effects), "spring_model": rig.model.spring_model.label},
         "preload_realised_by": "closing_spring.free_length at fixed closing_spring.stiffness",
         "factors": [{"key": f.key, "label": f.label, "unit": f.unit, "nominal": f.nominal, "low": f.low, "high": f.high,
-                     "assumption": f.basis} for f in factors],
+                     "source": f.basis} for f in factors],
+        "shaft_across_gap_patterns": shaft,
         "tornado": tor,
         "sobol": {"method": "Saltelli sampling (SALib.sample.sobol, scrambled Sobol sequence) and SALib.analyze.sobol: "
                             "first-order and total indices, 95 % bootstrap intervals (200 resamples); factors uniform "
@@ -153,11 +245,11 @@ def main():
 
     md = ["# Design sensitivity of the closing (reference breaker)\n",
           f"Model: `REFERENCE_BREAKER` ({', '.join(rig.model.effects)}; spring {rig.model.spring_model.label}); its "
-          "viscous shaft friction is varied from 0 (the reference) to the pendulum-identified value. Every range "
-          "below is an **assumption** "
-          "(the paper gives no tolerances); the closing-spring preload is varied through the springs' free length at "
-          "fixed stiffness." + (" **Quick mode: too few runs for the indices to mean anything.**" if args.quick else "") + "\n",
-          markdown_table(["factor", "nominal", "range", "unit", "assumption"],
+          "viscous shaft friction is varied over the bearing estimate and the contact restitution over its published "
+          "range. The paper gives no tolerances: each range below names its source; the closing-spring preload is "
+          "varied through the springs' free length at fixed stiffness. The tornado's centre is each range's middle."
+          + (" **Quick mode: too few runs for the indices to mean anything.**" if args.quick else "") + "\n",
+          markdown_table(["factor", "centre", "range", "unit", "source"],
                          [[f.label, f"{f.nominal:.4g}", f"{f.low:.4g} .. {f.high:.4g}", f.unit, f.basis] for f in factors]),
           "\n## One factor at a time (tornado, `design_sensitivity_tornado.png`)\n"]
     for col, name, unit, scale in OUTPUTS:
@@ -181,6 +273,7 @@ def main():
                                  [[next(f.label for f in factors if f.key == i["factor"]),
                                    f"{i['S1']:.3f} +- {i['S1_conf']:.3f}", f"{i['ST']:.3f} +- {i['ST_conf']:.3f}"]
                                   for i in ranked]))
+    md += shaft_report(shaft)
     (out / "design_sensitivity.md").write_text("\n".join(md))
     print("\n".join(md))
 

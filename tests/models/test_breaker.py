@@ -223,7 +223,7 @@ def compare_with_independent(rig, spring, sticking, t_end=T_END, effects=None):
     every = 10  # compare at 1e-4 s
     t = a.t[::every]
     spec = model_spec(rig, effects, spring_model=spring)
-    ref = solve_closing(rig, spec, t, chain_for(rig.closing_spring, spec.spring_model))
+    ref = solve_closing(rig, spec, t)
     f = figures_of_merit(a, rig)
     d = {name: np.max(np.abs(a.channels[name][::every] - ref[name]))
          for name in ("cam_angle", "follower_displacement", "pole_1_travel", "cam_roller_force")}
@@ -291,10 +291,9 @@ def test_first_order_penetration_costs_nanometres(rig):
     follower displacement differs by less than 0.05 um, the penetration by under 2 nm, the touches
     by 27 ns (6 ns before issue 19: the poles now touch slower, 1.15 against 1.27 m/s, and later)."""
     spec = model_spec(rig)
-    chain = chain_for(rig.closing_spring, spec.spring_model)
     t = np.arange(0.0, FULL_T_END + 1e-9, 1e-4)
-    exact = solve_closing(rig, spec, t, chain)
-    first = solve_closing(rig, spec, t, chain, distance="first_order")
+    exact = solve_closing(rig, spec, t)
+    first = solve_closing(rig, spec, t, distance="first_order")
     d = np.max(np.abs(exact["follower_displacement"] - first["follower_displacement"]))
     assert 1e-9 < d < 5e-8
     assert np.max(np.abs(exact["cam_roller_penetration"] - first["cam_roller_penetration"])) < 2e-9
@@ -372,7 +371,8 @@ def test_reference_breaker_closes_as_designed(rig, fom):
 
 def test_reference_breaker_comes_to_rest_on_its_holding_latch(rig):
     """The end stop (250 deg) and the holding latch (248 deg) of the reference breaker: the cam meets
-    the buffer at 52.3 ms, runs 2.72 deg into it, rebounds onto the latch and rests there from about
+    the buffer at 52.3 ms, runs 3.04 deg into it (2.72 deg when its damping acted in full from the
+    first contact: its damping now builds up over 1 mm), rebounds onto the latch and rests there from about
     66 ms at 247.96 deg (the recharging springs press it against the pawl); the roller is on the
     dwell, so the follower keeps its full travel throughout. Measured (compiled path, which the end
     stop's own tests hold to the Exudyn model)."""
@@ -381,7 +381,7 @@ def test_reference_breaker_comes_to_rest_on_its_holding_latch(rig):
     stop, latch = rig.breaker.end_stop, rig.breaker.hold_latch
     hit = int(np.argmax(th > stop.angle))
     assert r.t[hit] == pytest.approx(0.0523, abs=1e-4)
-    assert math.degrees(th.max() - stop.angle) == pytest.approx(2.72, abs=0.05)
+    assert math.degrees(th.max() - stop.angle) == pytest.approx(3.04, abs=0.05)
     assert np.max(np.abs(w[r.t > 0.068])) < 0.5  # at rest
     assert math.degrees(th[-1]) == pytest.approx(math.degrees(latch.angle) - 0.04, abs=0.03)
     travel = r.channels["follower_displacement"]

@@ -14,6 +14,7 @@ from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
+from .. import parameters as P
 from ..experiments import experiment_of
 from ..experiments.simulation import simulate
 from ..laws.friction import ArrayOps
@@ -65,7 +66,8 @@ def free_length_for(rig: Rig, pull: float, stiffness: float | None = None) -> fl
 #: and stored energy, their smallest static pull during the run and the energy they give up to the
 #: first touch.
 DESIGN_COLUMNS = experiment_of("vcb_closing").figure_columns + ("preload_N", "stored_energy_J", "min_spring_force_N",
-                                                                  "released_to_touch_J")
+                                                                  "released_to_touch_J", "zone_speed_min_m_s",
+                                                                  "zone_speed_max_m_s")
 
 
 def closing_design(rig: Rig, t_end: float | None = None) -> dict:
@@ -80,7 +82,37 @@ def closing_design(rig: Rig, t_end: float | None = None) -> dict:
     lengths = spring_length(rig, result.channels["cam_angle"])
     out.update(preload_N=preload(rig), stored_energy_J=stored_energy(rig),
                min_spring_force_N=float(s.stiffness * (np.min(lengths) - s.free_length)),
-               released_to_touch_J=released_to_touch(rig, result, fom.get("first_touch_s")))
+               released_to_touch_J=released_to_touch(rig, result, fom.get("first_touch_s")),
+               **zone_extremes(fom))
+    return out
+
+
+def zone_extremes(fom: dict) -> dict:
+    """The slowest and fastest pole's closing speed over the analyser's zone (m/s; None when a pole
+    has none): the spec's speed limit holds for every pole."""
+    zones = fom.get("per_pole", {}).get("closing_speed_m_s", [])
+    if not zones or any(v is None for v in zones):
+        return {"zone_speed_min_m_s": None, "zone_speed_max_m_s": None}
+    return {"zone_speed_min_m_s": float(min(zones)), "zone_speed_max_m_s": float(max(zones))}
+
+
+def pole_columns(count: int) -> tuple:
+    """Columns of :func:`closing_poles` for a breaker of ``count`` poles."""
+    per = tuple(f"pole_{i + 1}_{name}" for i in range(count) for name in ("zone_speed_m_s", "bounces", "bounce_s"))
+    return experiment_of("vcb_closing").figure_columns + ("zone_speed_min_m_s", "zone_speed_max_m_s") + per
+
+
+def closing_poles(rig: Rig, t_end: float | None = None) -> dict:
+    """A closing's figures of merit with every pole's own: its closing speed over the analyser's zone
+    (m/s), its bounce count and bounce duration (s), and the slowest and fastest pole's zone speed."""
+    result = simulate(rig, t_end=t_end, backend="fast")
+    fom = experiment_of(rig.experiment).figures_of_merit(result, rig)
+    out = {k: fom.get(k) for k in experiment_of(rig.experiment).figure_columns}
+    out.update(zone_extremes(fom))
+    per = fom.get("per_pole", {})
+    for i, (v, n, d) in enumerate(zip(per.get("closing_speed_m_s", []), per.get("bounces", []),
+                                      per.get("bounce_duration_s", []))):
+        out.update({f"pole_{i + 1}_zone_speed_m_s": v, f"pole_{i + 1}_bounces": n, f"pole_{i + 1}_bounce_s": d})
     return out
 
 
@@ -199,27 +231,46 @@ def with_viscous_shaft(data: dict) -> dict:
 
 
 #: Assumed tolerances, relative to the nominal value unless stated (+-, read as +-3 sigma).
-#: Assumptions, not data: the paper gives none; each has its reason in ``basis``.
+#: Assumptions, not data: the paper gives none; each has its reason in ``basis``. The viscous shaft
+#: friction and the restitution are not tolerances but ranges with a source (:data:`RANGES`).
 TOLERANCES = {
     "preload": (0.05, "helical-spring load tolerances of a few percent (quality grades as in DIN 2097 / EN 15800); "
                       "assumed +-5 %, set through the free length at fixed stiffness"),
     "spring_mass": (0.05, "wire diameter and coil count tolerances; assumed +-5 %"),
     "mu_k": (0.25, "shaft friction scatter between units and with lubrication and wear; the example pendulum "
                    "records span mu_k 0.09-0.16 (about +-25 % around 0.13)"),
-    "viscous": (0.5, "viscous term poorly identified and temperature dependent; assumed +-50 %"),
+    "viscous": (0.5, "a rig's own viscous term, poorly identified and temperature dependent; assumed +-50 %"),
     "opening_preload": (0.10, "opening spring load tolerance; assumed +-10 %"),
     "moving_mass": (0.05, "moving contact, stem and terminal mass; assumed +-5 %"),
-    "restitution": (0.1, "contact restitution, absolute +-0.1 (assumed; Cu-Cr butt contacts, surface condition)"),
     "gap_spread": (0.5, "assembly spread of the poles' gaps (largest |offset|); assumed +-50 % of the nominal "
                         "spread (parameters.py: +-0.3 mm assembly tolerance)"),
 }
 
 
-def breaker_factors(rig: Rig, viscous_upper: float | None = None) -> list[Factor]:
+#: Inputs drawn uniform over a range with a source rather than around a nominal (parameters.py):
+#: {key: ((low, high), source)}.
+RANGES = {
+    "viscous": (P.VISCOUS_BEARING_ESTIMATE,
+                "bearing estimate (parameters.VISCOUS_BEARING_ESTIMATE): Petroff's law for the cam shaft's two greased "
+                "30 mm journals of 20 mm radius, 12.5-37.5 um radial clearance (40 H7/f7), grease viscosity 0.05-0.4 Pa s: "
+                "Cv = 2 x 2 pi mu r^3 L / c; not the pendulum's Cv, which is fitted at 0.5 rad/s, not at the cam's "
+                "100-200 rad/s"),
+    "restitution": (P.RESTITUTION_RANGE,
+                    "published metal-on-metal restitution at 0.3-3 m/s, 0.5-0.95 (Goldsmith, Impact, 1960; Johnson, "
+                    "Contact Mechanics, 1985, sec. 11.4): Cu-Cr between copper and steel, 0.5-0.9 "
+                    "(parameters.RESTITUTION_RANGE); no measurement of Cu-Cr vacuum contacts found"),
+}
+
+
+def breaker_factors(rig: Rig, viscous_range: tuple[float, float] | None = None,
+                    viscous_basis: str | None = None) -> list[Factor]:
     """The uncertain parameters of a ``vcb_closing`` rig (loaded; its model should list
     ``viscous_friction`` for the viscous factor: :func:`with_viscous_shaft`), nominal values
     read from the rig, tolerances from :data:`TOLERANCES`. A rig without a viscous term
-    (``friction.viscous`` 0) gets the viscous factor uniform from 0 to ``viscous_upper``."""
+    (``friction.viscous`` 0) gets the viscous factor uniform over ``viscous_range`` (N m s/rad,
+    default the bearing estimate of :data:`RANGES`, its source ``viscous_basis``); the contact
+    restitution is uniform over its range (:data:`RANGES`), whatever the rig's value. Each factor's
+    ``basis`` names where its distribution comes from."""
     s, b, f = rig.closing_spring, rig.breaker, rig.friction
     offsets = np.asarray(b.poles.gap_offsets, float)
     spread = float(np.max(np.abs(offsets)))
@@ -246,12 +297,13 @@ def breaker_factors(rig: Rig, viscous_upper: float | None = None) -> list[Factor
         tol, why = rel("viscous", f["viscous"])
         factors.append(Factor("viscous", "shaft viscous friction Cv", "N m s/rad", f["viscous"], tol, why,
                               path="friction.viscous", lower=0.0))
-    elif "viscous" in f and viscous_upper:
-        factors.append(Factor("viscous", "shaft viscous friction Cv", "N m s/rad", 0.0, viscous_upper,
-                              "the rig leaves the viscous term out; the pendulum test identifies Cv at shaft speeds "
-                              f"of about 0.5 rad/s ({viscous_upper:g} N m s/rad); whether it holds at the cam's "
-                              "100-200 rad/s is not known: uniform from 0 to that value", path="friction.viscous",
-                              lower=0.0, distribution="uniform"))
+    elif "viscous" in f:
+        (lo, hi), why = RANGES["viscous"]
+        if viscous_range is not None:
+            (lo, hi), why = viscous_range, viscous_basis or "given range"
+        factors.append(Factor("viscous", "shaft viscous friction Cv", "N m s/rad", 0.5 * (lo + hi), 0.5 * (hi - lo),
+                              f"the rig has none; uniform {lo:g}-{hi:g} N m s/rad: {why}", path="friction.viscous",
+                              lower=lo, upper=hi, distribution="uniform"))
     tol, why = rel("opening_preload", b.opening_spring.preload)
     factors.append(Factor("opening_preload", "opening-spring preload", "N", b.opening_spring.preload, tol, why,
                           path="breaker.opening_spring.preload", lower=0.0))
@@ -259,9 +311,10 @@ def breaker_factors(rig: Rig, viscous_upper: float | None = None) -> list[Factor
     factors.append(Factor("moving_mass", "pole moving mass", "kg", b.poles.moving_mass, tol, why,
                           path="breaker.poles.moving_mass", lower=1e-3))
     if b.contact.restitution is not None:
-        factors.append(Factor("restitution", "contact restitution e", "-", b.contact.restitution,
-                              TOLERANCES["restitution"][0], TOLERANCES["restitution"][1],
-                              path="breaker.contact.restitution", lower=0.05, upper=1.0))
+        (lo, hi), why = RANGES["restitution"]
+        factors.append(Factor("restitution", "contact restitution e", "-", 0.5 * (lo + hi), 0.5 * (hi - lo),
+                              f"uniform {lo:g}-{hi:g} (the rig's {b.contact.restitution:g} is inside): {why}",
+                              path="breaker.contact.restitution", lower=lo, upper=hi, distribution="uniform"))
     tol, why = rel("gap_spread", spread)
     factors.append(Factor("gap_spread", "pole gap spread (largest offset)", "m", spread, tol, why,
                           kind="gap_spread", lower=0.0, upper=-gap_floor, display=1e3, pattern=pattern))
@@ -293,3 +346,36 @@ def json_ready(obj: Any) -> Any:
     if isinstance(obj, (float, np.floating)):
         return float(obj) if math.isfinite(obj) else None
     return obj
+
+
+# --- statistics of the studies ---------------------------------------------------------------------
+
+def wilson(k: int, n: int, z: float = 1.96) -> tuple[float, float]:
+    """95 % (z = 1.96) Wilson score interval of a fraction k / n; NaN for n = 0."""
+    if n == 0:
+        return (float("nan"), float("nan"))
+    p = k / n
+    d = 1 + z * z / n
+    c = (p + z * z / (2 * n)) / d
+    h = z * math.sqrt(p * (1 - p) / n + z * z / (4 * n * n)) / d
+    return (max(0.0, c - h), min(1.0, c + h))
+
+
+def mean_shift(draws: np.ndarray, y: np.ndarray, nominal: np.ndarray, y_nominal: float) -> dict:
+    """Why a tolerance study's mean differs from its nominal run: ``y`` (runs) regressed linearly on
+    the ``draws`` (runs x inputs) by least squares; each input's share of the shift is its slope times
+    (its mean draw - its ``nominal``); what the line leaves is the response's curvature (and the
+    regression's error). Returns ``shift`` (mean(y) - y_nominal), ``shares`` (per input, in y's unit),
+    ``curvature`` (the rest) and ``r2`` of the fit."""
+    x = np.asarray(draws, float)
+    y = np.asarray(y, float)
+    good = np.isfinite(y) & np.all(np.isfinite(x), axis=1)
+    x, y = x[good], y[good]
+    a = np.column_stack([np.ones(len(y)), x])
+    coef, *_ = np.linalg.lstsq(a, y, rcond=None)
+    fit = a @ coef
+    shares = coef[1:] * (x.mean(axis=0) - np.asarray(nominal, float))
+    shift = float(y.mean() - y_nominal)
+    total = float(np.sum((y - y.mean()) ** 2))
+    return {"shift": shift, "shares": [float(v) for v in shares], "curvature": shift - float(np.sum(shares)),
+            "r2": 1.0 - float(np.sum((y - fit) ** 2)) / total if total > 0 else float("nan")}

@@ -21,6 +21,7 @@ from ..model.values import rig_values
 from ..laws.breaker import segment_stiffness, torsional_frequencies
 from ..laws.cam_follower import pressure_angle_curve, rest_geometry
 from ..laws.coil import spring_check
+from ..laws.spring_strength import closing_pulls, compression_reading, extension_checks, wire_for_index
 from ..laws.mechanics import cam_pin
 
 if TYPE_CHECKING:
@@ -108,10 +109,13 @@ def stop_lines(b) -> list[str]:
                          + ("nothing stops the cam after the closing; it turns on until the springs turn it back"
                             if key == "end_stop" else "nothing holds the cam from turning back"))
         else:
+            ramp = getattr(part, "damping_depth", 0.0)
             lines.append(f"  {what}: at cam angle {part.angle:g} rad ({math.degrees(part.angle):.1f} deg), arm "
                          f"{1e3 * part.arm:g} mm, {part.stiffness:.4g} N/m, {part.damping:.4g} N s/m (breaker.{key})"
                          + ("; it engages once the cam passes that angle and then stops it turning back"
-                            if key == "hold_latch" else ""))
+                            if key == "hold_latch" else
+                            f"; its damping builds up over the first {1e3 * ramp:g} mm" if ramp > 0 else
+                            "; its damping acts in full from the first contact"))
     return lines
 
 
@@ -133,11 +137,55 @@ def spring_lines(rig: Rig) -> list[str]:
     verdict = "within" if c["stress_ratio"] <= 1 else "ABOVE"
     return [f"  closing spring ({s.count} alike): k0 {s.stiffness:.6g} N/m ({source('stiffness')}), active mass "
             f"{s.mass:.4g} kg ({source('mass')}), surge frequency {c['surge_frequency_hz']:.1f} Hz",
-            f"    charged pull {pull:.0f} N each; {coil}: shear stress {c['shear_stress_Pa'] / 1e9:.2f} GPa, {verdict} "
-            f"0.45 S_ut = {c['allowable_Pa'] / 1e9:.2f} GPa of Cr-Si wire (Shigley Table 10-7, extension spring body; "
-            f"a compression spring with set removed: 0.65 S_ut = {c['allowable_compression_Pa'] / 1e9:.2f} GPa)"] + ([
+            f"    charged pull {pull:.0f} N each; {coil}: shear stress {c['shear_stress_Pa'] / 1e9:.2f} GPa (Wahl), "
+            f"{verdict} 0.45 S_ut = {c['allowable_Pa'] / 1e9:.2f} GPa of Cr-Si wire"] + strength_lines(rig, c) + ([
             "    (the rig's coil fields size the stress check and an ANCF spring only: with stiffness and mass given, "
             "they do not change k0 or the mass)"] if c["coil_given"] and not s.from_datasheet else [])
+
+
+def strength_lines(rig: Rig, c: dict) -> list[str]:
+    """The closing spring as an extension spring with standard hooks, checked as a spring maker would
+    (laws.spring_strength: body, hooks, fatigue over the rated operations, initial tension) over one
+    closing's pulls, each with its allowable; then what the lightest spring of this rate that passes
+    would weigh."""
+    s = rig.closing_spring
+    high, low = closing_pulls(s, rig.cam)
+    d, D = c["wire_diameter_m"], c["coil_diameter_m"]
+    checks = extension_checks(d, D, high, low)
+    failed = [k.name for k in checks if not k.passes]
+    lines = [f"    as an extension spring (standard hooks, Cr-Si wire) cycling {low:.0f}-{high:.0f} N "
+             f"{P.RATED_OPERATIONS} times (IEC 62271-100 class M2): "
+             + (f"FAILS {len(failed)} of {len(checks)} checks" if failed else f"passes all {len(checks)} checks")]
+    for k in checks:
+        value = (f"{k.value / 1e6:.0f} MPa against {k.allowable / 1e6:.0f} MPa" if k.unit == "Pa" else
+                 f"factor of safety {k.value:.2f} (at least 1)" if k.unit == "-" else
+                 f"{k.value:.0f} N at most {k.allowable:.0f} N")
+        lines.append(f"      {k.name}: {value} ({k.source}) {'ok' if k.passes else 'FAILS'}")
+    if failed:
+        index = min(max(D / d, 4.0), 12.0)
+        found = [(what, wire_for_index(index, s.stiffness, high, low, hooks=hooks))
+                 for what, hooks in (("standard hooks", True), ("screwed-in plug ends (no hook stress)", False))]
+        lines.append(f"      the thinnest wire that passes at this k0 and index {index:.3g}: "
+                     + "; ".join(f"{what} {1e3 * b['wire_diameter_m']:.2f} mm on {1e3 * b['coil_diameter_m']:.1f} mm, "
+                                 f"{b['active_coils']:.1f} active coils, {b['mass_kg']:.2f} kg active mass"
+                                 for what, b in found))
+    return lines + [compression_line(c, high)]
+
+
+def compression_line(c: dict, high: float) -> str:
+    """The same coil read as a compression spring (laws.spring_strength.compression_reading): its body
+    against 0.65 S_ut, and where it buckles unguided; a guide holds it, and with it the lateral motion."""
+    d, D = c["wire_diameter_m"], c["coil_diameter_m"]
+    n_a = P.DEFAULT_SHEAR_MODULUS * d**4 / (8.0 * D**3 * c["stiffness_N_m"])
+    r = compression_reading(d, D, n_a, c["stiffness_N_m"], high)
+    ends = ", ".join(f"{end} ends {'never' if math.isinf(y) else f'at {1e3 * y:.0f} mm'}"
+                     for end, y in ((e, r[f"buckles_at_{e}_m"]) for e in P.BUCKLING_END_CONSTANTS))
+    guided = any(r[f"buckles_at_{e}_m"] < r["deflection_m"] for e in P.BUCKLING_END_CONSTANTS)
+    return (f"    read as a compression spring instead: body {r['body_stress_Pa'] / 1e6:.0f} MPa against 0.65 S_ut = "
+            f"{r['allowable_Pa'] / 1e6:.0f} MPa; free length {1e3 * r['free_length_m']:.0f} mm, compressed "
+            f"{1e3 * r['deflection_m']:.0f} mm (y/L0 {r['deflection_ratio']:.2f}); unguided it buckles ({ends}, "
+            "Shigley eq. 10-10)" + ("; it needs a guide rod or tube, which also holds the coil's lateral motion"
+                                    if guided else ""))
 
 
 def explain(rig: Rig) -> list[str]:

@@ -87,14 +87,19 @@ class EndStop:
     with a shock absorber) that a stop lever of the cam meets at cam angle ``angle`` (rad, the
     cam angle A->B from +x, counted on from the start and not wrapped: 5.0 rad is 286 deg of the
     first turn). The lever's contact point is at ``arm`` (m) from A along A->B; the buffer pushes
-    it back perpendicular to A->B with ``stiffness`` (N/m) times its penetration plus ``damping``
-    (N s/m) times the penetration's rate, only while in contact and never pulling
-    (:func:`end_stop_force`). Absent (None): not modelled, the cam turns on."""
+    it back perpendicular to A->B with ``stiffness`` (N/m) times its penetration plus a damping
+    coefficient times the penetration's rate, only while in contact and never pulling
+    (:func:`end_stop_force`). The damping coefficient rises from zero at contact in proportion to
+    the penetration and reaches ``damping`` (N s/m) at ``damping_depth`` (m), so the buffer's force
+    rises from zero as a real buffer's does (a Hunt-Crossley-type damping, c d/d_r v, saturated);
+    ``damping_depth`` 0: the plain dashpot, full ``damping`` from the first contact (its force
+    jumps to damping x speed). Absent (None): not modelled, the cam turns on."""
 
     angle: float  # rad
     arm: float  # m
     stiffness: float  # N/m
     damping: float  # N s/m
+    damping_depth: float = 0.0  # m; 0: the damping acts in full from the first contact
 
 
 @dataclass(frozen=True)
@@ -165,12 +170,23 @@ def torsional_frequencies(shaft: MainShaft, poles, output_arm: float) -> np.ndar
     return np.sqrt(np.maximum(w2, 0.0)) / (2.0 * math.pi)
 
 
+def end_stop_damping(penetration: Scalar, stop: EndStop, ops: Ops = NumericOps) -> Scalar:
+    """The end stop's damping coefficient (N s/m) at a penetration d (m, > 0): c min(d / d_r, 1)
+    with c = ``damping`` and d_r = ``damping_depth``; c throughout when d_r is 0."""
+    if stop.damping_depth <= 0.0:
+        return stop.damping
+    return stop.damping * ops.min(penetration / stop.damping_depth, 1.0)
+
+
 def end_stop_force(theta: Scalar, omega: Scalar, stop: EndStop, ops: Ops = NumericOps) -> Scalar:
     """Force (N, >= 0) of the end stop on the cam's stop lever at cam angle ``theta`` (rad) and
     speed ``omega`` (rad/s): penetration d = arm (theta - angle) (m), rate arm omega (m/s);
-    k d + c d' while d > 0, clipped at zero (the buffer never pulls the lever back)."""
+    k d + c(d) d' while d > 0 (:func:`end_stop_damping`: zero at contact, rising to ``damping``
+    at ``damping_depth``), clipped at zero (the buffer never pulls the lever back). Continuous at
+    contact when ``damping_depth`` > 0."""
     d = stop.arm * (theta - stop.angle)
-    return ops.where(d <= 0.0, 0.0, ops.max(0.0, stop.stiffness * d + stop.damping * stop.arm * omega))
+    force = stop.stiffness * d + end_stop_damping(d, stop, ops) * stop.arm * omega
+    return ops.where(d <= 0.0, 0.0, ops.max(0.0, force))
 
 
 def hold_latch_force(theta: Scalar, omega: Scalar, engaged: Scalar, latch: HoldLatch, ops: Ops = NumericOps) -> Scalar:

@@ -16,7 +16,8 @@ poles; here the reference is the mechanical release, the record's ``release_time
   least ``min_bounce`` s); ``bounce_count`` is the largest count of any pole, ``bounce_duration_s``
   the longest interval from a pole's first touch to its final closing;
 - **touch speed** over a zone: the mean speed of the travel channel over the last ``zone`` m of
-  travel before the first contact touch (default 6 mm), distance over time;
+  travel before the first contact touch (default 4 mm, parameters.SPEED_ZONE: the zone of the
+  simulations' closing speed too), distance over time;
 - **overtravel**: the largest travel beyond the final resting position (max - final); **rebound**:
   how far the travel comes back below the final position after that peak (final - min after it);
   **wipe**: travel after the first touch (final - travel at touch); the final position is the
@@ -31,6 +32,7 @@ from typing import TYPE_CHECKING
 
 import numpy as np
 
+from .. import parameters as P
 from ..errors import InputError
 from ..laws.breaker import pole_gaps
 
@@ -40,8 +42,9 @@ if TYPE_CHECKING:
 
 CONTACT = re.compile(r"pole_(\d+)_contact")
 TRAVEL = re.compile(r"pole_(\d+)_travel")
-#: Travel zone before the first touch over which the touch speed is averaged (m).
-TOUCH_ZONE = 0.006
+#: Travel zone before the first touch over which the touch speed is averaged (m): the closing speed's
+#: zone of the simulations (parameters.SPEED_ZONE), so a record and a simulation report one figure.
+TOUCH_ZONE = P.SPEED_ZONE[0]
 #: Shortest opening counted as a bounce (s): one sample of a 20 kHz analyser.
 MIN_BOUNCE = 5e-5
 #: Band around the final travel (m) within which the travel counts as settled: half the 0.1 mm a
@@ -117,7 +120,7 @@ def pole_timing(t: np.ndarray, contact: np.ndarray, release: float = 0.0, min_bo
 
 
 def figures_of_merit(t: np.ndarray, contacts: Sequence[np.ndarray], travel: np.ndarray | None = None, release: float = 0.0,
-                     zone: tuple[float, float] = TOUCH_ZONE, min_bounce: float = MIN_BOUNCE) -> dict:
+                     zone: float = TOUCH_ZONE, min_bounce: float = MIN_BOUNCE) -> dict:
     """Analyser figures of merit (module docstring) from contact channels (list of 0/1 arrays,
     pole order) and a travel channel (m, towards closing; the follower displacement or a pole's
     travel). Times in s from ``release``; speeds in m/s; lengths in m."""
@@ -170,7 +173,7 @@ def travel_figures(t: np.ndarray, travel: np.ndarray, t_touch: float | None = No
     return out
 
 
-def record_figures(measurement: Measurement, release: float = 0.0, zone: tuple[float, float] = TOUCH_ZONE) -> dict:
+def record_figures(measurement: Measurement, release: float = 0.0, zone: float = TOUCH_ZONE) -> dict:
     """Figures of merit of a measured closing record (the channels it has)."""
     chans = measurement.channels
     contacts = [chans[k] for k in sorted((k for k in chans if CONTACT.fullmatch(k)),

@@ -8,7 +8,8 @@ module and its ``breaker_*`` parts share no code with the model: they import not
 ``vcbmodel.laws`` (nor from the builders, the other references or the evaluation), only
 :mod:`vcbmodel.errors` and each other; the geometry, the contact laws, the friction law and the
 equations of motion are written here a second time. It reads the loaded rig's data
-(plain attributes) and the model spec's values, and a lumped chain's numbers.
+(plain attributes) and the model spec's values, and solves the lumped chain from the spring's own
+numbers (:mod:`.breaker_chain`, by another method than the model's).
 
 What is different on purpose
 ----------------------------
@@ -103,7 +104,7 @@ __all__ = ["solve_closing", "Closing", "ClosingRun", "Geometry", "Profile", "rol
            "first_order_rate", "rhs", "friction_state", "PALMGREN", "TWO_PI", "MAX_SEGMENTS"]
 
 
-def solve_closing(rig: Any, spec: Any, t_eval: ArrayLike, chain: Any = None, *, distance: str = "exact",
+def solve_closing(rig: Any, spec: Any, t_eval: ArrayLike, *, distance: str = "exact",
                   rtol: float = 1e-10, atol: float = 1e-13) -> dict[str, Any]:
     """Solve a closing from the latch release (t = 0) without any of the model's code.
 
@@ -112,10 +113,10 @@ def solve_closing(rig: Any, spec: Any, t_eval: ArrayLike, chain: Any = None, *, 
     rig : a loaded ``vcb_closing`` rig (:func:`vcbmodel.experiments.loading.load_rig`).
     spec : the model spec (:func:`vcbmodel.experiments.simulation.model_spec`): effects, friction
         values (``mu_s``, ``mu_k``, ``stick_velocity``, ``stribeck_velocity``, ``viscous``),
-        ``restitution`` and ``bellows_force``.
+        ``restitution`` and ``bellows_force``; its ``spring_model`` decides the closing springs:
+        massless, or a lumped chain that the reference solves itself from the spring's k0, m0 and n
+        (:mod:`.breaker_chain`).
     t_eval : output times (s), increasing, from 0.
-    chain : a lumped closing-spring chain (``masses`` kg, ``stiffnesses`` N/m, ``free_lengths`` m,
-        ``pin_mass`` kg, per spring; :func:`vcbmodel.laws.springs.chain_for`), None: massless.
     distance : ``exact`` (minimum distance to the pitch curve) or ``first_order`` (the model's).
     rtol, atol : DOP853 tolerances (atol scaled per state: 1 for angles and lengths in m).
 
@@ -131,7 +132,7 @@ def solve_closing(rig: Any, spec: Any, t_eval: ArrayLike, chain: Any = None, *, 
     with an elastic main shaft also ``pole_j_lever_angle`` (rad) and ``pole_j_lever_velocity``
     (rad/s) for every pole j but the drive pole (the model's channel names).
     """
-    mech = Closing(rig, spec, chain, distance)
+    mech = Closing(rig, spec, distance)
     t_eval = _check_times(t_eval)
     run = ClosingRun(mech, float(t_eval[-1]), rtol, atol)  # the latch's rest and the starting mode
     run.integrate()

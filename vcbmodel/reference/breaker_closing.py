@@ -12,8 +12,9 @@ The roller's penetration comes from :mod:`.breaker_distance`, the geometry from
 :mod:`.breaker_geometry`.
 
 Shares no code with the model. It shares the reading of the spec and rig: the friction law and
-its values (``mu_s`` taken as at least ``mu_k``), a lumped chain's numbers (``count`` identical
-springs lumped as one chain of ``count`` times the masses and stiffnesses), the contact constants
+its values (``mu_s`` taken as at least ``mu_k``), the lumped chain's conventions (it solves the chain
+itself from k0, m0 and n, :mod:`.breaker_chain`; ``count`` identical springs lumped as one chain of
+``count`` times the masses and stiffnesses), the contact constants
 (Hertz or Palmgren line stiffness, Lankarani-Nikravesh or Hunt-Crossley damping, the impact-speed
 floor), the latch ramp T_h (1 - t / t_r) and the planar layout; for the end stop and the holding
 latch, the reading of their rig fields: a linear spring and damper at ``arm`` on A->B,
@@ -33,6 +34,7 @@ import numpy as np
 from scipy.optimize import brentq
 
 from ..errors import SimulationError
+from .breaker_chain import chain_of
 from .breaker_distance import DISTANCES, roller_contact
 from .breaker_geometry import Geometry
 from .breaker_shaft import Shaft
@@ -49,13 +51,13 @@ class Closing(Geometry):
     the free pole levers' angles psi_j and speeds psi_j' in pole order (rad, rad/s, m, m/s).
     """
 
-    def __init__(self, rig: Any, spec: Any, chain: Any = None, distance: str = "exact"):
+    def __init__(self, rig: Any, spec: Any, distance: str = "exact"):
         if distance not in DISTANCES:
             raise ValueError("distance must be 'exact' or 'first_order'")
         self.distance = distance
         super().__init__(rig)
         self.g = rig.gravity
-        self._cam_and_spring(rig.cam, rig.closing_spring, chain)
+        self._cam_and_spring(rig.cam, rig.closing_spring, spec.spring_model)
         self._friction(spec, rig.shaft_radius)
         self.If = rig.breaker.follower.inertia
         self._poles_and_springs(rig.breaker, spec)
@@ -67,19 +69,23 @@ class Closing(Geometry):
         self._stops(rig.breaker)
 
     # -- parameters ---------------------------------------------------------------------------
-    def _cam_and_spring(self, cam, spring, chain):
-        """The cam's mass and the closing spring, lumped: ``count`` springs as one chain."""
+    def _cam_and_spring(self, cam, spring, spring_model):
+        """The cam's mass and the closing spring, lumped: ``count`` springs as one chain, the chain
+        solved here from the spring's k0, m0 and the spec's n and convention (:mod:`.breaker_chain`)."""
         self.mc, self.lg, self.psi = cam.mass, cam.com_distance, cam.com_angle
         c = spring.count
         self.O = (float(spring.anchor[0]), float(spring.anchor[1]))
         self.weight = bool(spring.weight)
-        if chain is None:
+        if spring_model.kind == "massless":
             self.masses, self.ks, self.ls, self.mpin = [], [c * spring.stiffness], [spring.free_length], 0.0
+        elif spring_model.kind == "lumped":
+            chain = chain_of(spring.stiffness, spring.mass, spring.free_length, spring_model.masses, spring_model.convention)
+            self.masses = [c * m for m in chain.masses]
+            self.ks = [c * k for k in chain.stiffnesses]
+            self.ls = list(chain.free_lengths)
+            self.mpin = c * chain.pin_mass
         else:
-            self.masses = [c * float(m) for m in chain.masses]
-            self.ks = [c * float(k) for k in chain.stiffnesses]
-            self.ls = [float(x) for x in chain.free_lengths]
-            self.mpin = c * float(getattr(chain, "pin_mass", 0.0))
+            raise ValueError(f"the independent breaker reference has massless and lumped springs only, not {spring_model.kind}")
         self.nm = len(self.masses)
         self.IA = cam.inertia_com + self.mc * self.lg**2 + self.mpin * self.lab**2
         self.theta0 = cam.initial_angle
@@ -142,7 +148,11 @@ class Closing(Geometry):
 
     @staticmethod
     def _stop_values(part):
-        return None if part is None else (float(part.angle), float(part.arm), float(part.stiffness), float(part.damping))
+        """(angle, arm, stiffness, damping, depth over which the damping builds up: 0 at once)."""
+        if part is None:
+            return None
+        return (float(part.angle), float(part.arm), float(part.stiffness), float(part.damping),
+                float(getattr(part, "damping_depth", 0.0)))
 
     # -- contact distance ---------------------------------------------------------------------
     def roller_contact(self, theta: float, omega: float, phi: float, phid: float):
@@ -213,14 +223,17 @@ class Closing(Geometry):
         """(torque N m, Fx N, Fy N, end stop force N, latch force N) of the end stop and, once
         engaged, the holding latch on the cam. Each is a buffer: stiffness times penetration plus
         damping times its rate while in contact, never pulling, acting at its arm on A->B and
-        perpendicular to it (the stop against the forward turn, the latch with it)."""
+        perpendicular to it (the stop against the forward turn, the latch with it); the end stop's
+        damping grows in proportion to the penetration up to its damping depth, when it has one."""
         d_stop, d_hold = self.stop_penetrations(theta)
         f_stop = f_hold = 0.0
         if d_stop > 0.0:
-            _, arm, k, c = self.stop
+            _, arm, k, c, depth = self.stop
+            if depth > 0.0 and d_stop < depth:  # the buffer's damping builds up over its first `depth`
+                c = c * d_stop / depth
             f_stop = max(0.0, k * d_stop + c * arm * omega)
         if self.engaged and d_hold > 0.0:
-            _, arm, k, c = self.hold
+            _, arm, k, c, _ = self.hold
             f_hold = max(0.0, k * d_hold - c * arm * omega)
         push = (f_hold * self.hold[1] if f_hold else 0.0) - (f_stop * self.stop[1] if f_stop else 0.0)
         net = f_hold - f_stop  # along the forward direction (-sin theta, cos theta) of a point on A->B

@@ -10,6 +10,7 @@ from __future__ import annotations
 from collections.abc import Sequence
 from dataclasses import dataclass, field, replace
 
+from .. import parameters as P
 from ..laws.breaker import CamRollerLaw, EndStop, HoldLatch, LatchPoint, MainShaft
 from .spring_model import SpringModel
 
@@ -137,7 +138,7 @@ class Breaker:
     latch_release_time: float  # s: the latch's holding torque falls linearly to 0 over it
     cam_roller: CamRollerLaw = CamRollerLaw()  # the cam-roller contact's law (breaker.contact)
     latch_point: LatchPoint = LatchPoint()  # where the latch holds the cam (breaker.latch)
-    speed_zone: tuple = (0.004, 0.0)  # m before touch: the travel zone of the closing speed (breaker.speed_zone)
+    speed_zone: tuple = P.SPEED_ZONE  # m before touch: the travel zone of the closing speed (breaker.speed_zone)
     end_stop: EndStop | None = None  # the closing end stop (breaker.end_stop); None: not modelled
     hold_latch: HoldLatch | None = None  # the holding latch (breaker.hold_latch); None: not modelled
     main_shaft: MainShaft | None = None  # the pole levers' shaft (breaker.main_shaft); None: rigid, not modelled

@@ -191,7 +191,7 @@ BREAKER_KEYS = {
     "contact": ("cam_roller_stiffness", "pole_stiffness", "exponent", "restitution", "min_impact_speed",
                 "cam_roller_law", "roller_width", "cam_roller_damping", "cam_roller_damping_factor"),
     "latch": ("release_time", "arm", "angle"),
-    "end_stop": ("angle", "arm", "stiffness", "damping"),
+    "end_stop": ("angle", "arm", "stiffness", "damping", "damping_depth"),
     "hold_latch": ("angle", "arm", "stiffness", "damping"),
     "main_shaft": ("pole_pitch", "diameter", "bore", "shear_modulus", "damping", "lever_inertia", "drive_pole"),
 }
@@ -279,10 +279,17 @@ def read_contact(rd, co: dict, p: str) -> tuple[ContactLaw, CamRollerLaw]:
     return contact, CamRollerLaw(law, width, damping, factor)
 
 
+#: Fields of a stop section that may be left out: the end stop's ``damping_depth`` (m), the penetration
+#: over which its damping rises from zero to ``damping`` (left out or 0: a plain dashpot, the whole
+#: damping from the first contact; :func:`vcbmodel.laws.breaker.end_stop_damping`).
+OPTIONAL_STOP_KEYS = ("damping_depth",)
+
+
 def read_stops(rd: Reader, b: dict, cam: Cam) -> tuple[EndStop | None, HoldLatch | None]:
     """``breaker.end_stop`` and ``breaker.hold_latch``: each optional (absent: not modelled), and
     when present every field is required: ``angle`` (rad, the cam angle where it acts, after the
-    start), ``arm`` (m, > 0), ``stiffness`` (N/m, > 0), ``damping`` (N s/m, >= 0). A holding
+    start), ``arm`` (m, > 0), ``stiffness`` (N/m, > 0), ``damping`` (N s/m, >= 0), except the end
+    stop's ``damping_depth`` (m, >= 0, :data:`OPTIONAL_STOP_KEYS`). A holding
     latch beyond the end stop could only engage with the cam pressed into the stop: refused."""
     parts = {}
     for key, kind, what in (("end_stop", EndStop, "an end stop"), ("hold_latch", HoldLatch, "a holding latch")):
@@ -292,12 +299,13 @@ def read_stops(rd: Reader, b: dict, cam: Cam) -> tuple[EndStop | None, HoldLatch
         p = f"breaker.{key}."
         s = without_comments(rd.optional_section(b, key, "breaker.", BREAKER_KEYS[key]))
         for name in BREAKER_KEYS[key]:
-            if name not in s:
+            if name not in s and name not in OPTIONAL_STOP_KEYS:
                 rd.fail(p + name, f"missing: {what} needs angle (rad), arm (m), stiffness (N/m) and "
                         f"damping (N s/m); leave out the whole breaker.{key} section to leave it out of the model")
+        ramp = {"damping_depth": rd.number(s, "damping_depth", p, nonnegative=True)} if "damping_depth" in s else {}
         parts[key] = kind(angle=rd.number(s, "angle", p), arm=rd.number(s, "arm", p, positive=True),
                           stiffness=rd.number(s, "stiffness", p, positive=True),
-                          damping=rd.number(s, "damping", p, nonnegative=True))
+                          damping=rd.number(s, "damping", p, nonnegative=True), **ramp)
         if parts[key].angle <= cam.initial_angle:
             rd.fail(p + "angle", f"{parts[key].angle:g} rad is not after the cam's initial angle ({cam.initial_angle:g} "
                     "rad): the cam angle counts on from the start (not wrapped), and the part must act after it")
@@ -344,10 +352,9 @@ def read_main_shaft(rd: Reader, b: dict, follower: Follower, poles: Poles) -> Ma
     return shaft
 
 
-#: The closing speed's default zone (m before each pole's touch): the last 4 mm, where a vacuum gap
-#: prestrikes (contacts within 2-4 mm of touch); analysers average the speed over a zone the user
-#: programs on the travel curve (e.g. Vanguard CT-7500 manual, sec. 9.14.5, "analysis points")
-DEFAULT_SPEED_ZONE = (0.004, 0.0)
+#: The closing speed's default zone (m before each pole's touch): parameters.SPEED_ZONE, the records'
+#: analyser's too.
+DEFAULT_SPEED_ZONE = P.SPEED_ZONE
 
 
 def read_speed_zone(rd: Reader, b: dict, poles: Poles) -> tuple[float, float]:
