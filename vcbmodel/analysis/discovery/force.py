@@ -159,13 +159,13 @@ def measured_state(rig, dataset, fit) -> tuple:
         raise ValueError(f"the record's window holds {y.size} samples: too few to smooth over {n}")
     sim = simulate(rig, fit.effects, fit.model_values, spring_model=fit.spring_model,
                    sample_times=np.clip(tau, 0.0, None), backend="fast")
-    theta_m, w_m = sim.measured, sim.channels["shaft_velocity"]
-    alpha_m = model_acceleration(rig, fit, tau, theta_m, w_m)
+    theta_m, w_m, chain = sim.measured, sim.channels["shaft_velocity"], _chain_state(sim.channels)
+    alpha_m = model_acceleration(rig, fit, tau, theta_m, w_m, chain=chain)
     diff = (y - offset) / gain - theta_m
     theta = theta_m + savgol_filter(diff, n, POLYORDER)
     w = w_m + savgol_filter(diff, n, POLYORDER, deriv=1, delta=dt)
     alpha = alpha_m + savgol_filter(diff, n, POLYORDER, deriv=2, delta=dt)
-    return tau, theta, w, alpha, n * dt, _chain_state(sim.channels)
+    return tau, theta, w, alpha, n * dt, chain
 
 
 def _chain_state(channels: dict) -> tuple:
