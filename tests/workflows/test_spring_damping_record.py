@@ -4,7 +4,6 @@ internal damping (``spring_damping``) with its damping ratio, not shaft viscous 
 before the effect was registered: mu_k 0.105 and Cv 0.084 N m s/rad for a truth of mu_k 0.13 and no
 viscous friction), and says the two are close (``ambiguous``)."""
 import numpy as np
-import pytest
 from conftest import write_rig
 
 from vcbmodel.analysis.diagnose import diagnose
