@@ -6,7 +6,8 @@ Record 1: the truth adds the paddle's air drag, -c w|w| with c = 0.5 rho Cd A R^
 (rho 1.2 kg/m^3, Cd 1.17: vcbmodel.parameters). Released at 0.8 rad (4 rad/s) the registered friction
 absorbs this drag within the noise; at 1.5 rad the swing reaches 7 rad/s, where the drag is 38 % of the
 Coulomb torque. The registry now has air drag (``aerodynamic_drag``): the diagnosis names it; discovery
-runs on the rig's starting model (without it) and must find the same torque as w|w|. Record 2: the
+runs on the rig's starting model (without it) and must find the same torque as w|w|, whatever the
+diagnosis names. Record 2: the
 truth adds a torque in the library's blind spot, a 1.9 Hz forcing (a vibrating floor) at no multiple
 of the swing frequency. Both truths are integrated independently of the model (scipy, event sticking:
 :mod:`vcbmodel.reference.torque_truth`; they share with the model the pendulum's equation and the
@@ -355,15 +356,22 @@ def markdown(cases, summaries):
           f"A light pendulum (5 kg, 0.5 kg m^2, 0.3 m) with a flat paddle of {PADDLE[0]:g} m^2 at {PADDLE[1]:g} m (air drag "
           f"0.5 rho Cd A R^3 = {DRAG:.3g} N m s^2/rad^2), released at {PENDULUM['initial_angle']:g} rad, 0.5 mrad noise at 1 kHz "
           f"(drag record {DRAG_DURATION:g} s); the rig's model is Coulomb + viscous friction with unknown values. The "
-          "registry has air drag (`aerodynamic_drag`): the diagnosis names it on the drag record, and discovery runs on "
-          "the rig's starting model, without it. Truths integrated independently "
+          "registry has air drag (`aerodynamic_drag`); on the drag record discovery runs on the rig's starting model, "
+          "without it. Truths integrated independently "
           "(`vcbmodel/reference/torque_truth.py`). Evidence threshold: the diagnosis's own "
           f"(BIC margin {BIC_MARGIN:g}, variance gain {MIN_VARIANCE_GAIN:g} of the noise variance).\n"]
     md.append(gap_table(cases, summaries))
     for case, s in zip(cases, summaries):
-        searched = ("The diagnosis's discover step ran (its verdict: not explained)." if case["seconds"]["diagnosis_searched"]
-                    else "The diagnosis called the record explained, so its discover step did not run; discovery was "
-                    "run after it on the diagnosis's final and starting models.")
+        named = ", ".join(s["diagnosis"]["missing_effects"]) or "nothing"
+        verdict = "explained" if s["diagnosis"]["explained"] else "not explained"
+        if case["kind"] == "drag":
+            searched = (f"The diagnosis named {named} (verdict: {verdict}). Discovery ran on the rig's starting model "
+                        "(Coulomb + viscous friction, without the registered air drag).")
+        elif case["seconds"]["diagnosis_searched"]:
+            searched = "The diagnosis's discover step ran (its verdict: not explained)."
+        else:
+            searched = ("The diagnosis called the record explained, so its discover step did not run; discovery was "
+                        "run after it on the diagnosis's final and starting models.")
         md.append(f"## {case['truth']['extra']}\n\n{searched}\n\n{case['discovery'].message}\n")
         check = s["discovery"].get("truth_check")
         if check:

@@ -78,6 +78,10 @@ class Effect:
     experiments = ("pendulum", "cam_drop", "vcb_closing")
     variants: tuple = ()  # alternative model structures the diagnosis tries (spring models)
 
+    def applies_to(self, experiment: str, spring_model: SpringModel) -> bool:
+        """Whether the diagnosis may propose this effect for a model of ``experiment`` with ``spring_model``."""
+        return experiment in self.experiments
+
     def on(self, spec: ModelSpec, values: dict, rig) -> None:
         raise NotImplementedError
 
@@ -183,6 +187,13 @@ class SpringDamping(Effect):
     parameters = (ParameterSpec("damping_ratio", 0.01, 0.0, 0.3, "-", "closing_spring.damping_ratio",
                                 scan=(0.003, 0.01, 0.03, 0.1)),)
     experiments = ("cam_drop", "vcb_closing")
+
+    def applies_to(self, experiment: str, spring_model: SpringModel) -> bool:
+        """Proposed only where the springs have mass: its signature is the surge's decay. On massless
+        springs it is a dashpot along the spring, whose force in phase with the pin's speed a viscous
+        term or a bent friction value mimics (on a massless cam drop with a profile torque it was named
+        with zeta 0.12, above any spring's, mu_k 0.01 for 0.13). A rig may still list it there."""
+        return experiment in self.experiments and not spring_model.is_massless
 
     def on(self, spec: ModelSpec, values: dict, rig: Rig) -> None:
         spec.spring_damping = values["damping_ratio"]

@@ -295,12 +295,35 @@ def discover_among(rig, measurement, fits: Sequence[FitResult], **options) -> Di
         return results[0]
     sigma = options.get("sigma") or min(r.noise for r in results)
     noise = scoring_noise([r.after or r.before for r in results], sigma, options.get("quantisation") or 0.0)
-    best = min(results, key=lambda r: (r.after or r.before).bic_with(noise))
+    best = _registered_first(results, noise, options["bic_margin"])
     if best.given is not fits[0]:
         best.message += base_note(fits[0].effects, best.before.effects)
     best.alternatives = [{"base_effects": list(r.given.effects), "found": r.found, "terms": [t.name for t in r.terms],
                           "bic": (r.after or r.before).bic_with(noise)} for r in results]
     return best
+
+
+def _registered_first(results: list, noise, margin: float) -> Discovery:
+    """The result whose model has the lowest BIC; where the record cannot tell it from one that needs no
+    discovered torque (BICs within ``margin``), that one: a registered effect is a known law, a discovered
+    term a shape (a self-damping spring's record fitted by a constant torque on the undamped model as well
+    as by the registered spring damping). The tie is reported on the kept result."""
+    def bic(r):
+        return (r.after or r.before).bic_with(noise)
+    lowest = min(results, key=bic)
+    registered = [r for r in results if not r.found and bic(r) - bic(lowest) <= margin]
+    if not lowest.found or not registered:
+        return lowest
+    kept = min(registered, key=bic)
+    found = "+".join(t.name for t in lowest.terms)
+    kept.ties.append({"kept": "registered: " + ", ".join(kept.before.effects), "tied_with": [found],
+                      "margin": margin, "bic_above_best": {"registered": round(bic(kept) - bic(lowest), 2), found: 0.0},
+                      "tier": {}, "stage": 0,
+                      "reason": (f"the record cannot tell the registered {', '.join(kept.before.effects)} from "
+                                 f"{', '.join(lowest.before.effects)} + discovered {found} (BICs within {margin:g}); kept "
+                                 "the registered model, a known law")})
+    kept.message += f"; tie: {kept.ties[-1]['reason']}"
+    return kept
 
 
 def base_note(final_effects: Sequence[str], base_effects: Sequence[str]) -> str:

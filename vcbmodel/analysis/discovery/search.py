@@ -41,7 +41,7 @@ SHARE_OF_BEST = 0.2
 #: Most single terms refitted (tier-0 terms above the share come besides).
 SINGLE_REFITS = 4
 #: Terms refitted as the next addition to a kept support.
-NEXT_REFITS = 3
+NEXT_REFITS = 2
 #: Most terms one discovery adds.
 MAX_TERMS = 3
 
