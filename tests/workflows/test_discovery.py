@@ -167,9 +167,10 @@ def test_air_drag_is_discovered_with_its_coefficient_and_reading(drag_found):
     assert abs(term.coefficient - (-DRAG)) < 2 * term.stderr  # within its stated 95 % interval (seed 3: 1.1 errors)
     assert term.stderr < 0.15 * DRAG  # and the error says something
     assert "air" in term.reading or "aerodynamic" in term.reading
-    assert d.rms_before > 1.1 * d.noise and d.rms_after < 1.05 * d.noise  # the gap closes to the noise
+    # a physical paddle's drag leaves a small gap (3 % over the noise here), and it closes
+    assert d.rms_before > 1.02 * d.noise and d.rms_after < 1.01 * d.noise
     singles = {tuple(r["terms"]) for r in d.tried if r["stage"] == 1}
-    assert ("w_abs_w",) in singles and ("w3",) in singles  # each tried alone
+    assert {(n,) for n in ("w_abs_w", "sign_exp_0.05", "sign_exp_0.15", "sign_exp_0.5", "constant")} <= singles
     row = next(r for r in d.tried if r["kept"])
     assert row["delta_bic"] > BIC_MARGIN and row["variance_gain"] >= MIN_VARIANCE_GAIN
     js = d.to_json()
@@ -183,6 +184,7 @@ def test_a_record_the_registered_model_explains_yields_nothing(light_rig):
     assert d.message.startswith("the library holds nothing that fits")
 
 
+@pytest.mark.slow  # every single term is refitted (30-90 s on a loaded 2-core machine)
 def test_a_torque_outside_the_library_is_reported_as_nothing_found(light_rig):
     d = discovery_of(light_rig, record(lambda t, th, w: 0.1 * math.sin(2 * math.pi * 1.9 * t), seed=5))
     assert d.rms_before > 2 * d.noise  # a structured residual is there
