@@ -11,6 +11,8 @@ reads physics where the record cannot decide.
    the shares rank the registered model's own misfit, and the drag's column can rank twelfth.
    A harmonic's sine and cosine are also tried together, as one form: a torque periodic in the angle
    with a phase, A sin(k theta - phi), needs both.
+   Every refit here is a screen at the fits' usual tolerance; the forms within twice the evidence
+   margin of the best are polished (refitted at an absolute tolerance) before anything is chosen.
 2. **Then one more term at a time**, over the kept support: the :data:`NEXT_REFITS` terms that add
    the most, refitted with it; a larger support is kept only if it earns the evidence over the
    smaller one. At most :data:`MAX_TERMS` terms.
@@ -33,7 +35,7 @@ from ...errors import SimulationError
 from ...laws.discovered import TIERS, term
 from ..fit import FitAborted, FitResult
 from .judge import evidence, scoring_noise
-from .refit import refit, terms_of
+from .refit import polish, refit, terms_of
 
 #: A term is refitted alone when its own share of the missing torque is at least this fraction of the
 #: best term's (a term explaining a fifth of what the best explains does not win on the record).
@@ -110,6 +112,7 @@ def forward(dataset, given: FitResult, registered: FitResult, sel, *, sigma: flo
         scored = _refits(dataset, given, current if support else also, sel, support, sigma, pool, should_stop)
         if not scored:
             break
+        scored = _polished(dataset, scored, fits, sigma, quantisation, kw["bic_margin"], pool, should_stop)
         fits += [f for _, f in scored]
         if not support:  # step 4: the registered model from the singles' values
             registered = current = _rebased(dataset, given, registered, scored, sigma, pool, should_stop)
@@ -142,9 +145,30 @@ def _refits(dataset, given, start, sel, support, sigma, pool, should_stop) -> li
         coefficients, _, shifts = sel.support_fit(support + list(form))
         try:
             out.append((form, refit(dataset, given, coefficients, shifts, sigma=sigma, pool=pool,
-                                    should_stop=should_stop, also=start)))
+                                    should_stop=should_stop, also=start, screen=True)))
         except (SimulationError, FitAborted):
             continue
+    return out
+
+
+#: Screened forms within this many times the evidence margin of the best screened BIC are polished
+#: (refitted at the absolute tolerance) before the choice: a screen stops up to 16 chi^2 short.
+POLISH_SPAN = 2.0
+
+
+def _polished(dataset, scored, fits, sigma, quantisation, margin, pool, should_stop) -> list:
+    """``scored`` with the forms near the best (:data:`POLISH_SPAN`) polished."""
+    noise = scoring_noise(fits + [f for _, f in scored], sigma, quantisation)
+    best = min(f.bic_with(noise) for _, f in scored)
+    out = []
+    for form, f in scored:
+        if f.bic_with(noise) - best <= POLISH_SPAN * margin:
+            try:
+                again = polish(dataset, f, sigma=sigma, pool=pool, should_stop=should_stop)
+                f = again if again.chi2 < f.chi2 else f
+            except (SimulationError, FitAborted):
+                pass
+        out.append((form, f))
     return out
 
 
