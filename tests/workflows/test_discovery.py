@@ -250,3 +250,20 @@ def test_a_tie_keeps_the_physically_motivated_form_and_is_reported():
     assert kept[0] == ("w3",) and tie is None  # the record decides when it can
     kept, _ = choose([(("w3",), fit, 1000.0, True), (("w_abs_w",), fit, 1004.0, False)], 10.0)
     assert kept[0] == ("w3",)  # a tied form that does not earn the evidence is not kept
+
+
+def test_among_bases_a_registered_model_is_kept_over_a_discovered_term_it_ties_with():
+    from vcbmodel.analysis.discovery.discover import Discovery, DiscoveredTerm, _registered_first
+
+    def fit(bic, effects):
+        return SimpleNamespace(bic_with=lambda noise: bic, effects=effects)
+    constant = DiscoveredTerm("constant", -14.9, 2.2, "N m", "a constant torque")
+    on_base = Discovery(True, [constant], fit(500.0, ("coulomb_friction", "spring_mass")),
+                        fit(451.0, ("coulomb_friction", "spring_mass", "discovered_torque")), 2e-3, "rad", "found")
+    registered = Discovery(False, [], fit(451.2, ("coulomb_friction", "spring_mass", "spring_damping")), None, 2e-3,
+                           "rad", "nothing")
+    kept = _registered_first([on_base, registered], None, 10.0)
+    assert kept is registered and "cannot tell the registered" in kept.message
+    assert kept.ties[-1]["tied_with"] == ["constant"]
+    far = Discovery(False, [], fit(470.0, ("coulomb_friction", "spring_mass", "spring_damping")), None, 2e-3, "rad", "")
+    assert _registered_first([on_base, far], None, 10.0) is on_base  # the record decides when it can
