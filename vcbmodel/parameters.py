@@ -167,6 +167,24 @@ REFERENCE_CAM = {
 #: The text's "each spring is heavy (about 1 kg)": the variant with the whole coil mass.
 HEAVY_SPRING_MASS = 1.0
 
+# --- effects outside the paper: air drag, the closing spring's internal damping -----------------
+#: Density of air (kg/m^3) at about 20 degC and sea level (ISO 2533 standard atmosphere: 1.225 at
+#: 15 degC; 1.20 at 20 degC): the air a pendulum's paddle swings through.
+AIR_DENSITY = 1.2
+#: Drag coefficient of a square flat plate broadside to the flow, Cd = 1.17 (Hoerner, Fluid-Dynamic
+#: Drag, 1965, ch. 3; White, Fluid Mechanics, Table 7.3: 1.18 above Re 1e4). A paddle of area A
+#: (m^2) at radius R (m) on a shaft turning at w (rad/s) meets the air at R w: its torque is
+#: 0.5 rho Cd A R^3 w|w| (vcbmodel.laws.mechanics.paddle_drag_coefficient; the speed's spread across
+#: the paddle is neglected, R is the paddle's centre).
+FLAT_PLATE_DRAG_COEFFICIENT = 1.17
+#: Plausible damping ratio of a closing spring's first surge mode (the ``spring_damping`` effect,
+#: Kelvin-Voigt: vcbmodel.laws.springs.kelvin_voigt_time). Low end: the material hysteresis of
+#: quenched and tempered spring steel alone, a loss factor of order 1e-4 to 1e-3 (Lazan, Damping of
+#: Materials and Members in Structural Mechanics, 1968), i.e. zeta = eta / 2 ~ 5e-5 to 5e-4; high
+#: end: a few percent, the surge damping valvetrain models use, where coil contact and the end
+#: coils' rubbing add to the material's. An assumption, not a measured range.
+SPRING_DAMPING_RATIO_RANGE = (5e-5, 0.05)
+
 # --- ANCF spring (vcbmodel/ancf_spring.py) ----------------------------------------------------
 #: Elements of the ANCF closing spring by default (axial modes within 0.1 % at 8, exudyn-notes).
 ANCF_ELEMENTS = 8

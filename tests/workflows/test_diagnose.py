@@ -68,6 +68,7 @@ def test_report_contents(tmp_path):
     json.dumps(j)  # serialisable
     assert j["final_effects"] == ["coulomb_friction"] and j["baseline_effects"] == []
     assert 0.13 * 0.5 < j["fitted"]["mu_k"] < 0.2
+    # spring_damping is proposed only where the springs have mass (this model's are massless)
     assert {c["effect"] for c in j["candidates"]} == {"coulomb_friction", "stribeck", "viscous_friction", "spring_mass"}
     t0, t1 = j["window"]
     assert 0 <= t0 <= t1 <= 0.035

@@ -96,11 +96,40 @@ def test_the_cam_library_and_its_smoothing(cam_rig):
     assert smoothing_points(cam_rig, 1 / 12000.0, 0.035) == 85  # a fifth of the stroke
 
 
-def test_a_lumped_model_is_not_read_with_massless_springs(cam_rig):
+def test_a_lumped_model_is_read_with_its_chain_and_an_ancf_one_is_not(cam_rig):
     fit = type("Fit", (), {"spring_model": cam_rig.model.spring_model})()
     assert unread(cam_rig, fit) is None
     fit.spring_model = type("S", (), {"kind": "lumped", "label": "lumped-3 (exact)"})()
-    assert "lumped-3" in unread(cam_rig, fit)
+    assert unread(cam_rig, fit) is None
+    fit.spring_model = type("S", (), {"kind": "ancf", "label": "ancf"})()
+    assert "Exudyn's alone" in unread(cam_rig, fit)
+
+
+def test_the_missing_torque_of_a_lumped_record_the_model_made_is_nil(cam_rig):
+    """On a lumped model the chain's state is the fitted model's own: on a record that model made, the
+    missing torque is nil (what is left is the smoothing's), and the inertia the one the cam feels."""
+    from types import SimpleNamespace
+
+    from vcbmodel.analysis.discovery.force import missing_torque
+    from vcbmodel.laws.mechanics import cam_inertia
+    from vcbmodel.laws.springs import chain_for
+    from vcbmodel.rig.spring_model import SpringModel
+    lumped = SpringModel.parse("lumped-3")
+    effects, values = ("coulomb_friction", "spring_mass"), {"mu_k": MU_K, "stick_velocity": 1e-3}
+    y = simulate(cam_rig, effects, values, spring_model=lumped, sample_times=T).measured
+    dataset = SimpleNamespace(setup=SimpleNamespace(release=0.0), mask=lambda: np.ones(T.size, bool), t=T, y=y)
+    fit = SimpleNamespace(values=dict(values), model_values=values, effects=effects, spring_model=lumped, parameters={})
+    est = missing_torque(cam_rig, dataset, fit)
+    assert len(est.chain[0]) == 6 and est.used.sum() > 200
+    pin = cam_rig.closing_spring.count * chain_for(cam_rig.closing_spring, lumped).pin_mass
+    # the equations' response to a unit torque: 1/I less the friction's share through the reaction (0.1 %)
+    assert est.inertia == pytest.approx(cam_inertia(cam_rig.cam, pin), rel=3e-3)
+    spring_torque = 2 * 24230.0 * 0.1 * CAM["arm_length"]  # N m: the springs' pull at 0.1 m of stretch, on the arm
+    assert np.max(np.abs(est.torque[est.used])) < 1e-9 * spring_torque  # 1e-9 N m seen
+    massless = SimpleNamespace(values=dict(values), model_values=values, effects=("coulomb_friction",),
+                               spring_model=SpringModel.parse("massless"), parameters={})
+    wrong = missing_torque(cam_rig, dataset, massless)  # the chain's surge read as a missing torque
+    assert np.max(np.abs(wrong.torque[wrong.used])) > 1e-3 * spring_torque
 
 
 def test_a_profile_torque_is_found_with_its_coefficients(cam_rig):
@@ -108,8 +137,11 @@ def test_a_profile_torque_is_found_with_its_coefficients(cam_rig):
     found = discovery_of(cam_rig, lambda t, th, w: -A * math.sin(2 * th - phi), seed=11)
     assert found.found and found.rms_after < 0.7 * found.rms_before
     terms = {t.name: t for t in found.terms}
-    assert set(terms) == {"sin_2theta", "cos_2theta"}  # a window that entered first is pruned (it earns nothing more)
-    assert any(row.get("dropped") for row in found.tried)
+    assert set(terms) == {"sin_2theta", "cos_2theta"}
+    # the harmonic's sine and cosine are one form (a phase): tried together among the singles, where a
+    # greedy search of single terms would take a position window first
+    kept = next(row for row in found.tried if row["kept"])
+    assert kept["stage"] == 1 and sorted(kept["terms"]) == ["cos_2theta", "sin_2theta"]
     for name, true in (("sin_2theta", -A * math.cos(phi)), ("cos_2theta", A * math.sin(phi))):
         assert abs(terms[name].coefficient - true) < 3 * terms[name].stderr
         assert abs(terms[name].coefficient - true) < 0.05 * A

@@ -19,7 +19,7 @@ from .scores import consistent
 #: Values at which a parameter's effect vanishes (the candidate then equals the model it was
 #: added to): a candidate fit is never returned worse than that nested point.
 NULL_VALUES = {"mu_k": 0.0, "mu_s": 0.0, "viscous": 0.0, "restitution": 1.0, "bellows_force": 0.0,
-               "stribeck_velocity": None}  # None: any value (no effect once mu_s is null)
+               "drag": 0.0, "damping_ratio": 0.0, "stribeck_velocity": None}  # None: any value (no effect once mu_s is null)
 
 
 def candidate_jobs(rig: object, measurement: object, baseline: object, guesses: list, sigma: float) -> list:
@@ -28,7 +28,7 @@ def candidate_jobs(rig: object, measurement: object, baseline: object, guesses: 
     given = rig_values(rig)
     jobs = []
     for name, effect in EFFECTS.items():
-        if name in baseline.effects or rig.experiment not in effect.experiments:
+        if name in baseline.effects or not effect.applies_to(rig.experiment, baseline.spring_model):
             continue
         effects = tuple(e for e in EFFECTS if e in baseline.effects or e == name)
         new = [p for p in effect.parameters if p.vary and p.name not in given]

@@ -99,7 +99,8 @@ def _run_starts(obj, points, opts: FitOptions) -> _Optimum:
             x, cost, jac, ok, msg = nelder_mead(obj, x0, lo, hi, opts.max_simulations)
         else:
             x, cost, jac, ok, msg = levenberg_marquardt(obj, x0, lo, hi, opts.max_iterations or 10 + 2 * len(x0),
-                                                        opts.chi2_tolerance, opts.final_jacobian)
+                                                        opts.chi2_tolerance, opts.final_jacobian,
+                                                        relative_tolerance=opts.relative_tolerance)
         if opts.verbose:
             progress(f"  fit {opts.label or ', '.join(obj.effects)} start {k + 1}/{len(points)}: "
                      f"rms {obj.measured_rms(x):.3g} {experiment_of(obj.datasets[0].rig.experiment).unit} "
