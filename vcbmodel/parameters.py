@@ -305,6 +305,23 @@ REFERENCE_BREAKER = dict(
     breaker=REFERENCE_BREAKER_SECTION,
     model={"effects": ["coulomb_friction", "stribeck", "spring_mass", "contact_damping", "bellows_force"],
            "spring_model": "lumped-2", "lumped_convention": "exact"})
+#: Closing onto a fault (rig section breaker.making_current; laws/making_current.py): the reference
+#: breaker's rated making current and its contacts' constriction.
+#: - peak 100 kA: IEC 62271-100 (sec. 4.103) rates the short-circuit making current at 2.5 times the
+#:   rated short-circuit breaking current (40 kA) for 50 Hz and the standard DC time constant of
+#:   45 ms; fully asymmetric (asymmetry 1: the fault made at a voltage zero, the worst case for the
+#:   first peak, 1.80 x the AC peak: the 2.5 factor's 2.55 = 1.80 sqrt 2);
+#: - contact_radius 25 mm: the conducting face of a 40 kA butt (axial-field) contact, 50 mm across
+#:   (12 kV 25-40 kA vacuum interrupters carry contacts 40-80 mm across, [Slade VI] ch. 3);
+#: - spot_radius 1.06 mm, one spot: Holm's a = sqrt(F / (pi H)) for the closed contact force of
+#:   about 3.5 kN on CuCr25 of hardness H about 1 GPa ([Slade] ch. 1: a few large spots carry the
+#:   current of a heavily loaded butt contact; one spot is the conservative case: n spots divide
+#:   the force by n). ln(R / a) = 3.16: Holm's force 1e-7 I^2 ln(R/a) = 3.2 kN at 100 kA, the
+#:   closed contact force's order (the review's estimate: 2-3 kN).
+#: [Slade] P. G. Slade, Electrical Contacts, 2nd ed., CRC 2014. [Slade VI] P. G. Slade, The Vacuum
+#: Interrupter, CRC 2008.
+REFERENCE_MAKING_CURRENT = {"peak": 100e3, "frequency": 50.0, "time_constant": 0.045, "asymmetry": 1.0,
+                            "contact_radius": 0.025, "spot_radius": 0.00106, "spots": 1}
 #: The reference breaker before issue 19, kept for the closing study's before/after table
 #: (studies/vcb_closing.py): REFERENCE_CAM's cam and springs (2 x 6000 N springs of 0.3364 kg on a
 #: 6 kg, 0.05 kg m^2 cam: a flywheel holding 1234 of the 1354 J released at the first touch), a

@@ -17,6 +17,7 @@ from ..laws.friction import ArrayOps
 from ..laws.mechanics import cam_pin
 from ..laws.springs import chain_for
 from ..records.analyser import travel_figures
+from .cycle_evaluation import cycle_channels, kinetic_margin, opening_figures, release_figures, trip_instant
 
 if TYPE_CHECKING:
     from ..model.effects import ModelSpec
@@ -45,7 +46,9 @@ def closing_channels(data: dict[str, np.ndarray], rig: Rig, spec: ModelSpec, inf
     for name, d in data.items():
         if name.startswith(("spring_mass_", "spring_velocity_", "ancf_node_")):
             ch[name + "_x"], ch[name + "_y"] = d[:, 1], d[:, 2]
-    ch.update(contact_channels(BreakerLaws.of_rig(rig, spec), ch, n))
+    laws = BreakerLaws.of_rig(rig, spec)
+    ch.update(contact_channels(laws, ch, n))
+    ch.update(cycle_channels(laws, ch, data["angle"][:, 0]))
     return ch
 
 
@@ -453,7 +456,22 @@ def figures_of_merit(result: SimulationResult, rig: Rig) -> dict:
         "max_pressure_angle_deg": float(np.degrees(np.max(ch["pressure_angle"]))),
         "per_pole": {"touch_s": touches, "touch_speed_m_s": speeds, "closing_speed_m_s": zone_speeds, "bounces": bounces,
                      "bounce_duration_s": bounce_times},
-    }
+    } | cycle_figures(result, rig, min(done) if done else None, max(done) if len(done) == len(gaps) else None)
+
+
+def cycle_figures(result: SimulationResult, rig: Rig, first_touch: float | None, closing_time: float | None) -> dict:
+    """The figures of the cycle (:mod:`.cycle_evaluation`): the kinetic margin after the touch (every
+    closing with a holding latch or end stop), the opening's figures when the run trips (an O, a
+    CO: ``opening``), the close-open time of a CO (first touch to the last pole's parting), and the
+    IEC times from the releases' coils when the rig has them."""
+    out = kinetic_margin(result, rig, first_touch)
+    trip = trip_instant(result, rig, first_touch)
+    opening = opening_figures(result, rig, trip) if trip is not None else None
+    out["opening"] = opening
+    opening_time = opening["opening_time_s"] if opening is not None else None
+    out["close_open_time_s"] = (trip + opening_time - first_touch
+                                if opening_time is not None and first_touch is not None else None)
+    return out | release_figures(rig, closing_time, opening_time)
 
 
 def main_shaft_twist(result: SimulationResult, rig: Rig) -> dict | None:
