@@ -68,12 +68,12 @@ def build_vcb_closing(rig: Rig, spec: ModelSpec, law: FrictionLaw, chain: Lumped
     """The whole breaker in Exudyn (module docstring); returns the model with ``laws`` and
     ``initial`` (the static rest held by the latch) attached."""
     laws = BreakerLaws.of_rig(rig, spec)
-    cycle = CycleLaws(laws)
     # every spring model starts from the massless springs' pull (a lumped chain starts stretched
     # along O-B in its static equilibrium, which pulls the same)
     pin_mass = chain.pin_mass if chain is not None else 0.0
     initial = laws.initial_state(massless_pull(rig.cam, rig.closing_spring),
                                  pin_weight_torque(rig.cam, rig.closing_spring, pin_mass, rig.gravity))
+    cycle = CycleLaws(laws, initial.follower_angle)
     if cycle.commands.start_closed:
         initial = closed_state(laws, cycle, initial)
     impact = np.zeros(rig.breaker.poles.count + 1)  # [cam-roller, pole 1..n] impact speeds (m/s)

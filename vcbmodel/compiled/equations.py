@@ -127,10 +127,10 @@ def prepare_closing(rig, spec, law, chain=None) -> OdeSetup:
     Exudyn builder computes them; memory: the contacts' impact speeds (m/s), from zero, and with
     a holding latch (``breaker.hold_latch``) its engagement (0 not yet, 1 engaged) after them."""
     laws = BreakerLaws.of_rig(rig, spec)
-    cycle = CycleLaws(laws)
     pin_mass = chain.pin_mass if chain is not None else 0.0
     initial = laws.initial_state(massless_pull(rig.cam, rig.closing_spring),
                                  pin_weight_torque(rig.cam, rig.closing_spring, pin_mass, rig.gravity))
+    cycle = CycleLaws(laws, initial.follower_angle)
     if cycle.commands.start_closed:
         initial = closed_state(laws, cycle, initial)
     setup = prepare_cam_drop(rig, spec, law, chain)

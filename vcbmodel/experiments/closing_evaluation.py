@@ -13,6 +13,7 @@ from .. import parameters as P
 from ..laws.breaker import (BreakerLaws, cam_roller_contact, follower_displacement, one_way_stop_energy, pole_gaps,
                             push_rod_energy)
 from ..laws.cam_follower import pitch_radius, rest_geometry, roller_centre
+from ..laws.cycle import open_angle
 from ..laws.friction import ArrayOps
 from ..laws.mechanics import cam_pin
 from ..laws.springs import chain_for
@@ -35,7 +36,7 @@ def closing_channels(data: dict[str, np.ndarray], rig: Rig, spec: ModelSpec, inf
           "follower_angle": data["follower_angle"][:, 1], "follower_velocity": data["follower_velocity"][:, 1]}
     if "friction_torque" in data:
         ch["friction_torque"] = -data["friction_torque"][:, 1]
-    ch["follower_displacement"] = follower_displacement(ch["follower_angle"], b.follower, info["initial"].follower_angle)
+    ch["follower_displacement"] = follower_displacement(ch["follower_angle"], b.follower, open_angle(info["initial"]))
     n = b.poles.count
     for i in range(n):
         ch[f"pole_{i + 1}_travel"] = data[f"pole_{i + 1}_travel"][:, 1]
@@ -48,7 +49,7 @@ def closing_channels(data: dict[str, np.ndarray], rig: Rig, spec: ModelSpec, inf
             ch[name + "_x"], ch[name + "_y"] = d[:, 1], d[:, 2]
     laws = BreakerLaws.of_rig(rig, spec)
     ch.update(contact_channels(laws, ch, n))
-    ch.update(cycle_channels(laws, ch, data["angle"][:, 0]))
+    ch.update(cycle_channels(laws, ch, data["angle"][:, 0], open_angle(info["initial"])))
     return ch
 
 

@@ -21,7 +21,7 @@ import numpy as np
 
 from ..laws.breaker import BreakerLaws, pole_gaps
 from ..laws.cam_follower import cam_roller_contact
-from ..laws.cycle import CycleLaws
+from ..laws.cycle import CycleLaws, open_angle
 from ..laws.friction import ArrayOps
 from ..laws.opening import NO_TRIP
 from ..laws.release import delay_scatter
@@ -86,11 +86,12 @@ def replay_memory(laws: BreakerLaws, cycle: CycleLaws, ch: dict[str, np.ndarray]
     return rows
 
 
-def cycle_channels(laws: BreakerLaws, ch: dict[str, np.ndarray], t: np.ndarray) -> dict[str, np.ndarray]:
+def cycle_channels(laws: BreakerLaws, ch: dict[str, np.ndarray], t: np.ndarray, open_angle: float) -> dict[str, np.ndarray]:
     """The cycle parts' channels (none without them): each pole's making current (A) and Holm
     repulsion (N), the trip-free link's share (-), the pawl's, dashpot's and open stop's force on F
-    (N, ``follower_cycle_force``) and F's travel (m, ``f_travel``)."""
-    cycle = CycleLaws(laws)
+    (N, ``follower_cycle_force``) and F's travel (m, ``f_travel``, from the open rest at the
+    follower's ``open_angle``, rad)."""
+    cycle = CycleLaws(laws, open_angle)
     if not cycle.active:
         return {}
     rows = replay_memory(laws, cycle, ch, t)
@@ -163,7 +164,7 @@ def opening_figures(result: SimulationResult, rig: Rig, trip: float) -> dict:
         a, e = (_fall_time(t, z, gap - x, part) if part is not None else None for x in (start, end))
         speeds.append((end - start) / (e - a) if a is not None and e is not None and e > a else None)
     done = [x for x in partings if x is not None]
-    u = CycleLaws(BreakerLaws.of_rig(rig, result.spec)).travel(ch["follower_angle"], ArrayOps)
+    u = CycleLaws(BreakerLaws.of_rig(rig, result.spec), open_angle(result.info["initial"])).travel(ch["follower_angle"], ArrayOps)
     after = t >= trip
     tail = max(3, u.size // 50)
     final = float(np.median(u[-tail:]))

@@ -15,12 +15,14 @@ from __future__ import annotations
 
 import math
 from collections.abc import Sequence
+from dataclasses import dataclass
 
 import numpy as np
 from scipy.optimize import root
 
 from ..errors import SimulationError
 from .breaker import BreakerLaws, InitialState
+from .cam_follower import output_point
 from .friction import NumericOps
 from .making_current import NOT_YET, MakingLaws, update_touch_time
 from .opening import (CLOSE, NO_TRIP, dashpot_force, f_travel, link_factor, link_resets, open_stop_force, pawl_engagement,
@@ -36,16 +38,20 @@ LATE = 1e9
 class CycleLaws:
     """The cycle parts of a breaker (``laws.b``: its ``making_current``, ``trip_latch``,
     ``opening_dashpot`` and ``commands``) with the derived numbers: F's open-rest height ``y_open``
-    (m), the closing latch's release instant ``close_at`` (s: 0, or NEVER for a run that does not
-    close) and the making current's :class:`~vcbmodel.laws.making_current.MakingLaws`."""
+    (m; ``open_angle``: the follower's static open rest, rad, :meth:`BreakerLaws.initial_state`,
+    where the roller presses into the cam under the opening spring), the closing latch's release
+    instant ``close_at`` (s: 0, or NEVER for a run that does not close) and the making current's
+    :class:`~vcbmodel.laws.making_current.MakingLaws` (a closing's; None for an O)."""
 
-    def __init__(self, laws: BreakerLaws) -> None:
+    def __init__(self, laws: BreakerLaws, open_angle: float) -> None:
         b = laws.b
         self.follower, self.gaps, self.n = b.follower, list(laws.gaps), b.poles.count
-        self.y_open = float(laws.geometry.output_point[1])
-        self.making = MakingLaws(b.making_current) if b.making_current is not None else None
+        self.y_open = float(output_point(open_angle, b.follower)[1])
         self.trip_latch, self.dashpot = b.trip_latch, b.opening_dashpot
         self.commands = b.commands if b.commands is not None else CLOSE
+        # the making current flows in a closing: an O starts with its contacts closed, carrying no fault
+        closes = b.making_current is not None and self.commands.close
+        self.making = MakingLaws(b.making_current) if closes else None
         self.close_at = 0.0 if self.commands.close else NEVER
         self.trip_after_touch = self.commands.trip_after_touch
 
@@ -132,7 +138,19 @@ class CycleLaws:
         return touch + [trip_time, engaged, new_reset]
 
 
-def closed_state(laws: BreakerLaws, cycle: CycleLaws, open_state: InitialState) -> InitialState:
+@dataclass
+class ClosedState(InitialState):
+    """:class:`InitialState` of a run that starts closed, with the open rest's follower angle (rad)."""
+
+    open_follower_angle: float = 0.0
+
+
+def open_angle(initial: InitialState) -> float:
+    """The follower's open-rest angle (rad) of a run's initial state (closed or open)."""
+    return getattr(initial, "open_follower_angle", initial.follower_angle)
+
+
+def closed_state(laws: BreakerLaws, cycle: CycleLaws, open_state: InitialState) -> ClosedState:
     """The closed breaker at rest held by its trip latch, the closing springs charged (the cam at its
     start angle, held by the closing latch; the roller off the cam): the follower angle, the free
     levers' angles and the pole travels in which every pole rests on its fixed contact pressed by its
@@ -162,4 +180,4 @@ def closed_state(laws: BreakerLaws, cycle: CycleLaws, open_state: InitialState) 
         raise SimulationError("breaker: with F on the trip latch's travel a pole does not reach its fixed contact: "
                               "breaker.trip_latch.travel must lie beyond the contacts' touch")
     _, _, (t_cam_open, _, _) = laws.rest_torques(theta, open_state.follower_angle, open_state.lever_angles)
-    return InitialState(phi, z, open_state.holding_torque + t_cam_open, psi)
+    return ClosedState(phi, z, open_state.holding_torque + t_cam_open, psi, open_state.follower_angle)
