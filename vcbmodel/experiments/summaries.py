@@ -67,7 +67,9 @@ def closing_summary(result: SimulationResult, rig: Rig) -> list[tuple]:
               ("overtravel (follower travel beyond its final position" + geometric, fom["overtravel_m"], "m"),
               ("rebound (follower travel back below its final position after the peak)", fom["rebound_m"], "m"),
               ("follower travel settled (within 0.05 mm of its final position)", fom["travel_settled_s"], "s"),
-              ("peak cam-roller force", fom["peak_cam_roller_force_N"], "N")]
+              ("peak cam-roller force", fom["peak_cam_roller_force_N"], "N"),
+              ("cam's kinetic energy at the first touch", fom["kinetic_at_touch_J"], "J"),
+              ("kinetic margin (the cam's least kinetic energy from the touch to its latch)", fom["kinetic_margin_J"], "J")]
     return lines + stop_summary(result, rig) + twist_summary(result, rig) + closing_notes(fom, rig)
 
 
@@ -94,6 +96,9 @@ def closing_notes(fom: dict, rig: Rig) -> list[tuple]:
         hint = "" if rig.breaker.end_stop is not None else " (the rig has no breaker.end_stop or hold_latch to hold it)"
         notes.append(f"the cam {how} at {1e3 * fom['cam_falls_back_s']:.4g} ms: the lift under the roller falls, "
                      f"{1e3 * fom['lift_lost_m']:.3g} mm below its peak at the end{hint}")
+    if fom["latched"] is False:
+        notes.append(f"the cam stops {fom['latch_short_deg']:.3g} deg short of its latch after the touch: its kinetic "
+                     "margin is used up (the closing fails)")
     if rig.breaker.end_stop is not None and fom["end_stop_met"] is False:
         notes.append(f"the run ends at {end_ms:.4g} ms before the cam meets its end stop (a longer --t-end shows it)")
     if fom["moving_at_end"]:
