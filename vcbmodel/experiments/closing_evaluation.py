@@ -13,7 +13,7 @@ from .. import parameters as P
 from ..laws.breaker import (BreakerLaws, cam_roller_contact, follower_displacement, one_way_stop_energy, pole_gaps,
                             push_rod_energy)
 from ..laws.cam_follower import pitch_radius, rest_geometry, roller_centre
-from ..laws.cycle import open_angle
+from ..laws.cycle import NEVER, open_angle
 from ..laws.friction import ArrayOps
 from ..laws.mechanics import cam_pin
 from ..laws.springs import chain_for
@@ -147,7 +147,10 @@ def energy_parts(result: SimulationResult, rig: Rig) -> dict:
     parts["dissipated_damping"] = cumulative_trapezoid(damping, t, initial=0.0)
     parts.update(_stop_parts(ch, b, t))
     holding = result.info["initial"].holding_torque
-    parts["latch_work"] = cumulative_trapezoid(np.array([laws.latch(tt, holding) for tt in t]) * w, t, initial=0.0)
+    shift = NEVER if b.commands is not None and not b.commands.close else 0.0  # an O's closing latch holds
+    parts["latch_work"] = cumulative_trapezoid(np.array([laws.latch(tt - shift, holding) for tt in t]) * w, t, initial=0.0)
+    power = ch.get("cycle_power")
+    parts["cycle_work"] = cumulative_trapezoid(power, t, initial=0.0) if power is not None else np.zeros_like(t)
     return parts
 
 
@@ -180,11 +183,14 @@ def _spring_parts(ch, rig, chain):
 
 def _pole_parts(ch, laws, b):
     """The poles' kinetic energy, the rods' and wipe springs', the contacts' and the pole loads'
-    potential energy (J), and the power the contacts' and rods' damping dissipate (W)."""
+    potential energy (J), and the power the contacts' and rods' damping dissipate (W); with a trip
+    latch the roller is left out of the contacts (its work through the link is ``cycle_work``)."""
     t = ch["cam_angle"] * 0.0
     kinetic, rods, poles = t.copy(), t.copy(), t.copy()
     contacts = np.array([laws.roller_energy(p) for p in ch["cam_roller_penetration"]])
     contact_damping = ch["cam_roller_damping_force"] * ch["cam_roller_penetration_rate"]
+    if b.trip_latch is not None:  # the roller's work goes through the trip-free link: cycle_work counts it
+        contacts, contact_damping = contacts * 0.0, contact_damping * 0.0
     rod_damping = t.copy()
     for i in range(b.poles.count):
         z, zd = ch[f"pole_{i + 1}_travel"], ch[f"pole_{i + 1}_velocity"]
@@ -258,8 +264,9 @@ def energy_balance(result: SimulationResult, rig: Rig) -> dict:
     the terms: :func:`energy_parts`). Returns time series: ``kinetic``, ``potential``,
     ``closing_springs``, ``opening_spring``, ``wipe_and_rods``, ``contacts``, ``dissipated``
     (shaft friction, contact damping, rod damping, the end stop's and holding latch's dampers),
-    ``latch_work``, ``spring_energy_released`` and
-    ``residual`` = E(t) + dissipated - latch_work - E(0), which is zero for an exact solution."""
+    ``latch_work``, ``cycle_work`` (the work of the cycle parts, :func:`.cycle_evaluation.cycle_channels`'s
+    ``cycle_power``; zero without them), ``spring_energy_released`` and
+    ``residual`` = E(t) + dissipated - latch_work - cycle_work - E(0), which is zero for an exact solution."""
     p = energy_parts(result, rig)
     t = result.t
     kinetic = sum(p[k] for k in KINETIC)
@@ -268,8 +275,8 @@ def energy_balance(result: SimulationResult, rig: Rig) -> dict:
     total = kinetic + potential
     return {"t": t, "kinetic": kinetic, "potential": potential, "closing_springs": p["closing_springs"],
             "opening_spring": p["opening_spring"], "wipe_and_rods": p["wipe_and_rods"], "contacts": p["contacts"],
-            "dissipated": dissipated, "latch_work": p["latch_work"],
-            "residual": total + dissipated - p["latch_work"] - total[0],
+            "dissipated": dissipated, "latch_work": p["latch_work"], "cycle_work": p["cycle_work"],
+            "residual": total + dissipated - p["latch_work"] - p["cycle_work"] - total[0],
             "spring_energy_released": p["closing_springs"][0] - p["closing_springs"]}
 
 
@@ -301,7 +308,9 @@ def energy_split(result: SimulationResult, rig: Rig, at: float, parts: dict | No
     out = {name: float(p[name][k] - p[name][0]) for name, _ in SPLIT_TERMS}
     out["released"] = float(p["closing_springs"][0] - p["closing_springs"][k])
     out["latch_work"] = float(p["latch_work"][k])
-    out["unaccounted"] = out["released"] + out["latch_work"] - sum(out[name] for name, _ in SPLIT_TERMS)
+    out["cycle_work"] = float(p["cycle_work"][k])
+    out["unaccounted"] = (out["released"] + out["latch_work"] + out["cycle_work"]
+                          - sum(out[name] for name, _ in SPLIT_TERMS))
     out["t_s"] = float(t[k])
     return out
 

@@ -23,7 +23,7 @@ from ..laws.breaker import BreakerLaws, pole_gaps
 from ..laws.cam_follower import cam_roller_contact
 from ..laws.cycle import CycleLaws, open_angle
 from ..laws.friction import ArrayOps
-from ..laws.opening import NO_TRIP
+from ..laws.opening import NO_TRIP, travel_rate
 from ..laws.release import delay_scatter
 from ..laws.springs import chain_for
 
@@ -89,8 +89,12 @@ def replay_memory(laws: BreakerLaws, cycle: CycleLaws, ch: dict[str, np.ndarray]
 def cycle_channels(laws: BreakerLaws, ch: dict[str, np.ndarray], t: np.ndarray, open_angle: float) -> dict[str, np.ndarray]:
     """The cycle parts' channels (none without them): each pole's making current (A) and Holm
     repulsion (N), the trip-free link's share (-), the pawl's, dashpot's and open stop's force on F
-    (N, ``follower_cycle_force``) and F's travel (m, ``f_travel``, from the open rest at the
-    follower's ``open_angle``, rad)."""
+    (N, ``follower_cycle_force``), F's travel (m, ``f_travel``, from the open rest at the
+    follower's ``open_angle``, rad), with a trip latch the roller's forces as the link transmits them
+    (:func:`linked_roller`), and ``cycle_power`` (W): the power these parts put into the mechanism
+    (the pawl's, dashpot's and stop's force times F's speed, the repulsions times the poles' opening
+    speed and, with a trip latch, the roller's transmitted force times the contact's opening rate),
+    which the energy balance counts as work done on it."""
     cycle = CycleLaws(laws, open_angle)
     if not cycle.active:
         return {}
@@ -102,6 +106,8 @@ def cycle_channels(laws: BreakerLaws, ch: dict[str, np.ndarray], t: np.ndarray, 
         forces[k] = cycle.follower_force(t[k], ch["follower_angle"][k], ch["follower_velocity"][k], trip)
         links[k] = cycle.link(t[k], trip)
     out["follower_cycle_force"], out["trip_link"] = forces, links
+    u_dot = ch["follower_velocity"] * travel_rate(ch["follower_angle"], laws.b.follower, ArrayOps)
+    power = forces * u_dot
     if cycle.making is not None:
         for i in range(cycle.n):
             touch = rows[:, i]
@@ -109,7 +115,19 @@ def cycle_channels(laws: BreakerLaws, ch: dict[str, np.ndarray], t: np.ndarray, 
             out[f"pole_{i + 1}_making_current"] = np.where(touch < 0, 0.0, cycle.making.current(t - touch, ArrayOps))
             out[f"pole_{i + 1}_repulsion_force"] = np.array([cycle.repulsion(i, t[k], rows[k, :cycle.n], z[k])
                                                              for k in range(t.size)])
+            power = power - out[f"pole_{i + 1}_repulsion_force"] * ch[f"pole_{i + 1}_velocity"]
+    if cycle.trip_latch is not None:
+        # the roller's contact as the link passes it on: its work on the cam and follower is counted here
+        # (energy_parts leaves the roller out of the contacts' energy and damping then)
+        power = power - links * ch["cam_roller_force"] * ch["cam_roller_penetration_rate"]
+        out.update(linked_roller(ch, links))
+    out["cycle_power"] = power
     return out
+
+
+def linked_roller(ch: dict[str, np.ndarray], links: np.ndarray) -> dict[str, np.ndarray]:
+    """The roller's force and damping force (N) as the trip-free link transmits them (times its share)."""
+    return {"cam_roller_force": links * ch["cam_roller_force"], "cam_roller_damping_force": links * ch["cam_roller_damping_force"]}
 
 
 def trip_instant(result: SimulationResult, rig: Rig, first_touch: float | None) -> float | None:
