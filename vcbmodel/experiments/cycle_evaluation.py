@@ -24,6 +24,7 @@ from ..laws.cam_follower import cam_roller_contact
 from ..laws.cycle import CycleLaws, open_angle
 from ..laws.friction import ArrayOps
 from ..laws.opening import NO_TRIP, travel_rate
+from ..laws.making_current import holm_factor
 from ..laws.release import delay_scatter
 from ..laws.springs import chain_for
 
@@ -214,3 +215,37 @@ def release_figures(rig: Rig, closing_time: float | None, opening_time: float | 
         out[f"{key}_time_from_coil_s"] = None if mechanical is None else [
             None if d[c] is None else d[c] + mechanical for c in ("fastest", "nominal", "slowest")]
     return out
+
+
+def cycle_check_lines(b) -> list[str]:
+    """What ``vcbmodel check`` says of a breaker's operating-cycle parts (docs/rig-format.md): each
+    section's key numbers, or that it is not modelled."""
+    lines = []
+    m = b.making_current
+    if m is None:
+        lines.append("  making current: not modelled (no breaker.making_current): every closing carries no current")
+    else:
+        force = holm_factor(m) * m.peak ** 2
+        lines.append(f"  making current: {m.peak / 1e3:g} kA peak, {m.frequency:g} Hz, DC time constant "
+                     f"{1e3 * m.time_constant:g} ms, asymmetry {m.asymmetry:g}; Holm's repulsion at the peak "
+                     f"{force / 1e3:.3g} kN per pole (R {1e3 * m.contact_radius:g} mm, a {1e3 * m.spot_radius:g} mm, "
+                     f"{m.spots:g} spot(s))")
+    t, d = b.trip_latch, b.opening_dashpot
+    if t is None:
+        lines.append("  trip latch: not modelled (no breaker.trip_latch): the closed breaker rests on the cam; no opening")
+    else:
+        lines.append(f"  trip latch: the pawl holds F at {1e3 * t.travel:g} mm of travel, {t.stiffness:.4g} N/m, lets go "
+                     f"over {1e3 * t.release_time:g} ms; trip-free link resets within {1e3 * t.reset_travel:g} mm of open")
+    if d is not None:
+        lines.append(f"  opening dashpot: from {1e3 * d.stroke:g} mm before open, {d.damping:g} N s/m after a "
+                     f"{1e3 * d.ramp:g} mm ramp; open stop {d.stop_stiffness:.4g} N/m")
+    for key, release in (("closing", b.closing_release), ("opening", b.opening_release)):
+        if release is None:
+            lines.append(f"  {key} release: not modelled (no breaker.{key}_release): {key} times run from the latch")
+            continue
+        s = delay_scatter(release)
+        lines.append(f"  {key} release: coil L/R {1e3 * release.inductance / release.resistance:.3g} ms; trips "
+                     f"{1e3 * s['nominal']:.2f} ms after energising ({1e3 * s['fastest']:.2f}-{1e3 * s['slowest']:.2f} ms "
+                     f"over {100 * release.voltage_range[0]:g}-{100 * release.voltage_range[1]:g} % supply and the coil's "
+                     "temperature)")
+    return lines
