@@ -49,3 +49,18 @@ def test_options_of_one_run_are_refused(option, capsys, tmp_path, monkeypatch):
     err = capsys.readouterr().err.strip().splitlines()
     assert len(err) == 1 and "--sequence" in err[0]
     assert list(tmp_path.iterdir()) == []
+
+
+@pytest.mark.skipif(not compiler_works(), reason="no working C compiler")
+def test_without_releases_the_times_from_the_coil_are_null_and_said_so(tmp_path, capsys):
+    data = json.loads(CYCLE.read_text())
+    for key in ("closing_release", "opening_release"):
+        data["breaker"].pop(key)
+    rig = tmp_path / "norelease.rig.json"
+    rig.write_text(json.dumps(data))
+    assert main(["simulate", str(rig), "--sequence", "CO", "--json", "--backend", "compiled", "-q"]) == 0
+    report = json.loads(capsys.readouterr().out)
+    (co,) = report["operations"]
+    assert co["closing_time_from_coil_s"] is None and co["opening_time_from_coil_s"] is None
+    assert co["closing_time_from_latch_s"] > 0 and co["opening_time_from_pawl_s"] > 0
+    assert sum("breaker.closing_release" in n or "breaker.opening_release" in n for n in report["notes"]) == 2

@@ -186,6 +186,10 @@ def run_sequence(rig: Rig, text: str, backend: str = "exudyn", **options) -> dic
         summary = operation_summary(entry)
         entries.append(summary)
         notes += _operation_notes(entry, summary, steps[k + 1] if k + 1 < len(steps) else None)
+    for key, ops in (("closing_release", ("C", "CO")), ("opening_release", ("O", "CO"))):
+        if getattr(rig.breaker, key) is None and any(s.op in ops for s in steps):
+            notes.append(f"no breaker.{key}: times from the coil are null, those from the latch or pawl stand"
+                         + (" (a CO's pawl lets go at the touch itself)" if key == "opening_release" else ""))
     notes.append(f"closing springs: charged at the start; each closing discharges them and the motor recharges them in "
                  f"{P.SPRING_RECHARGE_TIME:g} s (parameters.SPRING_RECHARGE_TIME), not simulated: an O does not use them")
     return {"sequence": text, "operations": entries, "notes": notes, "dead_times_s": dead_times(steps, entries)}
