@@ -197,3 +197,9 @@ def test_the_energy_balance_closes_over_the_cycle(cycle, op, t_end, largest):
     e = energy_balance(simulate(rig, backend="compiled", t_end=t_end), rig)
     assert np.max(np.abs(e["residual"])) < largest
     assert e["cycle_work"][-1] < -30.0  # the dashpot and the stop take the opening's energy
+
+
+def test_the_closing_reference_solve_refuses_the_cycle_parts(cycle):
+    """The scipy closing reference knows none of them: refused, not solved without them."""
+    with pytest.raises(ValueError, match="breaker.making_current"):
+        simulate(cycle, backend="reference", t_end=0.01)
