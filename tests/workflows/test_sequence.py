@@ -64,3 +64,12 @@ def test_without_releases_the_times_from_the_coil_are_null_and_said_so(tmp_path,
     assert co["closing_time_from_coil_s"] is None and co["opening_time_from_coil_s"] is None
     assert co["closing_time_from_latch_s"] > 0 and co["opening_time_from_pawl_s"] > 0
     assert sum("breaker.closing_release" in n or "breaker.opening_release" in n for n in report["notes"]) == 2
+
+
+@pytest.mark.skipif(not compiler_works(), reason="no working C compiler")
+def test_an_operation_still_moving_at_the_next_command_fails(capsys):
+    """The O rests 16 ms after its trip (33 ms after its command): a CO 10 ms after it cannot start
+    from rest, and a wrong chain is worse than an error (exit 1, one line)."""
+    assert main(["simulate", str(CYCLE), "--sequence", "O-10ms-CO", "--backend", "compiled", "-q"]) == 1
+    err = capsys.readouterr().err.strip().splitlines()
+    assert len(err) == 1 and "comes to rest" in err[0] and "CO commanded at 0.01 s" in err[0]

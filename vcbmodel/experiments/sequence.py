@@ -18,9 +18,11 @@ release's delay earlier (:mod:`vcbmodel.laws.release`, at rated supply). The seq
 from the first command; ``t`` in ``O-t-CO`` is the interval between the commands.
 
 Chaining: each operation starts from a static rest (open or closed), so the previous one must have
-come to rest before the next command (checked: the travel settled within its run, and the run ends
-before the next command). The closing springs: charged at the start (a sequence's first operation
-finds them charged by the motor after the breaker's last closing); an O does not use them; a closing
+come to rest before the next command: checked (its travel settled within its run, before the next
+command), else the sequence fails with a SimulationError rather than chain a moving mechanism.
+
+The closing springs: charged at the start (a sequence's first operation finds them charged by the
+motor after the breaker's last closing); an O does not use them; a closing
 discharges them and the motor recharges them in ``parameters.SPRING_RECHARGE_TIME``: a closing
 commanded sooner after the previous closing is refused.
 """
@@ -31,7 +33,7 @@ from dataclasses import dataclass, replace
 from typing import TYPE_CHECKING
 
 from .. import parameters as P
-from ..errors import InputError
+from ..errors import InputError, SimulationError
 from ..laws.opening import NO_TRIP, Commands
 from ..laws.release import release_delay
 from .closing_evaluation import figures_of_merit
@@ -196,8 +198,8 @@ def run_sequence(rig: Rig, text: str, backend: str = "exudyn", **options) -> dic
 
 
 def _operation_notes(entry: dict, summary: dict, following: Step | None) -> list[str]:
-    """What a reader must not miss about one operation: not at rest before the next command, a
-    closing that does not latch, a CO or O whose contacts stay closed, a C whose contacts do not."""
+    """What a reader must not miss about one operation: a closing that does not latch, a CO or O
+    whose contacts stay closed, a C whose contacts do not (and :func:`check_rest`)."""
     f, op, notes = entry["figures"], entry["op"], []
     if op != "C" and summary["contacts_closed_at_end"]:
         notes.append(f"{op} at {entry['command_s']:g} s: the contacts are still closed at the end of its run")
@@ -206,13 +208,28 @@ def _operation_notes(entry: dict, summary: dict, following: Step | None) -> list
     if op != "O" and f["latched"] is False:
         notes.append(f"{op} at {entry['command_s']:g} s: the cam does not reach its holding latch "
                      f"({f['latch_short_deg']:.3g} deg short): the closing fails")
-    settled = f["travel_settled_s"] if op == "C" else (f.get("opening") or {}).get("open_settled_s")
-    if following is not None:
-        lead = entry["release_delay_s"] or 0.0
-        if settled is None or entry["command_s"] + lead + entry["run_s"] > following.at:
-            notes.append(f"{op} at {entry['command_s']:g} s is not at rest before the {following.op} at "
-                         f"{following.at:g} s: the next operation starts from rest all the same")
+    check_rest(entry, following)
     return notes
+
+
+def check_rest(entry: dict, following: Step | None) -> None:
+    """Refuse (SimulationError) to chain an operation that has not come to rest before the next
+    command: the model starts each operation from rest, so the next one's figures would be wrong."""
+    if following is None:
+        return
+    f, op = entry["figures"], entry["op"]
+    opening = f.get("opening") or {}
+    settled = f["travel_settled_s"] if op == "C" else opening.get("open_settled_s")
+    if settled is not None and op != "C":
+        settled += opening["trip_s"]  # the opening's settling counts from its trip
+    lead = entry["release_delay_s"] or 0.0
+    if settled is None:
+        raise SimulationError(f"{op} at {entry['command_s']:g} s has not come to rest within its {entry['run_s']:g} s run: "
+                              f"the {following.op} at {following.at:g} s cannot start from rest")
+    if entry["command_s"] + lead + settled > following.at:
+        raise SimulationError(f"{op} at {entry['command_s']:g} s comes to rest {entry['command_s'] + lead + settled:.4g} s "
+                              f"into the sequence, after the {following.op} commanded at {following.at:g} s: the model "
+                              "starts each operation from rest; allow a longer interval")
 
 
 def dead_times(steps: list[Step], entries: list[dict]) -> list[float | None]:
