@@ -10,8 +10,9 @@ dead centre are then paid from the cam's kinetic energy. If it runs short the ca
 back before its holding latch engages, and the contacts reopen. The margin is the smallest kinetic
 energy of the cam (with the springs' pin mass on it) from the first touch until the cam reaches its
 holding latch's angle (the end stop's without a holding latch): what was left when it was least.
-``kinetic_margin_J`` is None when the cam never gets there (``latched`` False; ``latch_short_deg``:
-how far short its farthest angle after the touch stays).
+``kinetic_margin_J`` is None when the cam does not get there: ``latched`` False once it has turned
+back short of it, None when the run ends with the cam still on its way (a longer run tells);
+``latch_short_deg``: how far short its farthest angle after the touch stays.
 """
 from __future__ import annotations
 
@@ -51,8 +52,9 @@ def latch_angle(rig: Rig) -> float | None:
 def kinetic_margin(result: SimulationResult, rig: Rig, first_touch: float | None) -> dict:
     """The kinetic margin after the touch (module docstring): ``kinetic_at_touch_J``,
     ``kinetic_margin_J`` (None if not latched), ``kinetic_margin_fraction`` (of the energy at
-    touch), ``latched`` (the cam reached its latch angle after the touch), ``latched_s`` and
-    ``latch_short_deg``; all None without a touch or a latch angle."""
+    touch), ``latched`` (True: the cam reached its latch angle after the touch; False: it turned back
+    short of it; None: the run ended first), ``latched_s`` and ``latch_short_deg``; all None without
+    a touch or a latch angle."""
     target = latch_angle(rig)
     empty = {"kinetic_at_touch_J": None, "kinetic_margin_J": None, "kinetic_margin_fraction": None, "latched": None,
              "latched_s": None, "latch_short_deg": None}
@@ -64,7 +66,9 @@ def kinetic_margin(result: SimulationResult, rig: Rig, first_touch: float | None
     at_touch = float(np.interp(first_touch, t, ke))
     reached = np.nonzero(theta[k0:] >= target)[0]
     if not reached.size:
-        return empty | {"kinetic_at_touch_J": at_touch, "latched": False,
+        # short of its latch: a failure once the cam has turned back, else the run ended first (not known)
+        turned_back = bool(np.any(result.channels["shaft_velocity"][k0:] < 0.0))
+        return empty | {"kinetic_at_touch_J": at_touch, "latched": False if turned_back else None,
                         "latch_short_deg": float(np.degrees(target - np.max(theta[k0:])))}
     k1 = k0 + int(reached[0])
     margin = float(min(at_touch, np.min(ke[k0:k1 + 1])))

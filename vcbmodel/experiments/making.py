@@ -23,7 +23,7 @@ from collections.abc import Callable
 from pathlib import Path
 from typing import TYPE_CHECKING
 
-from ..errors import InputError
+from ..errors import InputError, SimulationError
 from .closing_evaluation import figures_of_merit
 from .loading import load_rig
 from .sequence import RUN_LENGTH
@@ -51,8 +51,13 @@ def with_peak(rig: Rig, peak: float, folder: Path) -> Rig:
 
 
 def closing_figures(rig: Rig, backend: str) -> dict:
-    """The figures of merit of the rig's closing run to rest on its holding latch."""
-    return figures_of_merit(simulate(rig, backend=backend, t_end=RUN_LENGTH["C"]), rig)
+    """The figures of merit of the rig's closing run to rest on its holding latch; a run that ends
+    before the cam has reached its latch or turned back is a SimulationError (neither verdict holds)."""
+    f = figures_of_merit(simulate(rig, backend=backend, t_end=RUN_LENGTH["C"]), rig)
+    if f["latched"] is None:
+        raise SimulationError(f"the closing has neither reached its latch nor turned back by {RUN_LENGTH['C']:g} s "
+                              "(or no pole touches, or the rig has no holding latch or end stop): no making limit")
+    return f
 
 
 def latches(f: dict) -> bool:

@@ -70,6 +70,10 @@ def closing_summary(result: SimulationResult, rig: Rig) -> list[tuple]:
               ("peak cam-roller force", fom["peak_cam_roller_force_N"], "N"),
               ("cam's kinetic energy at the first touch", fom["kinetic_at_touch_J"], "J"),
               ("kinetic margin (the cam's least kinetic energy from the touch to its latch)", fom["kinetic_margin_J"], "J")]
+    coil = fom.get("closing_time_from_coil_s")
+    if coil is not None:  # the rig has a closing release: IEC's closing time, from energising its coil
+        lines += [("closing time from the closing coil (IEC 62271-100, rated supply)", coil[1], "s"),
+                  ("  fastest (highest supply, cold coil)", coil[0], "s"), ("  slowest (lowest supply, hot coil)", coil[2], "s")]
     return lines + stop_summary(result, rig) + twist_summary(result, rig) + closing_notes(fom, rig)
 
 
@@ -99,6 +103,8 @@ def closing_notes(fom: dict, rig: Rig) -> list[tuple]:
     if fom["latched"] is False:
         notes.append(f"the cam stops {fom['latch_short_deg']:.3g} deg short of its latch after the touch: its kinetic "
                      "margin is used up (the closing fails)")
+    if fom["latched"] is None and fom["kinetic_at_touch_J"] is not None:
+        notes.append(f"the run ends at {end_ms:.4g} ms before the cam reaches its latch: no kinetic margin yet (a longer --t-end)")
     if rig.breaker.end_stop is not None and fom["end_stop_met"] is False:
         notes.append(f"the run ends at {end_ms:.4g} ms before the cam meets its end stop (a longer --t-end shows it)")
     if fom["moving_at_end"]:
