@@ -13,6 +13,8 @@ from pathlib import Path
 from _common import markdown_table, parse_args, write_json
 
 from vcbmodel import parameters as P
+from vcbmodel.app.plots import plt, save
+from vcbmodel.laws.breaker import pole_gaps
 from vcbmodel.experiments.loading import load_rig
 from vcbmodel.experiments.making import making_limits
 from vcbmodel.experiments.sequence import run_sequence
@@ -54,6 +56,34 @@ HEADERS = ["op", "command (s)", "closing time from coil, ms (IEC corners)", "clo
            "parting after pawl (ms)", "opening speed (m/s)", "rebound (mm)", "close-open (ms)"]
 
 
+def plot_sequence(report, runs, rig, path):
+    """F's travel and each pole's travel over each operation (ms from its release's command), the
+    poles' gaps dashed, the making current's repulsion on the CO's poles below."""
+    fig, axes = plt.subplots(2, len(runs), figsize=(5.5 * len(runs), 6.5), sharex="col",
+                             gridspec_kw={"height_ratios": [3, 1.4]}, squeeze=False)
+    gaps = pole_gaps(rig.breaker.poles)
+    for k, (entry, r) in enumerate(zip(report["operations"], runs)):
+        t = 1e3 * (r.t + (entry["release_delay_s"] or 0.0))
+        top, bottom = axes[0, k], axes[1, k]
+        top.plot(t, 1e3 * r.channels["f_travel"], color="k", lw=1.2, label="F (follower output)")
+        for i, gap in enumerate(gaps, start=1):
+            line, = top.plot(t, 1e3 * r.channels[f"pole_{i}_travel"], lw=0.9, label=f"pole {i}")
+            top.axhline(1e3 * gap, color=line.get_color(), ls="--", lw=0.6)
+        top.set_title(f"{entry['op']} at {entry['command_s']:g} s")
+        top.set_ylabel("travel from open (mm)")
+        top.legend(fontsize=7, loc="best")
+        for i in range(1, len(gaps) + 1):
+            force = r.channels.get(f"pole_{i}_repulsion_force")
+            if force is not None:
+                bottom.plot(t, 1e-3 * force, lw=0.8, label=f"pole {i}")
+        bottom.plot(t, 1e-3 * r.channels["follower_cycle_force"], color="k", lw=0.8, label="pawl, dashpot, stop on F")
+        bottom.set_ylabel("force (kN)")
+        bottom.set_xlabel("time from the command, coil energised (ms)")
+        bottom.legend(fontsize=7, loc="best")
+    fig.suptitle(f"{report['sequence']} on the reference cycle breaker (SIMULATED)")
+    save(fig, path)
+
+
 def main():
     args = parse_args(__doc__)
     out = Path(args.out)
@@ -61,7 +91,10 @@ def main():
     rig_path = out / "synthetic" / "vcb_cycle.rig.json"
     write_rig(rig_path)
     rig = load_rig(rig_path)
-    reports = {backend: run_sequence(rig, SEQUENCE, backend=backend) for backend in ("exudyn", "compiled")}
+    runs = []
+    reports = {backend: run_sequence(rig, SEQUENCE, backend=backend, results=runs if backend == "exudyn" else None)
+               for backend in ("exudyn", "compiled")}
+    plot_sequence(reports["exudyn"], runs, rig, out / "vcb_cycle.png")
     limits = making_limits(rig, high=2e5 if args.quick else 2e6, tolerance=5e3 if args.quick else 1e3, backend="compiled")
     write_json(out / "vcb_cycle.json", {"sequence": reports, "making_limits": limits})
     text = [f"# The reference breaker's operating cycle: {SEQUENCE}", "",

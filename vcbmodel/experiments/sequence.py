@@ -176,15 +176,18 @@ def _closed_at_end(f: dict) -> bool:
     return bool(touched and not parted and f["contacts_reopen_s"] is None) if touched else False
 
 
-def run_sequence(rig: Rig, text: str, backend: str = "exudyn", **options) -> dict:
+def run_sequence(rig: Rig, text: str, backend: str = "exudyn", results: list | None = None, **options) -> dict:
     """Run a sequence (module docstring): {``sequence``, ``operations`` (:func:`operation_summary`
-    of each, in order), ``notes`` (an operation not at rest before the next command, a CO whose
-    contacts stay closed, the springs' recharge), ``dead_times_s``}."""
+    of each, in order), ``notes`` (a closing that fails, a CO whose contacts stay closed, missing
+    releases, the springs' recharge), ``dead_times_s``}. ``results``: a list to which each
+    operation's :class:`~vcbmodel.model.result.SimulationResult` is appended (for figures)."""
     steps = parse_sequence(text)
     check_sequence(rig, steps)
     entries, notes = [], []
     for k, step in enumerate(steps):
-        entry, _ = run_operation(rig, step, backend, **options)
+        entry, result = run_operation(rig, step, backend, **options)
+        if results is not None:
+            results.append(result)
         summary = operation_summary(entry)
         entries.append(summary)
         notes += _operation_notes(entry, summary, steps[k + 1] if k + 1 < len(steps) else None)
