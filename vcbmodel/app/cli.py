@@ -214,7 +214,7 @@ def simulate_sequence(rig: Rig, args: argparse.Namespace) -> int:
     log.info("simulate %s: sequence %s", rig.name, args.sequence)
     report = run_sequence(rig, args.sequence, backend=args.backend)
     if args.json:
-        print(json.dumps({**envelope(rig, "SI: s, m, m/s, J"), **_plain(report)}))
+        print(json.dumps({**envelope(rig, {"*_s": "s", "*_m": "m", "*_m_s": "m/s", "*_J": "J"}), **_plain(report)}))
     else:
         print("\n".join(sequence_lines(report)))
     return 0
