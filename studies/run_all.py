@@ -24,7 +24,7 @@ from pathlib import Path
 HERE = Path(__file__).resolve().parent
 #: Lanes run at once, each its studies in turn; then the studies in ALONE, one at a time.
 LANES = (["diagnosis_realism.py"],
-         ["friction_identification.py", "spring_reading.py", "spring_models.py", "vcb_closing.py", "discrepancy_demo.py",
+         ["friction_identification.py", "spring_reading.py", "spring_models.py", "vcb_closing.py", "vcb_cycle.py", "discrepancy_demo.py",
           "discovery_demo.py", "diagnosis_sweep.py", "design_sensitivity.py", "design_tolerance.py",
           "design_conclusion_map.py", "design_optimum.py"])
 ALONE = ["benchmark.py"]

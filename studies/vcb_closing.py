@@ -126,12 +126,14 @@ def fom_row(label, f, extra=()):
     return [label, ms(f["closing_time_s"]), f"{f['touch_speed_m_s']:.3f}", ms(f["pole_spread_s"]), f["bounce_count"],
             ms(f["bounce_duration_s"]), ms(f["wipe_m"]), ms(f["overtravel_m"]), f"{1e-3 * f['peak_cam_roller_force_N']:.1f}",
             ms(f["roller_lift_off_s"]), ms(f["roller_first_lift_off_s"]),
-            f"{1e-3 * f['min_cam_roller_force_before_touch_N']:.2f}", *extra]
+            f"{1e-3 * f['min_cam_roller_force_before_touch_N']:.2f}",
+            "-" if f["kinetic_margin_J"] is None else f"{f['kinetic_margin_J']:.1f} of {f['kinetic_at_touch_J']:.0f}", *extra]
 
 
 FOM_HEADERS = ["closing time (ms)", "touch speed (m/s)", "pole spread (ms)", "bounces", "bounce duration (ms)",
                "wipe (mm)", "overtravel (mm)", "peak cam-roller force (kN)", "roller off the cam (ms)",
-               "first lift-off - first touch (ms)", "least roller force before touch (kN)"]
+               "first lift-off - first touch (ms)", "least roller force before touch (kN)",
+               "kinetic margin after touch, of at touch (J)"]
 
 
 def contact_choices(base, t_end):

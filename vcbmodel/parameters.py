@@ -410,6 +410,78 @@ REFERENCE_BREAKER = dict(
     breaker=REFERENCE_BREAKER_SECTION,
     model={"effects": ["coulomb_friction", "stribeck", "spring_mass", "contact_damping", "bellows_force"],
            "spring_model": "lumped-2", "lumped_convention": "exact"})
+#: Closing onto a fault (rig section breaker.making_current; laws/making_current.py): the reference
+#: breaker's rated making current and its contacts' constriction.
+#: - peak 100 kA: IEC 62271-100 (sec. 4.103) rates the short-circuit making current at 2.5 times the
+#:   rated short-circuit breaking current (40 kA) for 50 Hz and the standard DC time constant of
+#:   45 ms; fully asymmetric (asymmetry 1: the fault made at a voltage zero, the worst case for the
+#:   first peak, 1.80 x the AC peak: the 2.5 factor's 2.55 = 1.80 sqrt 2);
+#: - contact_radius 25 mm: the conducting face of a 40 kA butt (axial-field) contact, 50 mm across
+#:   (12 kV 25-40 kA vacuum interrupters carry contacts 40-80 mm across, [Slade VI] ch. 3);
+#: - spot_radius 1.06 mm, one spot: Holm's a = sqrt(F / (pi H)) for the closed contact force of
+#:   about 3.5 kN on CuCr25 of hardness H about 1 GPa ([Slade] ch. 1: a few large spots carry the
+#:   current of a heavily loaded butt contact; one spot is the conservative case: n spots divide
+#:   the force by n). ln(R / a) = 3.16: Holm's force 1e-7 I^2 ln(R/a) = 3.2 kN at 100 kA, the
+#:   closed contact force's order (the review's estimate: 2-3 kN): the weakest pole's 3.43 kN is
+#:   reached at 104 kA, and the closing's bisection (experiments/making.py) blows a pole open from
+#:   105.5 kA: the reference breaker makes its rated current with 5 % to spare.
+#: [Slade] P. G. Slade, Electrical Contacts, 2nd ed., CRC 2014. [Slade VI] P. G. Slade, The Vacuum
+#: Interrupter, CRC 2008.
+REFERENCE_MAKING_CURRENT = {"peak": 100e3, "frequency": 50.0, "time_constant": 0.045, "asymmetry": 1.0,
+                            "contact_radius": 0.025, "spot_radius": 0.00106, "spots": 1}
+#: The trip latch and the trip-free link (rig section breaker.trip_latch; laws/opening.py): the
+#: pawl that holds the closed main shaft, so the cam need not (it held the closed breaker on its
+#: dwell with about 21 kN on the roller, for months).
+#: - travel 14.5 mm of F from open: 0.54 mm short of the 15.04 mm the cam lifts F to (the cam
+#:   overdrives the main shaft past the latch face so the pawl can drop in, as a latch's overtravel);
+#:   closed on the pawl (F at 14.25 mm) the poles keep 3.24-3.40 kN of contact force (3.43-3.59 kN
+#:   on the cam's dwell), the wipe springs 2.6-3.2 mm of their compression;
+#: - stiffness 5e7 N/m and damping 5e3 N s/m at F: the holding latch's hardened steel pawl and seat
+#:   (0.25 mm at F under the 12.5 kN it holds);
+#: - release_time 2 ms: the pawl lets go as the closing latch does (a solenoid-tripped latch);
+#: - reset_travel 2 mm: the toggle resets once F is back within 2 mm of open (a return spring on the
+#:   roller lever; any value between the dashpot's entry and open gives the same opening).
+REFERENCE_TRIP_LATCH = {"travel": 0.0145, "stiffness": 5e7, "damping": 5e3, "release_time": 0.002, "reset_travel": 0.002}
+#: The opening dashpot and open stop (rig section breaker.opening_dashpot): an oil dashpot on the
+#: main shaft whose piston enters 6 mm before open (the last 40 % of F's 15 mm stroke, past the
+#: opening-speed zone, so the speed at parting is the springs'); full damping 6000 N s/m after a
+#: 1 mm ramp (metering grooves); open stop 1e7 N/m, 2e3 N s/m (a steel stop on a polyurethane
+#: pad). Chosen with the model: the mechanism reaches F's open position at about 3.4 m/s with about
+#: 44 J (7.6 kg at F: the follower's 0.08 kg m^2 through 0.16 m and three 1.5 kg poles); 3000 N s/m
+#: let F rebound 0.89 mm, 6000 N s/m 0.05 mm (settled 16 ms after the trip), 12000 N s/m creeps
+#: (settled after 36 ms). Makers size a dashpot the same way, on the rebound [ABB VD4] [Siemens 3AH].
+REFERENCE_OPENING_DASHPOT = {"stroke": 0.006, "damping": 6000.0, "ramp": 0.001, "stop_stiffness": 1e7,
+                             "stop_damping": 2e3}
+#: The closing and opening releases (rig sections breaker.closing_release, breaker.opening_release;
+#: laws/release.py): shunt coils on a 110 V DC station battery, about 250 W (R = 48 ohm, 2.3 A; makers'
+#: shunt releases draw 100-300 W [ABB VD4]), L = 0.48 H (L/R = 10 ms), an armature of 60 g moving
+#: 4 mm against 20 N (its return spring and the latch's friction) with a pull k i^2 of three times
+#: that at full current (k = 11.4 N/A^2). Delay from energising to tripping the latch: 16.7 ms at
+#: rated supply and 20 degC. Scatter: IEC 62271-1 (sec. 5.8) has closing releases operate at
+#: 85-110 % of rated supply and opening releases at 70-110 % (DC); the copper coil at -25 to +40 degC
+#: is 0.82-1.08 x its 20 degC resistance (0.393 %/K). The corners give 13.8-22.6 ms (closing) and
+#: 13.8-36.3 ms (opening). [ABB VD4] ABB VD4 12-36 kV vacuum circuit-breaker catalogue (shunt release
+#: power; operating times). [Siemens 3AH] Siemens 3AH vacuum circuit-breaker operating instructions
+#: (opening damper).
+REFERENCE_CLOSING_RELEASE = {"voltage": 110.0, "resistance": 48.0, "inductance": 0.48, "force_constant": 11.4,
+                             "armature_mass": 0.06, "stroke": 0.004, "load": 20.0, "voltage_range": [0.85, 1.1],
+                             "resistance_range": [0.82, 1.08]}
+REFERENCE_OPENING_RELEASE = dict(REFERENCE_CLOSING_RELEASE, voltage_range=[0.7, 1.1])
+#: The closing springs' motor recharge (s): makers' spring-charging motors take about 5-15 s
+#: [ABB VD4]; the longest is taken. A sequence whose closings follow each other faster is refused:
+#: in IEC 62271-100's O - 0.3 s - CO the springs are charged before the O (recharged after the
+#: breaker's last closing), the O uses only the opening spring and the wipe springs, and the CO's
+#: closing uses the charge, so the motor's recharge enters no operation of the sequence.
+SPRING_RECHARGE_TIME = 15.0
+#: The reference breaker with its whole cycle: REFERENCE_BREAKER (its closing unchanged: the new
+#: sections act only when the run trips or carries current) with the trip latch, the opening dashpot,
+#: both releases and the rated making current (results/synthetic/vcb_cycle.rig.json, written by
+#: studies/vcb_cycle.py).
+REFERENCE_CYCLE_BREAKER = dict(
+    REFERENCE_BREAKER, name="reference 12 kV / 40 kA breaker, whole operating cycle",
+    breaker=dict(REFERENCE_BREAKER_SECTION, trip_latch=REFERENCE_TRIP_LATCH, opening_dashpot=REFERENCE_OPENING_DASHPOT,
+                 closing_release=REFERENCE_CLOSING_RELEASE, opening_release=REFERENCE_OPENING_RELEASE,
+                 making_current=REFERENCE_MAKING_CURRENT))
 #: The reference breaker before issue 19, kept for the closing study's before/after table
 #: (studies/vcb_closing.py): REFERENCE_CAM's cam and springs (2 x 6000 N springs of 0.3364 kg on a
 #: 6 kg, 0.05 kg m^2 cam: a flywheel holding 1234 of the 1354 J released at the first touch), a

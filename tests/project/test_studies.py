@@ -26,6 +26,7 @@ EXPECTED = {
     "vcb_closing.py": ["vcb_closing_fig12.png", "vcb_closing_detail.png", "vcb_closing_energy_split.png",
                        "vcb_closing_analyser.png", "vcb_closing.json", "vcb_closing.md",
                        "synthetic/vcb_closing.csv"],
+    "vcb_cycle.py": ["vcb_cycle.json", "vcb_cycle.md", "vcb_cycle.png", "synthetic/vcb_cycle.rig.json"],
     "design_sensitivity.py": ["design_sensitivity_tornado.png", "design_sensitivity_sobol.png",
                               "design_sensitivity.json", "design_sensitivity.md"],
     "design_tolerance.py": ["design_tolerance.png", "design_tolerance.json", "design_tolerance.md",

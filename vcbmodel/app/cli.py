@@ -27,6 +27,7 @@ from ..errors import InputError, SimulationError
 from ..experiments import experiment_of
 from ..experiments.report import Report, lines_report, report_json, report_text
 from ..experiments.loading import load_pair, load_rig, require_experiment
+from ..experiments.sequence import run_sequence, sequence_lines
 from ..experiments.simulation import compiled_path_has, model_spec, output_times, simulate
 from ..model.choice import parse_effects_option
 from ..rig.spring_model import SpringModel
@@ -89,6 +90,8 @@ def build_parser() -> argparse.ArgumentParser:
     s.add_argument("--backend", choices=("exudyn", "compiled", "fast"), default="exudyn",
                    help="exudyn (the model, default); compiled (the same laws traced to C: massless and lumped "
                         "springs); fast (compiled where it covers the model, else exudyn)")
+    s.add_argument("--sequence", help="run an operating sequence of a breaker instead (C, O, CO, O-0.3s-CO, ...): "
+                   "figures per operation (no CSV; --json for JSON)")
 
     c = sub.add_parser("check", parents=[common], help="validate a rig and say what simulate would run, without solving")
     c.add_argument("rig", help="rig file NAME.rig.json")
@@ -160,6 +163,8 @@ def envelope(rig: Rig, unit: str) -> dict:
 
 def cmd_simulate(args: argparse.Namespace) -> int:
     rig = load_rig(args.rig)
+    if args.sequence is not None:
+        return simulate_sequence(rig, args)
     record = experiment_of(rig.experiment)
     effects = rig.model.effects
     if args.effects is not None:
@@ -214,6 +219,25 @@ def cmd_simulate(args: argparse.Namespace) -> int:
         plot_closing(full, rig, args.plot, f"{rig.name}: {spec.spring_model.label}", report)
     elif args.plot:
         plot_simulation(result, channels, args.plot, f"{rig.name}: {spec.spring_model.label}")
+    return 0
+
+
+def simulate_sequence(rig: Rig, args: argparse.Namespace) -> int:
+    """``simulate --sequence``: the operations' figures (:mod:`vcbmodel.experiments.sequence`), as
+    text or one JSON object; options that shape one run's CSV are refused."""
+    for option, value in (("-o", args.output), ("--plot", args.plot), ("--t-end", args.t_end),
+                          ("--spring-model", args.spring_model), ("--effects", args.effects)):
+        if value is not None:
+            raise InputError(option, "--sequence", "a sequence reports figures per operation: it writes no CSV or "
+                             "plot and runs the rig's own model and run lengths; leave this option out")
+    if rig.experiment != "vcb_closing":
+        raise InputError(rig.path, "experiment", f"--sequence operates a breaker (vcb_closing), not a {rig.experiment}")
+    log.info("simulate %s: sequence %s", rig.name, args.sequence)
+    report = run_sequence(rig, args.sequence, backend=args.backend)
+    if args.json:
+        print(json.dumps({**envelope(rig, {"*_s": "s", "*_m": "m", "*_m_s": "m/s", "*_J": "J"}), **_plain(report)}))
+    else:
+        print("\n".join(sequence_lines(report)))
     return 0
 
 

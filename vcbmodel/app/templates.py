@@ -14,6 +14,7 @@ from typing import TYPE_CHECKING
 import numpy as np
 
 from .. import parameters as P
+from ..experiments.cycle_evaluation import cycle_check_lines
 from ..experiments import experiment_of
 from ..experiments.simulation import model_spec
 from ..model.effects import EFFECTS, parameter_specs
@@ -81,7 +82,7 @@ def cam_lines(rig: Rig) -> list[str]:
             f"    largest pressure angle {np.degrees(pressure[k]):.1f} deg at cam angle {np.degrees(thetas[k]):.1f} deg "
             f"(usual limit 30 deg; above 45 deg a profile is refused)",
             f"  closing speed: mean pole speed from {1e3 * b.speed_zone[0]:g} to {1e3 * b.speed_zone[1]:g} mm before each "
-            "pole's touch (breaker.speed_zone)"] + stop_lines(b) + shaft_lines(b)
+            "pole's touch (breaker.speed_zone)"] + stop_lines(b) + shaft_lines(b) + cycle_check_lines(b)
 
 
 def shaft_lines(b) -> list[str]:

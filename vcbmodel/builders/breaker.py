@@ -43,6 +43,7 @@ from typing import TYPE_CHECKING
 import numpy as np
 
 from ..laws.breaker import BreakerLaws, massless_pull, pin_weight_torque, push_rod_force
+from ..laws.cycle import CycleLaws, closed_state
 from .cam_drop import build_cam_drop
 from .core import ExudynModel, exudyn_modules
 
@@ -72,14 +73,21 @@ def build_vcb_closing(rig: Rig, spec: ModelSpec, law: FrictionLaw, chain: Lumped
     pin_mass = chain.pin_mass if chain is not None else 0.0
     initial = laws.initial_state(massless_pull(rig.cam, rig.closing_spring),
                                  pin_weight_torque(rig.cam, rig.closing_spring, pin_mass, rig.gravity))
+    cycle = CycleLaws(laws, initial.follower_angle)
+    if cycle.commands.start_closed:
+        initial = closed_state(laws, cycle, initial)
     impact = np.zeros(rig.breaker.poles.count + 1)  # [cam-roller, pole 1..n] impact speeds (m/s)
     engaged = [0.0]  # the holding latch's memory (1: engaged), when the rig has one
+    memory = cycle.initial_memory()  # the cycle parts' memory (laws.cycle), when the rig has them
     follower_state = {}  # the follower's node and system, known once built (the cam's friction reads them)
 
     def extra_loads(t, theta, omega):
         # the roller and the latch load the cam: torque about A and force (both enter the shaft reaction)
         phi, phi_dot = follower_state["read"]()
-        return laws.cam_loads(t, theta, omega, phi, phi_dot, initial.holding_torque, impact[0], engaged[0])
+        if not cycle.active:
+            return laws.cam_loads(t, theta, omega, phi, phi_dot, initial.holding_torque, impact[0], engaged[0])
+        loads = laws.cam_loads(t - cycle.close_at, theta, omega, phi, phi_dot, initial.holding_torque, impact[0], engaged[0])
+        return collapsed_link_loads(laws, cycle, loads, t, memory, theta, omega, phi, phi_dot, impact[0])
 
     uf = "python" if user_function in ("auto", "symbolic") else user_function
     model = build_cam_drop(rig, law, spec.spring_model, chain, uf, extra_loads=extra_loads, ancf_elements=ancf_elements,
@@ -87,16 +95,74 @@ def build_vcb_closing(rig: Rig, spec: ModelSpec, law: FrictionLaw, chain: Lumped
     follower = add_follower(model, rig.breaker.follower, initial.follower_angle, laws.follower_inertia)
     follower_state["read"] = node_state_reader(model.mbs, follower.node)
     cam_node = model.cam_body.shaft.node
-    add_cam_roller_contact(model, laws, cam_node, follower.node, impact)
-    add_latch(model, laws, initial.holding_torque)
+    add_cam_roller_contact(model, laws, cam_node, follower.node, impact, cycle, memory)
+    add_latch(model, laws, initial.holding_torque, cycle.close_at)
     if laws.has_stops:
         add_stops(model, laws, engaged)
     add_opening_spring(model, laws, follower)
     outputs = add_levers(model, laws, follower, initial.lever_angles)
     pole_nodes = add_poles(model, laws, outputs, initial.pole_travel, impact)
-    add_impact_latching(model, laws, cam_node, follower.node, pole_nodes, impact, engaged)
+    also = None
+    if cycle.active:
+        add_cycle_parts(model, cycle, follower, pole_nodes, memory)
+        also = cycle_memory_update(cycle, memory)
+    add_impact_latching(model, laws, cam_node, follower.node, pole_nodes, impact, engaged, also)
     model.laws, model.initial = laws, initial
     return model
+
+
+def collapsed_link_loads(laws: BreakerLaws, cycle: CycleLaws, loads: tuple, t, memory: list, theta, omega, phi, phi_dot,
+                         impact_speed) -> tuple:
+    """The cam's loads (torque N m, Fx N, Fy N) less the share of the roller's that a tripped
+    trip-free link no longer carries (:meth:`CycleLaws.link`)."""
+    if cycle.trip_latch is None:
+        return loads
+    keep = cycle.link(t, cycle.split(memory)[1])
+    t_cam, _, fx, fy = laws.roller_loads(theta, omega, phi, phi_dot, impact_speed)
+    return loads[0] - (1.0 - keep) * t_cam, loads[1] - (1.0 - keep) * fx, loads[2] - (1.0 - keep) * fy
+
+
+def add_cycle_parts(model: ExudynModel, cycle: CycleLaws, follower: Follower, pole_nodes: list, memory: list) -> None:
+    """The cycle parts the rig has (:class:`vcbmodel.laws.cycle.CycleLaws`): the trip latch's pawl,
+    the opening dashpot and the open stop on the follower (``ObjectConnectorCoordinateSpringDamper``
+    ground -> follower angle, its force :meth:`CycleLaws.follower_torque` negated), and each pole's
+    Holm repulsion under the making current (a connector ground -> pole travel, like its contact)."""
+    _, it = exudyn_modules()
+    mbs = model.mbs
+    mGround = model.cam_body.shaft.mGroundCoordinate
+    if cycle.trip_latch is not None or cycle.dashpot is not None:
+        mFollowerCoordinate = mbs.AddMarker(it.MarkerNodeCoordinate(nodeNumber=follower.node, coordinate=0))
+
+        def follower_uf(mbs, t, itemNumber, deltaL, deltaL_t, stiffness, damping, offset):
+            return -cycle.follower_torque(t, deltaL, deltaL_t, cycle.split(memory)[1])
+
+        mbs.AddObject(it.ObjectConnectorCoordinateSpringDamper(
+            markerNumbers=[mGround, mFollowerCoordinate], springForceUserFunction=follower_uf,
+            visualization=it.VObjectConnectorCoordinateSpringDamper(show=False)))
+    if cycle.making is None:
+        return
+    for i, nPole in enumerate(pole_nodes):
+        mPoleTravel = mbs.AddMarker(it.MarkerNodeCoordinate(nodeNumber=nPole, coordinate=0))
+
+        def repulsion_uf(mbs, t, itemNumber, deltaL, deltaL_t, stiffness, damping, offset, i=i):
+            return cycle.repulsion(i, t, cycle.split(memory)[0], deltaL)
+
+        mbs.AddObject(it.ObjectConnectorCoordinateSpringDamper(
+            markerNumbers=[mGround, mPoleTravel], springForceUserFunction=repulsion_uf,
+            visualization=it.VObjectConnectorCoordinateSpringDamper(show=False)))
+
+
+def cycle_memory_update(cycle: CycleLaws, memory: list) -> Callable:
+    """The pre-step's update of the cycle parts' memory (:meth:`CycleLaws.update`) from the state
+    at the step's start: called with (t, follower angle, pole travels, roller penetration).
+    Exudyn calls the pre-step function with the time at the step's end: the step's start is the
+    previous call's time (0 at the first), the time the compiled path latches at."""
+    start = [0.0]
+
+    def update(t, phi, z, roller_penetration):
+        memory[:] = cycle.update(memory, start[0], phi, z, roller_penetration)
+        start[0] = t
+    return update
 
 
 def node_state_reader(mbs, node) -> Callable[[], tuple]:
@@ -156,23 +222,29 @@ def add_levers(model: ExudynModel, laws: BreakerLaws, follower: Follower, angles
     return outputs
 
 
-def add_cam_roller_contact(model: ExudynModel, laws: BreakerLaws, cam_node, follower_node, impact: list) -> None:
-    """The cam-roller contact: torques on cam and follower from the contact force."""
+def add_cam_roller_contact(model: ExudynModel, laws: BreakerLaws, cam_node, follower_node, impact: list,
+                           cycle: CycleLaws | None = None, memory: list | None = None) -> None:
+    """The cam-roller contact: torques on cam and follower from the contact force (with a trip
+    latch, times the trip-free link's share, :meth:`CycleLaws.link`; ``memory``: the cycle's)."""
     _, it = exudyn_modules()
+    linked = cycle is not None and cycle.trip_latch is not None
 
     def roller_uf(mbs, t, itemNumber, q, q_t):
         t_cam, t_fol, _, _ = laws.roller_loads(q[0], q_t[0], q[1], q_t[1], impact[0])
+        if linked:
+            keep = cycle.link(t, cycle.split(memory)[1])
+            return [keep * t_cam, keep * t_fol]
         return [t_cam, t_fol]
 
     model.mbs.AddObject(it.ObjectGenericODE2(nodeNumbers=[cam_node, follower_node], forceUserFunction=roller_uf,
                                              visualization=it.VObjectGenericODE2(show=False)))
 
 
-def add_latch(model: ExudynModel, laws: BreakerLaws, holding_torque: float) -> None:
-    """The closing latch's torque on the cam, released from t = 0."""
+def add_latch(model: ExudynModel, laws: BreakerLaws, holding_torque: float, close_at: float = 0.0) -> None:
+    """The closing latch's torque on the cam, released from t = ``close_at`` (s; 0: at the start)."""
     _, it = exudyn_modules()
     model.mbs.AddLoad(it.LoadCoordinate(markerNumber=model.cam_body.shaft.mShaftCoordinate, load=0.0,
-                                        loadUserFunction=lambda mbs, t, load: laws.latch(t, holding_torque)))
+                                        loadUserFunction=lambda mbs, t, load: laws.latch(t - close_at, holding_torque)))
 
 
 def add_stops(model: ExudynModel, laws: BreakerLaws, engaged: list) -> None:
@@ -241,7 +313,7 @@ def add_poles(model, laws, outputs: list, travel0, impact):
 
 
 def add_impact_latching(model: ExudynModel, laws: BreakerLaws, cam_node, follower_node, pole_nodes, impact: list,
-                        engaged: list) -> None:
+                        engaged: list, also: Callable | None = None) -> None:
     """A pre-step function that latches each contact's impact speed (see
     :meth:`BreakerLaws.latch_impact_speeds`) and the holding latch's engagement
     (:meth:`BreakerLaws.engage`, when the rig has a holding latch) from the state at the start of
@@ -254,9 +326,12 @@ def add_impact_latching(model: ExudynModel, laws: BreakerLaws, cam_node, followe
     def latch_impact_speeds(mbs, t):
         (theta, omega), (phi, phi_dot) = cam(), follower()
         states = [p() for p in poles]
-        laws.latch_impact_speeds(impact, theta, omega, phi, phi_dot, [z for z, _ in states], [zd for _, zd in states])
+        roller = laws.latch_impact_speeds(impact, theta, omega, phi, phi_dot, [z for z, _ in states],
+                                          [zd for _, zd in states])
         if hold_latch:
             engaged[0] = laws.engage(engaged[0], theta)
+        if also is not None:
+            also(t, phi, [z for z, _ in states], roller.penetration)
         return True
 
     model.mbs.SetPreStepUserFunction(latch_impact_speeds)

@@ -19,6 +19,8 @@ from __future__ import annotations
 from collections.abc import Sequence
 
 from ..laws.breaker import BreakerLaws, massless_pull, pin_weight_torque
+from ..laws.cycle import CycleLaws, closed_state
+from ..laws.making_current import MakingLaws
 from ..laws.discovered import discovered_torque
 from ..laws.friction import shaft_friction
 from ..laws.mechanics import (aerodynamic_drag_torque, cam_inertia, cam_loads, cam_pin, cam_pin_velocity, link_pull,
@@ -149,8 +151,13 @@ def prepare_closing(rig, spec, law, chain=None) -> OdeSetup:
     pin_mass = chain.pin_mass if chain is not None else 0.0
     initial = laws.initial_state(massless_pull(rig.cam, rig.closing_spring),
                                  pin_weight_torque(rig.cam, rig.closing_spring, pin_mass, rig.gravity))
+    cycle = CycleLaws(laws, initial.follower_angle)
+    if cycle.commands.start_closed:
+        initial = closed_state(laws, cycle, initial)
     setup = prepare_cam_drop(rig, spec, law, chain)
     setup.inputs.update({"laws": vars(laws), "holding": initial.holding_torque})
+    if cycle.active:  # only when the rig has cycle parts: the closing keeps its compiled structure
+        setup.inputs["cycle"] = dict(vars(cycle), making=vars(cycle.making) if cycle.making is not None else None)
     n, free = rig.breaker.poles.count, laws.free_levers
     setup.q0 += [initial.follower_angle] + list(initial.lever_angles) + list(initial.pole_travel)
     setup.v0 += [0.0] * (1 + len(free) + n)
@@ -158,6 +165,7 @@ def prepare_closing(rig, spec, law, chain=None) -> OdeSetup:
     setup.layout += [(f"pole_{j + 1}_lever_angle", f"pole_{j + 1}_lever_velocity", 1) for j in free]
     setup.layout += [(f"pole_{i + 1}_travel", f"pole_{i + 1}_travel_velocity", 1) for i in range(n)]
     setup.memory = [0.0] * (n + 1) + ([0.0] if rig.breaker.hold_latch is not None else [])
+    setup.memory += cycle.initial_memory() if cycle.active else []
     setup.info = {"initial": initial}
     return setup
 
@@ -166,6 +174,24 @@ def _breaker_laws(inputs):
     laws = BreakerLaws.__new__(BreakerLaws)  # the traced values, not a recomputed geometry
     laws.__dict__.update(inputs["laws"])
     return laws
+
+
+def _cycle_laws(inputs) -> CycleLaws | None:
+    """The traced :class:`CycleLaws` (None when the rig has no cycle part)."""
+    values = inputs.get("cycle")
+    if values is None:
+        return None
+    cycle = CycleLaws.__new__(CycleLaws)
+    cycle.__dict__.update(values)
+    if values["making"] is not None:
+        cycle.making = MakingLaws.__new__(MakingLaws)
+        cycle.making.__dict__.update(values["making"])
+    return cycle
+
+
+def _cycle_memory_start(laws) -> int:
+    """Where the cycle parts' memory starts: after the impact speeds and the holding latch's engagement."""
+    return laws.b.poles.count + 1 + (1 if laws.b.hold_latch is not None else 0)
 
 
 def _split(q, v, laws):
@@ -183,14 +209,23 @@ def closing_equations(t: Scalar, q: Sequence[Scalar], v: Sequence[Scalar], memor
     push rod or every rod on a rigid shaft); with a main shaft the other pole levers (their rods,
     the shaft's segments: :meth:`BreakerLaws.lever_torques`); each pole (push rod on its lever,
     fixed contact, bellows force minus weight)."""
-    laws = _breaker_laws(inputs)
+    laws, cycle = _breaker_laws(inputs), _cycle_laws(inputs)
     n_poles = laws.b.poles.count
     phi_index, (phi, phi_dot), (psi, psi_dot), (z, z_dot) = _split(q, v, laws)
     theta, omega = q[0], v[0]
     t_fol, t_levers, (t_cam, fx, fy) = laws.lever_torques(theta, omega, phi, phi_dot, psi, psi_dot, z, z_dot,
                                                           memory[0], ops)
-    t_latch, lx, ly = laws.latch_loads(t, theta, inputs["holding"], ops)
-    engaged = memory[n_poles + 1] if len(memory) > n_poles + 1 else 0.0
+    t_close = t
+    if cycle is not None:
+        touch, trip = cycle.split(memory[_cycle_memory_start(laws):])
+        t_close = t - cycle.close_at
+        if cycle.trip_latch is not None:  # a tripped trip-free link carries only its share of the roller's push
+            drop = 1.0 - cycle.link(t, trip, ops)
+            r_cam, r_fol, r_x, r_y = laws.roller_loads(theta, omega, phi, phi_dot, memory[0], ops)
+            t_fol, t_cam, fx, fy = t_fol - drop * r_fol, t_cam - drop * r_cam, fx - drop * r_x, fy - drop * r_y
+        t_fol = t_fol + cycle.follower_torque(t, phi, phi_dot, trip, ops)
+    t_latch, lx, ly = laws.latch_loads(t_close, theta, inputs["holding"], ops)
+    engaged = memory[n_poles + 1] if laws.b.hold_latch is not None else 0.0
     loads = laws.with_stops((t_cam + t_latch, fx + lx, fy + ly), theta, omega, engaged, ops)
     cam_chain, Tf = _cam_and_chain(t, q[:phi_index], v[:phi_index], inputs, ops, loads)
     a, a_dot = laws.lever_angles(phi, psi), laws.lever_angles(phi_dot, psi_dot)
@@ -198,6 +233,8 @@ def closing_equations(t: Scalar, q: Sequence[Scalar], v: Sequence[Scalar], memor
     for i in range(n_poles):
         rod_force = laws.rod_loads(a[i], a_dot[i], z[i], z_dot[i], ops)[0]
         contact = laws.pole_contact(i, z[i], z_dot[i], memory[i + 1], ops)
+        if cycle is not None and cycle.making is not None:
+            contact = contact + cycle.repulsion(i, t, touch, z[i], ops)
         poles.append((rod_force - contact + laws.pole_load) / laws.b.poles.moving_mass)
     levers = [torque / laws.lever_inertia for torque in t_levers]
     return cam_chain + [t_fol / laws.follower_inertia] + levers + poles, {"friction_torque": Tf}
@@ -207,11 +244,13 @@ def closing_prestep(t: Scalar, q: Sequence[Scalar], v: Sequence[Scalar], memory:
     """The contacts' impact speeds latched from the state at the step's start
     (:meth:`BreakerLaws.latch_impact_speeds`), and the holding latch's engagement
     (:meth:`BreakerLaws.engage`) when the rig has one."""
-    laws = _breaker_laws(inputs)
+    laws, cycle = _breaker_laws(inputs), _cycle_laws(inputs)
     n_poles = laws.b.poles.count
     _, (phi, phi_dot), _, (z, z_dot) = _split(q, v, laws)
     impact = list(memory[:n_poles + 1])
-    laws.latch_impact_speeds(impact, q[0], v[0], phi, phi_dot, z, z_dot, ops)
-    if len(memory) > n_poles + 1:
+    roller = laws.latch_impact_speeds(impact, q[0], v[0], phi, phi_dot, z, z_dot, ops)
+    if laws.b.hold_latch is not None:
         impact.append(laws.engage(memory[n_poles + 1], q[0], ops))
+    if cycle is not None:
+        impact += cycle.update(memory[_cycle_memory_start(laws):], t, phi, z, roller.penetration, ops)
     return impact

@@ -13,10 +13,12 @@ from .. import parameters as P
 from ..laws.breaker import (BreakerLaws, cam_roller_contact, follower_displacement, one_way_stop_energy, pole_gaps,
                             push_rod_energy)
 from ..laws.cam_follower import pitch_radius, rest_geometry, roller_centre
+from ..laws.cycle import NEVER, open_angle
 from ..laws.friction import ArrayOps
 from ..laws.mechanics import cam_pin
 from ..laws.springs import chain_for
 from ..records.analyser import travel_figures
+from .cycle_evaluation import cycle_channels, kinetic_margin, opening_figures, release_figures, trip_instant
 
 if TYPE_CHECKING:
     from ..model.effects import ModelSpec
@@ -34,7 +36,7 @@ def closing_channels(data: dict[str, np.ndarray], rig: Rig, spec: ModelSpec, inf
           "follower_angle": data["follower_angle"][:, 1], "follower_velocity": data["follower_velocity"][:, 1]}
     if "friction_torque" in data:
         ch["friction_torque"] = -data["friction_torque"][:, 1]
-    ch["follower_displacement"] = follower_displacement(ch["follower_angle"], b.follower, info["initial"].follower_angle)
+    ch["follower_displacement"] = follower_displacement(ch["follower_angle"], b.follower, open_angle(info["initial"]))
     n = b.poles.count
     for i in range(n):
         ch[f"pole_{i + 1}_travel"] = data[f"pole_{i + 1}_travel"][:, 1]
@@ -45,7 +47,9 @@ def closing_channels(data: dict[str, np.ndarray], rig: Rig, spec: ModelSpec, inf
     for name, d in data.items():
         if name.startswith(("spring_mass_", "spring_velocity_", "ancf_node_")):
             ch[name + "_x"], ch[name + "_y"] = d[:, 1], d[:, 2]
-    ch.update(contact_channels(BreakerLaws.of_rig(rig, spec), ch, n))
+    laws = BreakerLaws.of_rig(rig, spec)
+    ch.update(contact_channels(laws, ch, n))
+    ch.update(cycle_channels(laws, ch, data["angle"][:, 0], open_angle(info["initial"])))
     return ch
 
 
@@ -143,7 +147,10 @@ def energy_parts(result: SimulationResult, rig: Rig) -> dict:
     parts["dissipated_damping"] = cumulative_trapezoid(damping, t, initial=0.0)
     parts.update(_stop_parts(ch, b, t))
     holding = result.info["initial"].holding_torque
-    parts["latch_work"] = cumulative_trapezoid(np.array([laws.latch(tt, holding) for tt in t]) * w, t, initial=0.0)
+    shift = NEVER if b.commands is not None and not b.commands.close else 0.0  # an O's closing latch holds
+    parts["latch_work"] = cumulative_trapezoid(np.array([laws.latch(tt - shift, holding) for tt in t]) * w, t, initial=0.0)
+    power = ch.get("cycle_power")
+    parts["cycle_work"] = cumulative_trapezoid(power, t, initial=0.0) if power is not None else np.zeros_like(t)
     return parts
 
 
@@ -176,11 +183,14 @@ def _spring_parts(ch, rig, chain):
 
 def _pole_parts(ch, laws, b):
     """The poles' kinetic energy, the rods' and wipe springs', the contacts' and the pole loads'
-    potential energy (J), and the power the contacts' and rods' damping dissipate (W)."""
+    potential energy (J), and the power the contacts' and rods' damping dissipate (W); with a trip
+    latch the roller is left out of the contacts (its work through the link is ``cycle_work``)."""
     t = ch["cam_angle"] * 0.0
     kinetic, rods, poles = t.copy(), t.copy(), t.copy()
     contacts = np.array([laws.roller_energy(p) for p in ch["cam_roller_penetration"]])
     contact_damping = ch["cam_roller_damping_force"] * ch["cam_roller_penetration_rate"]
+    if b.trip_latch is not None:  # the roller's work goes through the trip-free link: cycle_work counts it
+        contacts, contact_damping = contacts * 0.0, contact_damping * 0.0
     rod_damping = t.copy()
     for i in range(b.poles.count):
         z, zd = ch[f"pole_{i + 1}_travel"], ch[f"pole_{i + 1}_velocity"]
@@ -254,8 +264,9 @@ def energy_balance(result: SimulationResult, rig: Rig) -> dict:
     the terms: :func:`energy_parts`). Returns time series: ``kinetic``, ``potential``,
     ``closing_springs``, ``opening_spring``, ``wipe_and_rods``, ``contacts``, ``dissipated``
     (shaft friction, contact damping, rod damping, the end stop's and holding latch's dampers),
-    ``latch_work``, ``spring_energy_released`` and
-    ``residual`` = E(t) + dissipated - latch_work - E(0), which is zero for an exact solution."""
+    ``latch_work``, ``cycle_work`` (the work of the cycle parts, :func:`.cycle_evaluation.cycle_channels`'s
+    ``cycle_power``; zero without them), ``spring_energy_released`` and
+    ``residual`` = E(t) + dissipated - latch_work - cycle_work - E(0), which is zero for an exact solution."""
     p = energy_parts(result, rig)
     t = result.t
     kinetic = sum(p[k] for k in KINETIC)
@@ -264,8 +275,8 @@ def energy_balance(result: SimulationResult, rig: Rig) -> dict:
     total = kinetic + potential
     return {"t": t, "kinetic": kinetic, "potential": potential, "closing_springs": p["closing_springs"],
             "opening_spring": p["opening_spring"], "wipe_and_rods": p["wipe_and_rods"], "contacts": p["contacts"],
-            "dissipated": dissipated, "latch_work": p["latch_work"],
-            "residual": total + dissipated - p["latch_work"] - total[0],
+            "dissipated": dissipated, "latch_work": p["latch_work"], "cycle_work": p["cycle_work"],
+            "residual": total + dissipated - p["latch_work"] - p["cycle_work"] - total[0],
             "spring_energy_released": p["closing_springs"][0] - p["closing_springs"]}
 
 
@@ -297,7 +308,9 @@ def energy_split(result: SimulationResult, rig: Rig, at: float, parts: dict | No
     out = {name: float(p[name][k] - p[name][0]) for name, _ in SPLIT_TERMS}
     out["released"] = float(p["closing_springs"][0] - p["closing_springs"][k])
     out["latch_work"] = float(p["latch_work"][k])
-    out["unaccounted"] = out["released"] + out["latch_work"] - sum(out[name] for name, _ in SPLIT_TERMS)
+    out["cycle_work"] = float(p["cycle_work"][k])
+    out["unaccounted"] = (out["released"] + out["latch_work"] + out["cycle_work"]
+                          - sum(out[name] for name, _ in SPLIT_TERMS))
     out["t_s"] = float(t[k])
     return out
 
@@ -453,7 +466,22 @@ def figures_of_merit(result: SimulationResult, rig: Rig) -> dict:
         "max_pressure_angle_deg": float(np.degrees(np.max(ch["pressure_angle"]))),
         "per_pole": {"touch_s": touches, "touch_speed_m_s": speeds, "closing_speed_m_s": zone_speeds, "bounces": bounces,
                      "bounce_duration_s": bounce_times},
-    }
+    } | cycle_figures(result, rig, min(done) if done else None, max(done) if len(done) == len(gaps) else None)
+
+
+def cycle_figures(result: SimulationResult, rig: Rig, first_touch: float | None, closing_time: float | None) -> dict:
+    """The figures of the cycle (:mod:`.cycle_evaluation`): the kinetic margin after the touch (every
+    closing with a holding latch or end stop), the opening's figures when the run trips (an O, a
+    CO: ``opening``), the close-open time of a CO (first touch to the last pole's parting), and the
+    IEC times from the releases' coils when the rig has them."""
+    out = kinetic_margin(result, rig, first_touch)
+    trip = trip_instant(result, rig, first_touch)
+    opening = opening_figures(result, rig, trip) if trip is not None else None
+    out["opening"] = opening
+    opening_time = opening["opening_time_s"] if opening is not None else None
+    out["close_open_time_s"] = (trip + opening_time - first_touch
+                                if opening_time is not None and first_touch is not None else None)
+    return out | release_figures(rig, closing_time, opening_time)
 
 
 def main_shaft_twist(result: SimulationResult, rig: Rig) -> dict | None:

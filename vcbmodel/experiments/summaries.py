@@ -79,7 +79,20 @@ def breaker_figures(fom: dict, rig: Rig) -> list[tuple]:
             ("peak_cam_roller_force_N", "peak cam-roller force", fom["peak_cam_roller_force_N"], "N"),
             ("min_cam_roller_force_before_touch_N", "least cam-roller force before touch",
              fom["min_cam_roller_force_before_touch_N"], "N"),
-            ("roller_lift_off_s", "roller off the cam (in all)", fom["roller_lift_off_s"], "s")]
+            ("roller_lift_off_s", "roller off the cam (in all)", fom["roller_lift_off_s"], "s"),
+            ("kinetic_at_touch_J", "cam's kinetic energy at the first touch", fom["kinetic_at_touch_J"], "J"),
+            ("kinetic_margin_J", "kinetic margin (cam's least, touch to latch)", fom["kinetic_margin_J"], "J")] + coil_figures(fom)
+
+
+def coil_figures(fom: dict) -> list[tuple]:
+    """IEC 62271-100's closing time, from energising the closing coil (rated supply, fastest, slowest
+    corner), where the rig has a closing release (``breaker.closing_release``); else nothing."""
+    coil = fom.get("closing_time_from_coil_s")
+    if coil is None:
+        return []
+    return [("closing_time_from_coil_s", "closing time from the closing coil (IEC 62271-100, rated supply)", coil[1], "s"),
+            ("", "  fastest (highest supply, cold coil)", coil[0], "s"),
+            ("", "  slowest (lowest supply, hot coil)", coil[2], "s")]
 
 
 def closing_summary(result: SimulationResult, rig: Rig) -> list[tuple]:
@@ -113,6 +126,11 @@ def closing_notes(fom: dict, rig: Rig) -> list[tuple]:
         hint = "" if rig.breaker.end_stop is not None else " (the rig has no breaker.end_stop or hold_latch to hold it)"
         notes.append(f"the cam {how} at {1e3 * fom['cam_falls_back_s']:.4g} ms: the lift under the roller falls, "
                      f"{1e3 * fom['lift_lost_m']:.3g} mm below its peak at the end{hint}")
+    if fom["latched"] is False:
+        notes.append(f"the cam stops {fom['latch_short_deg']:.3g} deg short of its latch after the touch: its kinetic "
+                     "margin is used up (the closing fails)")
+    if fom["latched"] is None and fom["kinetic_at_touch_J"] is not None:
+        notes.append(f"the run ends at {end_ms:.4g} ms before the cam reaches its latch: no kinetic margin yet (a longer --t-end)")
     if rig.breaker.end_stop is not None and fom["end_stop_met"] is False:
         notes.append(f"the run ends at {end_ms:.4g} ms before the cam meets its end stop (a longer --t-end shows it)")
     if fom["moving_at_end"]:

@@ -32,6 +32,20 @@ def build(rig: Rig, spec: ModelSpec, law: FrictionLaw, chain: LumpedChain | None
     return build_vcb_closing(rig, spec, law, chain, user_function, ancf_elements)
 
 
+def reference(rig: Rig, spec: ModelSpec, law: FrictionLaw, chain: LumpedChain | None, t_end: float, method: str = "DOP853",
+              step: float | None = None) -> tuple:
+    """The scipy reference solve of a closing (:func:`vcbmodel.reference.solve.reference_closing`);
+    it knows the closing only: a rig with operating-cycle parts (a making current, a trip latch, an
+    opening dashpot) or a run that trips is refused, not solved without them (the opening's own
+    independent solve is :mod:`vcbmodel.reference.breaker_opening`)."""
+    b = rig.breaker
+    parts = [k for k in ("making_current", "trip_latch", "opening_dashpot", "commands") if getattr(b, k) is not None]
+    if parts:
+        raise ValueError(f"the reference closing solve does not model breaker.{parts[0]}: use backend='exudyn' or "
+                         "'compiled' (the opening's independent check: vcbmodel.reference.breaker_opening)")
+    return reference_closing(rig, spec, law, chain, t_end, method, step)
+
+
 def default_step(rig: Rig) -> float:
     return P.BREAKER_STEP
 
@@ -67,9 +81,10 @@ VCB_CLOSING = Experiment(
     extra_channels=(r"pole_\d+_contact", r"pole_\d+_travel"),
     figure_units=(("closing_time_s", "s"), ("touch_speed_m_s", "m/s"), ("closing_speed_m_s", "m/s"), ("pole_spread_s", "s"), ("bounce_count", "-"),
                   ("bounce_duration_s", "s"), ("wipe_m", "m"), ("overtravel_m", "m"), ("rebound_m", "m"),
-                  ("travel_settled_s", "s"), ("peak_cam_roller_force_N", "N")),
+                  ("travel_settled_s", "s"), ("peak_cam_roller_force_N", "N"), ("kinetic_at_touch_J", "J"),
+                  ("kinetic_margin_J", "J")),
     missing_means=(("closing_time_s", "not_closed"),), summary=closing_report,
     record_channels=closing_record_channels, fit_step=fit_step, scan_step=CLOSING_SCAN_STEP,
     fit_user_function="python", release_from_model=True,
-    ode_model=OdeModel("vcb_closing", prepare_closing, closing_equations, closing_prestep), reference=reference_closing,
+    ode_model=OdeModel("vcb_closing", prepare_closing, closing_equations, closing_prestep), reference=reference,
     sensor="camera")

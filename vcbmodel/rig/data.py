@@ -12,6 +12,9 @@ from dataclasses import dataclass, field, replace
 
 from .. import parameters as P
 from ..laws.breaker import CamRollerLaw, EndStop, HoldLatch, LatchPoint, MainShaft
+from ..laws.making_current import MakingCurrent
+from ..laws.opening import Commands, OpeningDashpot, TripLatch
+from ..laws.release import Release
 from .spring_model import SpringModel
 
 
@@ -144,6 +147,13 @@ class Breaker:
     hold_latch: HoldLatch | None = None  # the holding latch (breaker.hold_latch); None: not modelled
     main_shaft: MainShaft | None = None  # the pole levers' shaft (breaker.main_shaft); None: rigid, not modelled
     limits: tuple = ()  # the acceptance limits (breaker.limits: vcbmodel.rig.limits.Limit); (): none given
+    making_current: MakingCurrent | None = None  # closing onto a fault (breaker.making_current); None: no current
+    trip_latch: TripLatch | None = None  # the trip latch and trip-free link (breaker.trip_latch); None: not modelled
+    opening_dashpot: OpeningDashpot | None = None  # opening dashpot and open stop (breaker.opening_dashpot)
+    closing_release: Release | None = None  # the closing coil and its armature (breaker.closing_release)
+    opening_release: Release | None = None  # the opening (trip) coil and its armature (breaker.opening_release)
+    opening_speed_zone: tuple = (0.0, 0.004)  # m after parting: the opening speed's zone (breaker.opening_speed_zone)
+    commands: Commands | None = None  # what the run commands (the sequence runner sets it); None: a plain closing
 
 
 # --- the rig ------------------------------------------------------------------------------------

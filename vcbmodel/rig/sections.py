@@ -7,6 +7,7 @@ which readers their rig needs. Keys starting with ``_`` are free comments and ar
 from __future__ import annotations
 
 import math
+from dataclasses import replace
 
 import numpy as np
 
@@ -18,6 +19,7 @@ from ..laws.cam_follower import (MAX_PRESSURE_ANGLE, TWO_PI, pitch_radius, press
 from ..laws.contact import CAM_ROLLER_LAWS, DAMPING_LAWS
 from ..laws.coil import coil_mass, coil_stiffness
 from ..laws.mechanics import cam_pin
+from .cycle_sections import CYCLE_BREAKER_KEYS, read_cycle
 from .cam_points import check_point_pairs, read_points_file, settle_scatter
 from .datasheet import check_datasheet
 from .limits import read_limits
@@ -185,7 +187,7 @@ def read_cam_and_spring(rd: Reader, data: dict) -> dict:
 
 BREAKER_KEYS = {
     "": ("cam_profile", "roller_radius", "follower", "poles", "opening_spring", "contact", "latch", "speed_zone",
-         "end_stop", "hold_latch", "main_shaft", "limits"),
+         "end_stop", "hold_latch", "main_shaft", "limits") + CYCLE_BREAKER_KEYS,
     "cam_profile": ("base_radius", "lift", "rise_start", "rise_end", "return_start", "return_end", "points",
                     "radius_points", "points_file", "smoothing"),
     "follower": ("pivot", "inertia", "roller_arm", "output_arm", "output_angle", "rest_angle"),
@@ -259,7 +261,7 @@ def read_breaker(rd, data, cam) -> Breaker:
         rd.fail("cam.initial_angle", "the roller is not on the cam's base circle at the start (breaker open)")
     if profile.table:
         check_pressure_angle(rd, breaker, cam)
-    return breaker
+    return replace(breaker, **read_cycle(rd, b, breaker, cam))
 
 
 def read_contact(rd, co: dict, p: str) -> tuple[ContactLaw, CamRollerLaw]:
