@@ -12,13 +12,16 @@ sampling: scipy's scrambled ``LatinHypercube``, each axis mapped through the dis
 inverse CDF; repeatable: the default seed is :data:`DEFAULT_SEED`), never both in one sweep.
 Studies with their own design (Sobol samples, tied parameters) pass ``runs`` instead.
 
-Execution: each run is an independent job that sends only JSON (the rig's object and the
-run's overrides) and gets back numbers: the worker loads the rig and builds its own Exudyn
-system (symbolic user functions do not pickle; exudyn-notes "Sweeps and scale-out").
-Locally a process pool on all cores (forked workers, a few runs queued each); beyond one
-machine a Dask ``distributed`` cluster (``scheduler=ADDRESS``: ``dask scheduler`` on one
-machine, ``dask worker ADDRESS --nworkers -1 --nthreads 1`` on each; the rig goes to the
-workers once). Dask was chosen over Ray by measurement (docs/findings.md, "Design studies at scale").
+Execution: each run is an independent job that sends only JSON (the run's overrides) and gets
+back numbers: the worker loads the rig and builds its own Exudyn system or compiled module
+(symbolic user functions do not pickle; exudyn-notes "Sweeps and scale-out"). What the runs share
+(the rig's JSON with its data files read in, :func:`.runs.inline_data_files`) goes to each worker
+once, and the runs go in chunks of about a second of work (:class:`.executors.Chunker`). Locally a
+process pool on all cores (its workers die with the sweep); beyond one machine a Dask
+``distributed`` cluster (``scheduler=ADDRESS``: ``dask scheduler`` on one machine, ``dask worker
+ADDRESS --nworkers -1 --nthreads 1`` on each), whose every worker is checked before any run
+(:func:`.executors.check_workers`). Dask was chosen over Ray by measurement (docs/findings.md,
+"Design studies at scale").
 
 Rows are written (and flushed) to the output as runs finish; ``resume=True`` keeps the runs
 already in the output (checked against this sweep's design) and runs the rest. When every
