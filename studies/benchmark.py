@@ -307,14 +307,27 @@ def diagnosis_times(tmp):
 #: the process's start and imports are not counted, the pool's start is): prints its wall time and the
 #: time its workers spent in runs
 SWEEP_DRIVER = """
-import json, sys, time
+import json, resource, sys, time
 from vcbmodel.analysis.sweep import sweep
 a = json.loads(sys.argv[1])
 runs = json.load(open(a["runs"]))
+
+def cpu(client):  # processor seconds of this process, its children (a local pool) and the cluster's workers
+    own = sum(getattr(resource.getrusage(w), f) for w in (resource.RUSAGE_SELF, resource.RUSAGE_CHILDREN)
+              for f in ("ru_utime", "ru_stime"))
+    return own + (sum(client.run(time.process_time).values()) if client is not None else 0.0)
+
+client = None
+if a.get("scheduler"):
+    import distributed
+    client = distributed.Client(a["scheduler"], set_as_default=False)
+c0 = cpu(client)
 t0 = time.perf_counter()
 df = sweep(a["rig"], runs=runs, workers=a.get("workers"), scheduler=a.get("scheduler"), verbose=False)
 wall = time.perf_counter() - t0
-print(json.dumps({"wall_s": wall, "run_s": sum(df.attrs["run_s"]), "ok": int((df.status == "ok").sum()), "runs": len(df)}))
+c1 = cpu(client)
+print(json.dumps({"wall_s": wall, "run_s": sum(df.attrs["run_s"]), "cpu_s": c1 - c0, "ok": int((df.status == "ok").sum()),
+                  "runs": len(df)}))
 """
 
 #: Workers of the weak-scaling table (rows beyond this machine's cores are marked, not extrapolated)
@@ -435,7 +448,7 @@ def sweep_scaling(quick):
             if c.procs:
                 c.__exit__(None, None, None)
     rows = []
-    med = {k: {f: statistics.median(x[f] for x in v) for f in ("wall_s", "run_s")} for k, v in times.items()}
+    med = {k: {f: statistics.median(x[f] for x in v) for f in ("wall_s", "run_s", "cpu_s")} for k, v in times.items()}
     for w in SCALING_WORKERS:
         if w not in measured:
             rows.append({"workers": w, "runs": per_worker * w, "measured": False,
@@ -447,6 +460,8 @@ def sweep_scaling(quick):
                      "dask_per_run_and_worker_vs_1": med[("dask", 1)]["wall_s"] / dask["wall_s"],
                      "dask_over_local": dask["wall_s"] / local["wall_s"],
                      "local_utilisation": local["run_s"] / (w * local["wall_s"]),
+                     "cpu_per_run_s": {"local": local["cpu_s"] / (per_worker * w), "dask": dask["cpu_s"] / (per_worker * w)},
+                     "cpu_per_run_vs_1_local": med[("local", 1)]["cpu_s"] * w / local["cpu_s"],
                      "dask_utilisation": dask["run_s"] / (w * dask["wall_s"]),
                      "local_all_s": [x["wall_s"] for x in times[("local", w)]],
                      "dask_all_s": [x["wall_s"] for x in times[("dask", w)]]})
@@ -483,14 +498,18 @@ def scaling_table(scaling):
             continue
         rows.append([r["workers"], r["runs"], f"{r['local_s']:.2f} s", f"{r['per_run_and_worker_vs_1']:.2f}",
                      f"{r['dask_s']:.2f} s", f"{r['dask_over_local']:.2f}x",
-                     f"utilisation local {r['local_utilisation']:.2f}, Dask {r['dask_utilisation']:.2f}"])
+                     f"utilisation local {r['local_utilisation']:.2f}, Dask {r['dask_utilisation']:.2f}; processor time "
+                     f"per run local {1e3 * r['cpu_per_run_s']['local']:.1f} ms, Dask {1e3 * r['cpu_per_run_s']['dask']:.1f} ms"])
     check = scaling.get("worker_check_s") or {}
     head = (f"\n# Scale-out (studies/benchmark.py: {scaling['closings_per_worker']} reference closings per worker, "
             f"{scaling['simulated_with']}; each sweep in a fresh process, medians of {scaling['rounds']} interleaved "
             f"rounds; this machine: {scaling['cores']} cores)\n\n"
             "Weak scaling: the same runs per worker; 'vs 1 worker' is T1 / Tw (1.00: ideal). Dask: a scheduler and "
             "single-threaded workers started with `dask scheduler` / `dask worker`. Targets: Dask within 1.15x of "
-            "local at equal workers, local >= 0.85 of one worker.\n\n")
+            "local at equal workers, local >= 0.85 of one worker. Utilisation: the workers' time in runs over "
+            "workers x wall; processor time: of the sweep, its pool and the cluster's workers, per run (what the "
+            "wall times mean when other work shares the machine: load average "
+            f"{scaling['load_average_before_after'][0][0]:.1f} before, {scaling['load_average_before_after'][1][0]:.1f} after).\n\n")
     text = head + markdown_table(["workers", "runs", "local processes", "vs 1 worker", "Dask", "Dask / local", ""], rows)
     if check:
         text += (f"\nWorker check at a Dask sweep's start (every worker: vcbmodel version, Exudyn, a C compiler): "
