@@ -115,9 +115,11 @@ def test_a_cluster_of_separate_processes_gives_the_local_rows(cluster, tmp_path,
     local = S.sweep(rig, vary, workers=1, t_end=1.0, verbose=False)
     remote = S.sweep(rig, vary, scheduler=cluster, t_end=1.0, verbose=False)
     pd.testing.assert_frame_equal(rows(remote), rows(local))
+    assert remote.attrs["scheduler"] == cluster and remote.attrs["workers"] is None
     out = tmp_path / "remote.csv"
     assert main(["sweep", rig, "--vary", "friction.mu_k=0.08:0.16:3", "--scheduler", cluster, "-o", str(out)]) == 0
     assert [r.split(",")[-1] for r in out.read_text().splitlines()[1:]] == ["ok"] * 3
+    assert f"on Dask cluster {cluster}" in capsys.readouterr().err
 
 
 def test_a_points_file_cam_travels_inside_the_task(cluster, tmp_path):
