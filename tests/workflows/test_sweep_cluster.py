@@ -122,6 +122,34 @@ def test_a_cluster_of_separate_processes_gives_the_local_rows(cluster, tmp_path,
     assert f"on Dask cluster {cluster}" in capsys.readouterr().err
 
 
+def test_an_interrupted_cluster_sweep_cancels_its_tasks_and_resumes(cluster, tmp_path):
+    """SIGTERM while the cluster works: the rows so far stay, no task is left running on the workers,
+    and --resume on the same cluster adds the rest (each run once, in run order)."""
+    rig = pendulum_rig(tmp_path)
+    out = tmp_path / "t.csv"
+    # on Exudyn (a tenth of a second a run) the signal lands while the runs go
+    args = ["sweep", rig, "--vary", "friction.mu_k=0.05:0.2:30", "--scheduler", cluster, "-o", str(out),
+            "--backend", "exudyn"]
+    p = subprocess.Popen([sys.executable, "-m", "vcbmodel", *args], stderr=subprocess.PIPE, text=True,
+                         env=dict(os.environ, PYTHONPATH=str(ROOT)))
+    deadline = time.time() + 120
+    while time.time() < deadline and not (out.exists() and out.read_text().count("\n") >= 3):
+        time.sleep(0.1)
+    p.send_signal(signal.SIGTERM)
+    p.wait(timeout=60)
+    err = p.stderr.read()
+    assert p.returncode == 128 + signal.SIGTERM and "Traceback" not in err and "--resume" in err
+    assert 0 < out.read_text().count("\n") - 1 < 30
+    with distributed.Client(cluster) as client:
+        deadline = time.time() + 20
+        while time.time() < deadline and any(client.processing().values()):
+            time.sleep(0.2)
+        assert not any(client.processing().values())
+    assert main([*args, "--resume"]) == 0
+    lines = out.read_text().splitlines()
+    assert [int(r.split(",")[0]) for r in lines[1:]] == list(range(1, 31)) and all(r.endswith(",ok") for r in lines[1:])
+
+
 def test_a_points_file_cam_travels_inside_the_task(cluster, tmp_path):
     """The file is read once where the sweep starts: the runs need no copy of it (here: run after it
     is deleted) and the cluster's rows are the local ones."""
