@@ -259,7 +259,7 @@ def _runner(p, todo, client, n_workers, evaluate, t_end):
     if client is not None:
         return _dask(job, jobs, client)
     if n_workers > 1:
-        return _local_pool(job, jobs, n_workers)
+        return _local_pool(job, jobs, n_workers, exudyn=evaluate is not None or p.backend != BACKEND_NAME)
     return _serial(job, jobs)
 
 

@@ -125,25 +125,28 @@ def _terminate_workers(pool):
             process.terminate()
 
 
-def _pool_context():
+def _pool_context(exudyn: bool = True):
     """How the pool's workers start. Forked from this process when it runs no other thread
-    (quick: vcbmodel and Exudyn are imported already; any script works, guarded by
-    ``if __name__ == "__main__"`` or not); a fork of a multi-threaded process can deadlock, so
-    then from a fork server that imports vcbmodel and Exudyn once (the calling script must
-    then guard its top level with ``if __name__ == "__main__":``)."""
+    (quick: vcbmodel, and Exudyn when the runs need it, are imported already; any script works,
+    guarded by ``if __name__ == "__main__"`` or not); a fork of a multi-threaded process can
+    deadlock, so then from a fork server that imports them once (the calling script must then
+    guard its top level with ``if __name__ == "__main__":``). Runs on the compiled path do not
+    import Exudyn."""
     if threading.active_count() == 1 and "fork" in multiprocessing.get_all_start_methods():
-        exudyn_modules()  # imported once here, inherited by every worker
+        if exudyn:
+            exudyn_modules()  # imported once here, inherited by every worker
         return multiprocessing.get_context("fork")
     ctx = multiprocessing.get_context("forkserver")
-    ctx.set_forkserver_preload(["vcbmodel.analysis.sweep", "exudyn"])
+    ctx.set_forkserver_preload(["vcbmodel.analysis.sweep", "exudyn"] if exudyn else ["vcbmodel.analysis.sweep"])
     return ctx
 
 
-def _local_pool(job: SweepJob, jobs: Iterable[tuple[int, dict]], workers: int) -> Iterator[Result]:
+def _local_pool(job: SweepJob, jobs: Iterable[tuple[int, dict]], workers: int, exudyn: bool = True) -> Iterator[Result]:
     """A process pool: the shared part sent to each worker once (at its start), the runs in
-    chunks (:class:`Chunker`), :data:`IN_FLIGHT` chunks queued per worker."""
+    chunks (:class:`Chunker`), :data:`IN_FLIGHT` chunks queued per worker; ``exudyn``: whether the
+    runs need Exudyn (imported before the workers start)."""
     chunker = Chunker(jobs, workers)
-    with ProcessPoolExecutor(max_workers=workers, mp_context=_pool_context(), initializer=_worker_start,
+    with ProcessPoolExecutor(max_workers=workers, mp_context=_pool_context(exudyn), initializer=_worker_start,
                              initargs=(job,)) as pool:
         pending = {}
         finished = False
