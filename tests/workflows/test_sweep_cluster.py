@@ -122,6 +122,7 @@ def test_a_cluster_of_separate_processes_gives_the_local_rows(cluster, tmp_path,
     assert f"on Dask cluster {cluster}" in capsys.readouterr().err
 
 
+@pytest.mark.slow  # 21 s on a busy 2-core machine: two command-line sweeps on Exudyn
 def test_an_interrupted_cluster_sweep_cancels_its_tasks_and_resumes(cluster, tmp_path):
     """SIGTERM while the cluster works: the rows so far stay, no task is left running on the workers,
     and --resume on the same cluster adds the rest (each run once, in run order)."""
