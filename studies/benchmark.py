@@ -3,27 +3,33 @@
 Wall times are medians of several runs on this machine; tests never assert them.
 """
 import copy
+import json
 import os
 import platform
 import resource
+import signal
 import statistics
+import subprocess
+import sys
 import tempfile
 import time
 from pathlib import Path
 
-import numpy as np
+import distributed
 from _common import markdown_table, parse_args, write_json
 
 from vcbmodel import parameters as P
 from vcbmodel.analysis.diagnose import diagnose
 from vcbmodel.analysis.identify import identify
 from vcbmodel.analysis.realistic import realistic_record
-from vcbmodel.analysis.sweep import figures_of_merit, sweep
+from vcbmodel.analysis.sweep import check_workers, default_workers, design, figures_of_merit, parse_varies
 from vcbmodel.analysis.synthetic import synthetic_measurement, write_rig
+from vcbmodel.builders import core
 from vcbmodel.builders.pendulum import build_pendulum
 from vcbmodel.experiments import experiment_of
 from vcbmodel.experiments.loading import load_pair, load_rig, rig_from_data
 from vcbmodel.experiments.simulation import model_spec, output_times, simulate, simulate_rigid_ties
+from vcbmodel.laws.friction import symbolic_ops
 
 HYBRID = ("coulomb_friction", "stribeck", "viscous_friction")
 
@@ -50,6 +56,27 @@ def interleaved(variants, repeats):
     return {n: statistics.median(v) for n, v in times.items()}
 
 
+def pendulum_as_written(prig, law, h):
+    """The pendulum with its friction connector's law recorded as written (the law on Exudyn's symbolic reals,
+    every shared value repeated), for the before/after of the lean connector (vcbmodel.builders.symbolic)."""
+    lean = core.lean_expression
+    core.lean_expression = lambda f, args: f(*args, symbolic_ops())
+    try:
+        return build_pendulum(prig, law, "symbolic").solve(6.0, h, 1e-3)
+    finally:
+        core.lean_expression = lean
+
+
+def pendulum_empty_connector(prig, law, h):
+    """The pendulum with a symbolic connector that returns 0 x speed: what any symbolic connector costs."""
+    lean = core.lean_expression
+    core.lean_expression = lambda f, args: args[2] * 0.0
+    try:
+        return build_pendulum(prig, law, "symbolic").solve(6.0, h, 1e-3)
+    finally:
+        core.lean_expression = lean
+
+
 def speed_targets(prig, crig, brig, law, h, repeats):
     """The speed issue's table (issue 18): each workload against its target, measured interleaved
     (every variant once per round), on Exudyn and on the compiled path (the same laws traced to C,
@@ -57,11 +84,15 @@ def speed_targets(prig, crig, brig, law, h, repeats):
     rows = {}
     pend = interleaved({"exudyn_no_friction": lambda: build_pendulum(prig, law, "none").solve(6.0, h, 1e-3),
                         "exudyn_symbolic": lambda: build_pendulum(prig, law, "symbolic").solve(6.0, h, 1e-3),
+                        "exudyn_symbolic_as_written": lambda: pendulum_as_written(prig, law, h),
+                        "exudyn_symbolic_empty": lambda: pendulum_empty_connector(prig, law, h),
                         "exudyn_python": lambda: build_pendulum(prig, law, "python").solve(6.0, h, 1e-3),
                         "compiled": lambda: simulate(prig, HYBRID, P.REFERENCE_PENDULUM_TRUTH, t_end=6.0,
                                                      step=h, backend="compiled")}, repeats)
     rows["pendulum_6s_compiled_friction_over_no_friction"] = {
         "seconds": pend, "now": pend["exudyn_symbolic"] / pend["exudyn_no_friction"], "target": 2.5, "unit": "ratio",
+        "as_written_over_no_friction": pend["exudyn_symbolic_as_written"] / pend["exudyn_no_friction"],
+        "empty_connector_over_no_friction": pend["exudyn_symbolic_empty"] / pend["exudyn_no_friction"],
         "compiled_over_exudyn_no_friction": pend["compiled"] / pend["exudyn_no_friction"]}
     fric = ("coulomb_friction", "stribeck", "spring_mass")
     cam = interleaved({"exudyn": lambda: simulate(crig, fric, spring_model="lumped-2", t_end=0.035),
@@ -113,6 +144,9 @@ def speed_table(targets):
         extra = ""
         if "compiled_over_exudyn_no_friction" in row:
             extra = f"compiled path: {row['compiled_over_exudyn_no_friction']:.2f}x Exudyn without friction"
+            if "as_written_over_no_friction" in row:
+                extra += (f"; the law recorded as written: {row['as_written_over_no_friction']:.1f}x; an empty symbolic "
+                          f"connector: {row['empty_connector_over_no_friction']:.1f}x")
         elif exudyn is not None:
             extra = f"Exudyn {exudyn:.3f} s ({exudyn / row['now']:.0f}x slower)"
         elif "how" in row:
@@ -215,9 +249,9 @@ def main():
     minutes = res["sweep_scaling"]["estimate_10000_runs"]["2_cores_min"]
     res["issue18_targets"]["tolerance_study_10000_closings_2_cores"] = {
         "now": minutes, "target": 30.0, "unit": "min", "met": minutes <= 30.0,
-        "how": "estimated from this run's closings per core-second in a 2-worker sweep (sweep_scaling)"}
+        "how": "estimated from one closing's time and the local workers' utilisation measured in this run (sweep_scaling)"}
     write_json(out / "benchmark.json", res)
-    (out / "benchmark.md").write_text(speed_table(res["issue18_targets"]))
+    (out / "benchmark.md").write_text(speed_table(res["issue18_targets"]) + scaling_table(res["sweep_scaling"]))
     print(res)
 
 
@@ -269,12 +303,105 @@ def diagnosis_times(tmp):
     return out
 
 
+#: A sweep timed in a process of its own, as `vcbmodel sweep` runs (no other thread: the local pool forks;
+#: the process's start and imports are not counted, the pool's start is): prints its wall time and the
+#: time its workers spent in runs
+SWEEP_DRIVER = """
+import json, resource, sys, time
+from vcbmodel.analysis.sweep import sweep
+a = json.loads(sys.argv[1])
+runs = json.load(open(a["runs"]))
+
+def cpu(client):  # processor seconds of this process, its children (a local pool) and the cluster's workers
+    own = sum(getattr(resource.getrusage(w), f) for w in (resource.RUSAGE_SELF, resource.RUSAGE_CHILDREN)
+              for f in ("ru_utime", "ru_stime"))
+    return own + (sum(client.run(time.process_time).values()) if client is not None else 0.0)
+
+client = None
+if a.get("scheduler"):
+    import distributed
+    client = distributed.Client(a["scheduler"], set_as_default=False)
+c0 = cpu(client)
+t0 = time.perf_counter()
+df = sweep(a["rig"], runs=runs, workers=a.get("workers"), scheduler=a.get("scheduler"), verbose=False)
+wall = time.perf_counter() - t0
+c1 = cpu(client)
+print(json.dumps({"wall_s": wall, "run_s": sum(df.attrs["run_s"]), "cpu_s": c1 - c0, "ok": int((df.status == "ok").sum()),
+                  "runs": len(df)}))
+"""
+
+#: Workers of the weak-scaling table (rows beyond this machine's cores are marked, not extrapolated)
+SCALING_WORKERS = (1, 2, 4, 8, 16)
+
+
+def timed_sweep(rig, runs_file, workers=None, scheduler=None):
+    """{wall_s, run_s, ok, runs} of one sweep in a fresh process (SWEEP_DRIVER)."""
+    arg = json.dumps({"rig": str(rig), "runs": str(runs_file), "workers": workers, "scheduler": scheduler})
+    p = subprocess.run([sys.executable, "-c", SWEEP_DRIVER, arg], capture_output=True, text=True, timeout=1800,
+                       env=dict(os.environ, PYTHONPATH=str(Path(__file__).resolve().parents[1])))
+    if p.returncode != 0:
+        raise RuntimeError(f"timed sweep failed: {p.stderr[-800:]}")
+    return json.loads(p.stdout.strip().splitlines()[-1])
+
+
+class DaskCluster:
+    """A scheduler and ``workers`` single-threaded worker processes, started with the ``dask scheduler`` and
+    ``dask worker`` command lines (separate processes, as on a real cluster); a context manager."""
+
+    def __init__(self, folder, workers):
+        self.folder, self.workers, self.procs = Path(folder), workers, []
+
+    def __enter__(self):
+        self.folder.mkdir(parents=True, exist_ok=True)
+        address_file = self.folder / "scheduler.json"
+        env = dict(os.environ, PYTHONPATH=str(Path(__file__).resolve().parents[1]))
+        quiet = {"stdout": subprocess.DEVNULL, "stderr": subprocess.DEVNULL, "env": env, "start_new_session": True}
+        self.procs.append(subprocess.Popen([sys.executable, "-m", "dask", "scheduler", "--host", "127.0.0.1", "--port", "0",
+                                            "--no-dashboard", "--scheduler-file", str(address_file)], **quiet))
+        self.procs.append(subprocess.Popen([sys.executable, "-m", "dask", "worker", "--scheduler-file", str(address_file),
+                                            "--nworkers", str(self.workers), "--nthreads", "1", "--no-dashboard",
+                                            "--host", "127.0.0.1"], **quiet))
+        deadline = time.time() + 120
+        while not address_file.exists() and time.time() < deadline:
+            time.sleep(0.2)
+        self.address = json.loads(address_file.read_text())["address"]
+        return self
+
+    def __exit__(self, *exc):
+        for p in self.procs:
+            try:
+                os.killpg(p.pid, signal.SIGTERM)
+            except ProcessLookupError:
+                pass
+        for p in self.procs:
+            try:
+                p.wait(timeout=20)
+            except subprocess.TimeoutExpired:
+                os.killpg(p.pid, signal.SIGKILL)
+
+
+def worker_check_seconds(address, workers):
+    """Seconds of the worker check (:func:`check_workers`) a Dask sweep starts with: the first on fresh workers
+    (Exudyn imported, a C function compiled) and a second (remembered)."""
+    with distributed.Client(address, timeout=60) as client:
+        client.wait_for_workers(workers, timeout=120)
+        times = []
+        for _ in range(2):
+            t0 = time.perf_counter()
+            check_workers(client, address, True)
+            times.append(time.perf_counter() - t0)
+    return {"first_s": times[0], "again_s": times[1]}
+
+
 def sweep_scaling(quick):
-    """Design studies at scale (vcbmodel sweep): the same sweep of reference-breaker closings on
-    1 process (in this one) and on 2 local worker processes (the pool, started by the sweep):
-    parallel efficiency T1 / (2 T2); one run's parts (rig load, run: simulation, channels and
-    figures of merit) measured in this process; throughput in closings per core-minute; and an
-    estimate of a 10 000-run tolerance study on 2, 16 and 256 cores."""
+    """Design studies at scale (vcbmodel sweep), on reference-breaker closings (the compiled path, Latin
+    hypercube of friction.mu_k and breaker.poles.moving_mass): one run's parts measured in this process; then
+    weak scaling: for each worker count the machine's cores allow (1, 2, 4, 8, 16), the same number of runs
+    per worker on local processes and on a Dask cluster (a scheduler and single-threaded workers started
+    with the dask command lines), every sweep in a fresh process, the variants interleaved round by round
+    (the medians are compared: a shared machine's slow phases hit all alike). Per run and worker against
+    one worker: T1 / Tw on the same work per worker. Dask against local at equal workers: T_dask / T_local.
+    Utilisation: the workers' time in runs over workers x wall (what the executor leaves idle)."""
     data = copy.deepcopy(P.REFERENCE_BREAKER)
     parts = {"load_s": [], "run_s": []}
     for _ in range(2 if quick else 5):
@@ -287,52 +414,107 @@ def sweep_scaling(quick):
     one = {k: statistics.median(v) for k, v in parts.items()}
     one["simulated_with"] = simulate(rig, backend="fast", t_end=1e-3).info["backend"]
 
-    n = 4 if quick else 16
-    runs = [{"friction.mu_k": float(m)} for m in np.linspace(0.10, 0.16, n)]
+    cores = default_workers()
+    per_worker = 16 if quick else 120
+    rounds = 2 if quick else 3
+    measured = [w for w in SCALING_WORKERS if w <= cores]
+    tmp = Path(tempfile.mkdtemp(prefix="vcbmodel-scaling-"))
+    rig_file = tmp / "breaker.rig.json"
+    rig_file.write_text(json.dumps(data))
+    varies = parse_varies(["friction.mu_k=uniform:0.10:0.16", "breaker.poles.moving_mass=uniform:1.2:1.8"])
+    runs_files = {}
+    for w in measured:
+        table = design(varies, per_worker * w, 0, "lhs")
+        runs_files[w] = tmp / f"runs_{w}.json"
+        runs_files[w].write_text(json.dumps(table.to_dict("records")))
     load_before = os.getloadavg()
-    c0 = time.process_time()
-    t1 = sweep(data, runs=runs, workers=1, verbose=False).attrs["wall_s"]
-    cpu_serial = time.process_time() - c0
-    t2 = {}
-    for start in ("cold", "warm"):  # cold: the first pool of this process (imports, if not done yet)
-        c0 = resource.getrusage(resource.RUSAGE_CHILDREN)
-        t0 = time.perf_counter()
-        two = sweep(data, runs=runs, workers=2, verbose=False)
-        t2[start] = time.perf_counter() - t0
-        c1 = resource.getrusage(resource.RUSAGE_CHILDREN)  # the pool's workers, joined at its end
-        cpu_workers = (c1.ru_utime + c1.ru_stime) - (c0.ru_utime + c0.ru_stime)
-    per_run = t1 / n
-    efficiency = t1 / (2 * t2["warm"])
-    busy = sum(two.attrs["run_s"]) / (2 * t2["warm"])  # the workers' time in runs / their wall time
+    clusters = [DaskCluster(tmp / f"cluster_{w}", w) for w in measured]
+    times = {(how, w): [] for w in measured for how in ("local", "dask")}
+    check = {}
+    try:
+        for c in clusters:
+            c.__enter__()
+        check = worker_check_seconds(clusters[-1].address, measured[-1])
+        for c, w in zip(clusters, measured):  # warm-up: each cluster's workers import and compile once
+            timed_sweep(rig_file, runs_files[w], scheduler=c.address)
+        variants = [(how, w) for w in measured for how in ("local", "dask")]
+        for r in range(rounds):
+            for how, w in variants[r % len(variants):] + variants[:r % len(variants)]:
+                c = clusters[measured.index(w)]
+                times[(how, w)].append(timed_sweep(rig_file, runs_files[w], workers=w if how == "local" else None,
+                                                   scheduler=c.address if how == "dask" else None))
+    finally:
+        for c in clusters:
+            if c.procs:
+                c.__exit__(None, None, None)
+    rows = []
+    med = {k: {f: statistics.median(x[f] for x in v) for f in ("wall_s", "run_s", "cpu_s")} for k, v in times.items()}
+    for w in SCALING_WORKERS:
+        if w not in measured:
+            rows.append({"workers": w, "runs": per_worker * w, "measured": False,
+                         "note": f"not measured: this machine has {cores} cores"})
+            continue
+        local, dask = med[("local", w)], med[("dask", w)]
+        rows.append({"workers": w, "runs": per_worker * w, "measured": True, "local_s": local["wall_s"],
+                     "dask_s": dask["wall_s"], "per_run_and_worker_vs_1": med[("local", 1)]["wall_s"] / local["wall_s"],
+                     "dask_per_run_and_worker_vs_1": med[("dask", 1)]["wall_s"] / dask["wall_s"],
+                     "dask_over_local": dask["wall_s"] / local["wall_s"],
+                     "local_utilisation": local["run_s"] / (w * local["wall_s"]),
+                     "cpu_per_run_s": {"local": local["cpu_s"] / (per_worker * w), "dask": dask["cpu_s"] / (per_worker * w)},
+                     "cpu_per_run_vs_1_local": med[("local", 1)]["cpu_s"] * w / local["cpu_s"],
+                     "dask_utilisation": dask["run_s"] / (w * dask["wall_s"]),
+                     "local_all_s": [x["wall_s"] for x in times[("local", w)]],
+                     "dask_all_s": [x["wall_s"] for x in times[("dask", w)]]})
+    by = {r["workers"]: r for r in rows if r["measured"]}
     result = {
-        "closings": n, "one_run": one, "sweep_1_worker_s": t1, "sweep_2_workers_s": t2["warm"],
-        "sweep_2_workers_first_pool_s": t2["cold"],
-        "parallel_efficiency": efficiency, "parallel_efficiency_first_pool": t1 / (2 * t2["cold"]),
-        "target_parallel_efficiency": 0.8, "target_met": efficiency >= 0.8,
-        # CPU seconds of the 1-process sweep and of the 2 workers (more: each run slower when both cores work)
-        "worker_utilisation_2_workers": busy, "cpu_s_serial": cpu_serial, "cpu_s_2_workers": cpu_workers,
-        # cores the two workers actually got (under 2: other jobs on a shared machine took the rest)
-        "cores_used_by_2_workers": cpu_workers / t2["warm"],
-        "sweep_overhead_per_run_s": per_run - one["run_s"] - one["load_s"],
-        "simulated_with": two.attrs["simulated_with"],
-        "closings_per_core_minute": {"1_worker": 60 * n / t1, "2_workers": 60 * n / (2 * t2["warm"])},
+        "one_run": one, "cores": cores, "closings_per_worker": per_worker, "rounds": rounds, "weak_scaling": rows,
+        "dask_over_local": {str(w): by[w]["dask_over_local"] for w in by}, "target_dask_over_local": 1.15,
+        "local_efficiency": {str(w): by[w]["per_run_and_worker_vs_1"] for w in by}, "target_local_efficiency": 0.85,
+        "worker_check_s": check, "simulated_with": one["simulated_with"],
         "load_average_before_after": [load_before, os.getloadavg()],
-        "note": "a shared 2-core machine: other work changes these numbers by tens of percent",
+        "note": "a shared machine: other work changes these numbers by tens of percent; the ratios come from one run, interleaved",
     }
-    # a 10 000-run tolerance study on cores of its own: one run's time as measured in this process, the
-    # workers' utilisation (time in runs / wall time: other jobs on a shared machine slow both alike,
-    # unlike the speed-up) at most 0.95, the Dask scheduler's time per task (3 ms measured here with
-    # empty tasks: it only limits when the cores finish runs faster than it hands them out), plus the
-    # workers' start-up (imports, about 10 s)
-    run_time, eff, per_task = one["run_s"] + one["load_s"], min(busy, 0.95), 0.003
+    # a 10 000-run tolerance study on cores of its own: one run's time as measured in this process, the local
+    # workers' utilisation at 2 (or 1) workers (at most 0.95), the Dask scheduler's time per task spread over
+    # a chunk of runs (about 1 s of work a task), plus the workers' start-up (imports, about 10 s)
+    run_time = one["run_s"] + one["load_s"]
+    eff = min(by[max(by)]["local_utilisation"], 0.95)
+    per_task = 0.003 * run_time  # 3 ms per task of about 1 s of runs
     result["estimate_10000_runs"] = {
-        f"{cores}_cores_min": (max(10000 * run_time / (cores * eff), 10000 * per_task) + 10.0) / 60
-        for cores in (2, 16, 256)}
+        f"{n}_cores_min": (max(10000 * run_time / (n * eff), 10000 * per_task) + 10.0) / 60 for n in (2, 16, 256)}
     result["estimate_10000_runs"]["assumptions"] = (
-        f"{run_time:.2f} s per closing (one run on this machine), efficiency {eff:.2f} (worker utilisation, at "
-        f"most 0.95), {1e3 * per_task:g} ms of scheduler time per run (Dask, empty tasks), 10 s worker start-up")
+        f"{run_time:.3f} s per closing (one run on this machine), efficiency {eff:.2f} (local worker utilisation, at "
+        "most 0.95), 3 ms of scheduler time per task of about 1 s of runs, 10 s worker start-up")
     print({"sweep_scaling": result}, flush=True)
     return result
+
+
+def scaling_table(scaling):
+    """The weak-scaling table as Markdown (rows this machine cannot run are marked, never extrapolated)."""
+    rows = []
+    for r in scaling["weak_scaling"]:
+        if not r["measured"]:
+            rows.append([r["workers"], r["runs"], "", "", "", "", r["note"]])
+            continue
+        rows.append([r["workers"], r["runs"], f"{r['local_s']:.2f} s", f"{r['per_run_and_worker_vs_1']:.2f}",
+                     f"{r['dask_s']:.2f} s", f"{r['dask_over_local']:.2f}x",
+                     f"utilisation local {r['local_utilisation']:.2f}, Dask {r['dask_utilisation']:.2f}; processor time "
+                     f"per run local {1e3 * r['cpu_per_run_s']['local']:.1f} ms, Dask {1e3 * r['cpu_per_run_s']['dask']:.1f} ms"])
+    check = scaling.get("worker_check_s") or {}
+    head = (f"\n# Scale-out (studies/benchmark.py: {scaling['closings_per_worker']} reference closings per worker, "
+            f"{scaling['simulated_with']}; each sweep in a fresh process, medians of {scaling['rounds']} interleaved "
+            f"rounds; this machine: {scaling['cores']} cores)\n\n"
+            "Weak scaling: the same runs per worker; 'vs 1 worker' is T1 / Tw (1.00: ideal). Dask: a scheduler and "
+            "single-threaded workers started with `dask scheduler` / `dask worker`. Targets: Dask within 1.15x of "
+            "local at equal workers, local >= 0.85 of one worker. Utilisation: the workers' time in runs over "
+            "workers x wall; processor time: of the sweep, its pool and the cluster's workers, per run (what the "
+            "wall times mean when other work shares the machine: load average "
+            f"{scaling['load_average_before_after'][0][0]:.1f} before, {scaling['load_average_before_after'][1][0]:.1f} after).\n\n")
+    text = head + markdown_table(["workers", "runs", "local processes", "vs 1 worker", "Dask", "Dask / local", ""], rows)
+    if check:
+        text += (f"\nWorker check at a Dask sweep's start (every worker: vcbmodel version, Exudyn, a C compiler): "
+                 f"{check['first_s']:.2f} s on fresh workers, {check['again_s']:.3f} s after.\n")
+    return text
 
 
 if __name__ == "__main__":

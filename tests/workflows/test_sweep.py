@@ -1,7 +1,7 @@
 """Parameter studies (``vcbmodel sweep``, docs/cli.md): the design (grids, seeded Latin
 hypercube, no mixing), paths into the rig, bad input (exit 2, one line, nothing written), a
 failed run's row, rows flushed as runs finish, --resume after an interrupt, the command line
-end to end, the local process pool and a Dask cluster started inside the test."""
+end to end, the local process pool (a Dask cluster: test_sweep_cluster.py)."""
 import copy
 import csv
 import json
@@ -211,22 +211,6 @@ def test_local_process_pool_gives_the_serial_answer(rig):
     pool = S.sweep(rig, vary, workers=2, t_end=2.0, verbose=False)
     assert pool.attrs["workers"] == 2 and serial.attrs["workers"] == 1
     pd.testing.assert_frame_equal(pool, serial)
-
-
-def test_dask_cluster_started_here_runs_a_sweep(rig, tmp_path, capsys):
-    distributed = pytest.importorskip("distributed")
-    vary = ["friction.mu_k=0.08:0.16:3"]
-    serial = S.sweep(rig, vary, workers=1, t_end=2.0, verbose=False)
-    with distributed.LocalCluster(n_workers=2, threads_per_worker=1, processes=True, dashboard_address=None) as cluster:
-        table = S.sweep(rig, vary, scheduler=cluster.scheduler_address, t_end=2.0, verbose=False)
-        out = tmp_path / "cluster.csv"
-        assert main(["sweep", rig, "--vary", "friction.mu_k=0.08:0.16:2", "--scheduler", cluster.scheduler_address,
-                     "-o", str(out)]) == 0
-    assert table.attrs["scheduler"] == cluster.scheduler_address
-    pd.testing.assert_frame_equal(table, serial)
-    rows = read_rows(out)
-    assert len(rows) == 3 and all(r[-1] == "ok" for r in rows[1:])
-    assert "Dask cluster" in capsys.readouterr().err
 
 
 @pytest.mark.parametrize("data", [P.REFERENCE_CAM, P.REFERENCE_BREAKER], ids=["cam_drop", "vcb_closing"])

@@ -18,8 +18,9 @@ import numpy as np
 
 from ..errors import SimulationError
 from ..laws.discovered import discovered_torque
-from ..laws.friction import NumericOps, shaft_friction, symbolic_ops
+from ..laws.friction import NumericOps, shaft_friction
 from ..laws.mechanics import aerodynamic_drag_torque, cam_inertia, cam_loads
+from .symbolic import lean_expression
 
 _EXU = None
 
@@ -128,13 +129,15 @@ def add_friction_connector(model, shaft: Shaft, friction_of_state, user_function
     def friction_torque_uf(mbs, t, itemNumber, deltaL, deltaL_t, stiffness, damping, offset):
         return friction_of_state(t, deltaL, deltaL_t, ops_holder[0])
 
+    def lean_friction_torque_uf(mbs, t, itemNumber, deltaL, deltaL_t, stiffness, damping, offset):
+        return lean_expression(friction_of_state, (t, deltaL, deltaL_t))  # recorded lean (builders.symbolic)
+
     oFriction = mbs.AddObject(it.ObjectConnectorCoordinateSpringDamper(
         markerNumbers=[shaft.mGroundCoordinate, shaft.mShaftCoordinate], stiffness=0.0, damping=0.0,
         visualization=it.VObjectConnectorCoordinateSpringDamper(show=False)))
     if user_function == "symbolic":
         from exudyn.advancedUtilities import CreateSymbolicUserFunction  # Exudyn, lazily (see exudyn_modules)
-        ops_holder = [symbolic_ops()]
-        symbolic = CreateSymbolicUserFunction(mbs, friction_torque_uf, "springForceUserFunction", oFriction)
+        symbolic = CreateSymbolicUserFunction(mbs, lean_friction_torque_uf, "springForceUserFunction", oFriction)
         model.keep.append(symbolic)
         mbs.SetObjectParameter(oFriction, "springForceUserFunction", symbolic)
     elif user_function == "python":

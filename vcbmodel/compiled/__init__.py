@@ -15,9 +15,9 @@ from typing import Callable
 
 import numpy as np
 
-from .solve import BACKEND_NAME, CompilerUnavailable, compiled_system, integrate
+from .solve import BACKEND_NAME, CompilerUnavailable, compiled_system, compiler_problem, integrate
 
-__all__ = ["BACKEND_NAME", "CompilerUnavailable", "OdeModel", "OdeSetup", "compiler_works", "solve_ode_model"]
+__all__ = ["BACKEND_NAME", "CompilerUnavailable", "OdeModel", "OdeSetup", "compiler_problem", "compiler_works", "solve_ode_model"]
 
 log = logging.getLogger("vcbmodel")
 _WORKS = []

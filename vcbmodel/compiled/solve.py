@@ -90,6 +90,34 @@ def _compile(source, digest):
     return module.lib, module.ffi
 
 
+def compiler_problem() -> str | None:
+    """Why no C module can be built here (None if one can): a two-line C function compiled with
+    cffi into a temporary folder, loaded and called; the disk cache is neither read nor written,
+    so a machine whose cache holds modules built elsewhere is still checked. About 0.2 s."""
+    try:
+        import cffi
+    except ImportError as e:
+        return f"cffi is missing ({e})"
+    name = f"_vcb_compiler_probe_{os.getpid()}"
+    ffi = cffi.FFI()
+    ffi.cdef("double vcb_probe(double);")
+    ffi.set_source(name, "double vcb_probe(double x) { return x + 1.0; }")
+    work = tempfile.mkdtemp(prefix="vcbmodel-probe-")
+    try:
+        built = ffi.compile(tmpdir=work, verbose=False)
+        spec = importlib.util.spec_from_file_location(name, built)
+        module = importlib.util.module_from_spec(spec)
+        spec.loader.exec_module(module)
+        if module.lib.vcb_probe(1.0) != 2.0:
+            return "a compiled test function gave a wrong result"
+    except Exception as e:  # noqa: BLE001 -- a missing compiler, headers or linker: the reason is the answer
+        lines = str(e).strip().splitlines() or [type(e).__name__]
+        return f"{type(e).__name__}: {lines[-1][:200]}"
+    finally:
+        shutil.rmtree(work, ignore_errors=True)
+    return None
+
+
 def compiled_system(kind, equations, prestep, setup) -> tuple:
     """(CompiledSystem, p) for ``setup``'s inputs: a cached variant whose guards hold, or a new one."""
     p, structure = flatten(setup.inputs)

@@ -12,13 +12,16 @@ sampling: scipy's scrambled ``LatinHypercube``, each axis mapped through the dis
 inverse CDF; repeatable: the default seed is :data:`DEFAULT_SEED`), never both in one sweep.
 Studies with their own design (Sobol samples, tied parameters) pass ``runs`` instead.
 
-Execution: each run is an independent job that sends only JSON (the rig's object and the
-run's overrides) and gets back numbers: the worker loads the rig and builds its own Exudyn
-system (symbolic user functions do not pickle; exudyn-notes "Sweeps and scale-out").
-Locally a process pool on all cores (forked workers, a few runs queued each); beyond one
-machine a Dask ``distributed`` cluster (``scheduler=ADDRESS``: ``dask scheduler`` on one
-machine, ``dask worker ADDRESS --nworkers -1 --nthreads 1`` on each; the rig goes to the
-workers once). Dask was chosen over Ray by measurement (docs/findings.md, "Design studies at scale").
+Execution: each run is an independent job that sends only JSON (the run's overrides) and gets
+back numbers: the worker loads the rig and builds its own Exudyn system or compiled module
+(symbolic user functions do not pickle; exudyn-notes "Sweeps and scale-out"). What the runs share
+(the rig's JSON with its data files read in, :func:`.runs.inline_data_files`) goes to each worker
+once, and the runs go in chunks of about a second of work (:class:`.executors.Chunker`). Locally a
+process pool on all cores (its workers die with the sweep); beyond one machine a Dask
+``distributed`` cluster (``scheduler=ADDRESS``: ``dask scheduler`` on one machine, ``dask worker
+ADDRESS --nworkers -1 --nthreads 1`` on each), whose every worker is checked before any run
+(:func:`.executors.check_workers`). Dask was chosen over Ray by measurement (docs/findings.md,
+"Design studies at scale").
 
 Rows are written (and flushed) to the output as runs finish; ``resume=True`` keeps the runs
 already in the output (checked against this sweep's design) and runs the rest. When every
@@ -44,6 +47,7 @@ import pandas as pd
 from ...errors import InputError
 from ...experiments import experiment_of
 from ...experiments.loading import rig_from_data
+from ...compiled import BACKEND_NAME
 from ...experiments.simulation import simulation_backend
 from ...experiments.simulation import model_spec
 from ...rig.data import Rig
@@ -51,12 +55,14 @@ from ...rig.paths import get_path, with_overrides
 from ...rig.reader import read_json
 from ..progress import Progress, progress
 from .design import DEFAULT_SEED, DIGITS, DISTRIBUTIONS, MAX_RUNS, SAMPLING, Vary, design, parse_vary, parse_varies
-from .executors import _dask, _local_pool, _serial, connect, default_workers
-from .runs import check_datasheet_used, check_paths, check_used, figures_of_merit, one_line, run_one
+from .executors import _dask, _local_pool, _serial, check_workers, connect, default_workers
+from .runs import (SweepJob, check_datasheet_used, check_paths, check_used, figures_of_merit, inline_data_files, one_line,
+                   run_chunk, run_one)
 from .table import cell_text, read_finished, rewrite_in_order, table_lock, typed_row, value_text
 
-__all__ = ["sweep", "design", "parse_vary", "parse_varies", "Vary", "figures_of_merit", "run_one", "connect",
-           "default_workers", "check_paths", "check_used", "one_line", "DEFAULT_SEED", "DIGITS", "DISTRIBUTIONS",
+__all__ = ["sweep", "design", "parse_vary", "parse_varies", "Vary", "figures_of_merit", "run_one", "run_chunk",
+           "SweepJob", "connect", "check_workers", "inline_data_files", "default_workers",
+           "check_paths", "check_used", "one_line", "DEFAULT_SEED", "DIGITS", "DISTRIBUTIONS",
            "MAX_RUNS", "SAMPLING", "get_path", "with_overrides"]
 
 
@@ -75,6 +81,7 @@ class SweepPlan:
     column_units: dict = field(default_factory=dict)
     backend: str = ""  # what runs the simulations (the compiled path where it covers the model, else Exudyn)
     backend_choice: str = "fast"  # the sweep's backend option: fast | exudyn
+    shipped: dict | None = None  # the rig's JSON object as the runs get it: its data files read in
 
     @property
     def paths(self) -> list[str]:
@@ -152,7 +159,7 @@ def plan(rig: str | Path | dict | Rig, vary: Iterable[str | tuple[str, str] | Va
     return SweepPlan(data, rig_path, nominal.experiment, label or f"sweep {nominal.name}", table, kind,
                      tuple(columns), draw, dict(record.figure_units) if evaluate is None else {},
                      simulation_backend(record, spec.spring_model, backend) if evaluate is None else "the evaluation's own",
-                     backend)
+                     backend, inline_data_files(data, rig_path))
 
 
 def sweep(rig: str | Path | dict | Rig, vary: Iterable[str | tuple[str, str] | Vary] | dict[str, str] = (), *,
@@ -209,6 +216,9 @@ def sweep(rig: str | Path | dict | Rig, vary: Iterable[str | tuple[str, str] | V
         finished = read_finished(output, p.header, p.table) if has_rows else {}
         client, own_client = (connect(scheduler) if scheduler is not None else (None, False))
         try:
+            if client is not None:
+                check_workers(client, str(scheduler if own_client else client.scheduler.address),
+                              evaluate is None and p.backend == BACKEND_NAME)
             return _execute(p, finished, client, workers, output, stream, evaluate, t_end, verbose, seed, sampling)
         finally:
             if own_client:
@@ -244,13 +254,13 @@ def _open_outputs(p, finished, output, stream):
 def _runner(p, todo, client, n_workers, evaluate, t_end):
     values_of = p.table.to_numpy(dtype=float)
     # a given parameter set without a value for a path (NaN) leaves that field at the rig's value
-    jobs = ((run, (p.data, {k: float(v) for k, v in zip(p.paths, values_of[run - 1]) if not math.isnan(v)},
-                   p.rig_path, evaluate, t_end, p.backend_choice)) for run in todo)
+    jobs = [(run, {k: float(v) for k, v in zip(p.paths, values_of[run - 1]) if not math.isnan(v)}) for run in todo]
+    job = SweepJob(p.shipped if p.shipped is not None else p.data, p.rig_path, evaluate, t_end, p.backend_choice)
     if client is not None:
-        return _dask(jobs, run_one, client)
+        return _dask(job, jobs, client)
     if n_workers > 1:
-        return _local_pool(jobs, run_one, n_workers)
-    return _serial(jobs, run_one)
+        return _local_pool(job, jobs, n_workers, exudyn=evaluate is not None or p.backend != BACKEND_NAME)
+    return _serial(job, jobs)
 
 
 def _execute(p, finished, client, workers, output, stream, evaluate, t_end, verbose, seed, sampling):

@@ -2,9 +2,11 @@
 simulated and evaluated; and the checks of the paths before any run."""
 from __future__ import annotations
 
+import copy
 import threading
 import time
 from collections.abc import Callable, Iterable, Sequence
+from dataclasses import dataclass
 from typing import TYPE_CHECKING
 
 from ...errors import InputError, SimulationError
@@ -12,7 +14,9 @@ from ...experiments import experiment_of
 from ...experiments.loading import rig_from_data
 from ...experiments.simulation import simulate
 from ...model.effects import effect_reading
+from ...rig.cam_points import read_points_file
 from ...rig.paths import get_path, path_keys, with_overrides
+from ...rig.reader import Reader
 
 if TYPE_CHECKING:
     from ...rig.data import Rig
@@ -117,3 +121,39 @@ def run_one(data: dict, overrides: dict[str, float], rig_path: str, evaluate: Ca
         except Exception as e:  # noqa: BLE001 -- any other fault is that run's, the sweep goes on
             values, status = {}, f"failed: {type(e).__name__}: {one_line(e)}"
     return values, status, time.perf_counter() - t0
+
+
+def inline_data_files(data: dict, rig_path: str) -> dict:
+    """The rig's JSON object with the data files it names read in, here and once, so that a run
+    needs no file where it runs (a cluster's worker has no copy of the rig's folder): a cam
+    profile's ``points_file`` becomes its ``points`` (or ``radius_points``), in SI units, exactly
+    what the loader reads from the file. A rig without one is returned as it is."""
+    breaker = data.get("breaker")
+    profile = breaker.get("cam_profile") if isinstance(breaker, dict) else None
+    if not isinstance(profile, dict) or "points_file" not in profile:
+        return data
+    key, points = read_points_file(Reader(rig_path), profile, "breaker.cam_profile.")
+    shipped = copy.deepcopy(data)
+    del shipped["breaker"]["cam_profile"]["points_file"]
+    shipped["breaker"]["cam_profile"][key] = points
+    return shipped
+
+
+@dataclass(frozen=True)
+class SweepJob:
+    """What every run of a sweep shares, sent to each worker once: the rig's JSON object (with
+    its data files read in: :func:`inline_data_files`), the rig's path (for messages), the
+    evaluation, the simulated time and the backend option."""
+
+    data: dict
+    rig_path: str
+    evaluate: Callable | None = None
+    t_end: float | None = None
+    backend: str = "fast"
+
+
+def run_chunk(job: SweepJob, chunk: Sequence[tuple[int, dict[str, float]]]) -> list[tuple[int, dict, str, float]]:
+    """Several runs of one sweep in this process, one after another: ``chunk`` is
+    [(run, overrides)]; returns [(run, values, status, seconds)] in the chunk's order."""
+    return [(run, *run_one(job.data, overrides, job.rig_path, job.evaluate, job.t_end, job.backend))
+            for run, overrides in chunk]

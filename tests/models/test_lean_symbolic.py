@@ -1,0 +1,83 @@
+"""The friction connector's lean symbolic user function (vcbmodel.builders.symbolic): the laws traced
+once through ``ops`` and written with their branches chosen first give the trajectory of the law
+recorded as written (Exudyn symbolic reals through ``symbolic_ops``) to 1e-12, with a much smaller
+expression; the writer's rules (decisions first, max/min, squares) keep every value of the law."""
+import math
+
+import numpy as np
+import pytest
+
+import vcbmodel.builders.core as core
+from vcbmodel.builders.core import exudyn_modules
+from vcbmodel.builders.symbolic import lean_expression
+from vcbmodel.experiments.simulation import simulate
+from vcbmodel.laws.friction import FrictionLaw, NumericOps, shaft_friction, symbolic_ops
+from vcbmodel.laws.mechanics import pendulum_loads
+
+FRICTION = {"mu_k": 0.13, "mu_s": 0.20, "stick_velocity": 1e-3, "stribeck_velocity": 0.1, "viscous": 0.6}
+HYBRID = ("coulomb_friction", "stribeck", "viscous_friction")
+
+
+def as_written(law, args):
+    """The connector's expression before: the law recorded on Exudyn's symbolic reals as written."""
+    return law(*args, symbolic_ops())
+
+
+@pytest.mark.parametrize("effects", [HYBRID, ("coulomb_friction",)], ids=["hybrid", "coulomb"])
+def test_lean_connector_gives_the_recorded_trajectory(pendulum_rig, effects, monkeypatch):
+    """6 s of a pendulum that swings, sticks and stays stuck (passive band): angle, speed and friction
+    torque at every step."""
+    lean = simulate(pendulum_rig, effects, FRICTION, t_end=6.0, user_function="symbolic")
+    monkeypatch.setattr(core, "lean_expression", as_written)
+    before = simulate(pendulum_rig, effects, FRICTION, t_end=6.0, user_function="symbolic")
+    assert lean.measured.shape == before.measured.shape
+    assert np.max(np.abs(lean.measured - before.measured)) < 1e-12
+    assert np.max(np.abs(lean.channels["shaft_velocity"] - before.channels["shaft_velocity"])) < 1e-12
+    assert np.max(np.abs(lean.channels["friction_torque"] - before.channels["friction_torque"])) < 1e-12
+    assert np.ptp(lean.measured) > 0.1 and np.abs(lean.channels["shaft_velocity"][-1]) < 1e-3  # it swung, then stopped
+
+
+def pendulum_friction(law, mass=15.0, length=0.4, inertia=2.74, g=9.81):
+    def friction_of_state(t, theta, omega, ops):
+        Tc, R0x, R0y, R1x, R1y = pendulum_loads(theta, omega, mass, length, g, ops)
+        return shaft_friction(omega, Tc, R0x, R0y, R1x, R1y, inertia, law, ops)[0]
+    return friction_of_state
+
+
+def test_lean_expression_is_the_law_at_every_branch_and_much_smaller():
+    es = exudyn_modules()[0].symbolic
+    law = FrictionLaw(mu_s=0.2, mu_k=0.13, stick_velocity=1e-3, stribeck_velocity=0.1, viscous=0.6, step=5e-4)
+    f = pendulum_friction(law)
+    t, theta, omega = es.Real("t", 0.0), es.Real("theta", 0.0), es.Real("omega", 0.0)
+    lean, written = lean_expression(f, (t, theta, omega)), as_written(f, (t, theta, omega))
+    assert len(str(lean)) < 0.6 * len(str(written))
+    assert str(lean).startswith("IfThenElse(")  # a decision first
+    # every branch: stuck, breaking away, the band, Stribeck, kinetic, both directions, at rest
+    for th in (-1.0, -0.2, 0.0, 0.01, 0.3, 1.2):
+        for w in (-2.0, -0.05, -5e-4, -1e-10, 0.0, 1e-10, 5e-4, 0.05, 2.0):
+            theta.SetValue(th)
+            omega.SetValue(w)
+            assert lean.Evaluate() == f(0.0, th, w, NumericOps)
+
+
+def test_writer_rules_keep_the_value():
+    """max/min patterns, a square and a product of conditions, against the law evaluated in Python."""
+    es = exudyn_modules()[0].symbolic
+
+    def toy(t, x, y, ops):
+        big = ops.where(x * y > x, x * y, x)  # max(x y, x)
+        small = ops.where(ops.abs(y) < x, ops.abs(y), x)  # min(|y|, x)
+        sq = (ops.sin(x) + y) * (ops.sin(x) + y)
+        both = (x > 0.0) * (y < 1.0)
+        return ops.where(both, big + sq, small - sq) + ops.where(y > 2.0, 1.0, ops.sign(y) * 3.0)
+
+    t, x, y = es.Real("t", 0.0), es.Real("x", 0.0), es.Real("y", 0.0)
+    lean = lean_expression(toy, (t, x, y))
+    text = str(lean)
+    assert "max(" in text and "min(" in text and "pow(" in text
+    for xv in (-1.5, -0.3, 0.0, 0.4, 2.0):
+        for yv in (-3.0, -0.5, 0.0, 0.7, 1.0, 2.5):
+            x.SetValue(xv)
+            y.SetValue(yv)
+            want = toy(0.0, xv, yv, NumericOps)
+            assert math.isclose(lean.Evaluate(), want, rel_tol=1e-15, abs_tol=1e-15), (xv, yv)
