@@ -5,7 +5,7 @@ from types import SimpleNamespace
 
 import numpy as np
 
-from vcbmodel.analysis.diagnosis_report import UNEXPLAINED_CAVEAT, nuisance_report, period_sentence
+from vcbmodel.analysis.diagnosis.evidence import UNEXPLAINED_CAVEAT, nuisance_report, period_sentence
 
 
 def fake_ctx():

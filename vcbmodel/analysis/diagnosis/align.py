@@ -20,10 +20,6 @@ from ..noise import NoiseModel
 from ..nuisance import record_setup, release_from_model, swing_period_mismatch
 from .period import imply_period, needs_period
 
-#: Shares of a free swing's decay put in Coulomb friction by the starts spread along the
-#: Coulomb-viscous valley (:func:`.fits.valley_bases`; the same as identify.DECAY_SPLITS).
-VALLEY_SHARES = (0.8, 0.6, 0.4)
-
 
 def fitted_channels(rig: object, measurement: object) -> tuple:
     """The record's channels that are fitted: the experiment's measured channel, and any of the
@@ -89,7 +85,7 @@ def align(ctx, state) -> None:
     ctx.dataset = Dataset(rig, measurement, ctx.setup, chans)
     window = measurement.window(ctx.setup.window[0], ctx.setup.window[1])
     ctx.guesses = rec.start_guesses(rig, window)
-    ctx.valley = decay_split_guesses(rig, window, VALLEY_SHARES) if rec.free_swing else []
+    ctx.valley = decay_split_guesses(rig, window, ctx.options.valley_shares) if rec.free_swing else []
     ctx.uncertain = dict(getattr(rig, "uncertain", None) or {})
     ctx.implied = {}
     clock_sd = ctx.uncertain.get("record.time_base")  # the rig says the record's clock is approximate

@@ -12,35 +12,34 @@ from contextlib import contextmanager
 from dataclasses import dataclass, field
 
 from ..progress import progress
-
-#: Time budget of one diagnosis (s on its processes: processor seconds of this process and the
-#: simulation workers divided by their number, so that a machine shared with other work does
-#: not cut the search short). Past 80 % of it no new fit starts; at the budget the running fits
-#: stop and the diagnosis reports what it has (``timing.budget_reached``). Four times the budget
-#: in wall time stops it in any case.
-TIME_BUDGET = 50.0
-WALL_FACTOR = 4.0
+from .options import DEFAULT_OPTIONS, DiagnosisOptions
 
 
 class Budget:
-    """The time budget of one diagnosis (see :data:`TIME_BUDGET`): what is used, whether a new
-    fit may start, and the event that stops the running ones."""
+    """The time budget of one diagnosis (``time_budget`` s of :class:`.options.DiagnosisOptions`,
+    on its processes: processor seconds of this process and the simulation workers divided by
+    their number, so that a machine shared with other work does not cut the search short). Past
+    80 % of it no new fit starts; at the budget the running fits stop and the diagnosis reports
+    what it has (``timing.budget_reached``). ``wall_factor`` times the budget in wall time stops
+    it in any case. Holds what is used, whether a new fit may start, and the event that stops the
+    running ones."""
 
-    def __init__(self, pool: object, processes: int, seconds: float = TIME_BUDGET, started: float | None = None):
-        self.pool, self.processes, self.seconds = pool, processes, seconds
+    def __init__(self, pool: object, processes: int, seconds: float = DEFAULT_OPTIONS.time_budget,
+                 started: float | None = None, wall_factor: float = DEFAULT_OPTIONS.wall_factor):
+        self.pool, self.processes, self.seconds, self.wall_factor = pool, processes, seconds, wall_factor
         self.started = time.monotonic() if started is None else started
         self.cpu0 = pool.cpu_seconds()
         self.stop = threading.Event()
         self.skipped = []  # fits not started for the time budget
 
     def used(self) -> float:
-        """Time used against the budget: processor seconds per process (see TIME_BUDGET)."""
+        """Time used against the budget: processor seconds per process."""
         return (self.pool.cpu_seconds() - self.cpu0) / max(1, self.processes)
 
     def over(self, fraction: float = 0.8) -> bool:
         """Past ``fraction`` of the time budget (no new fit should start)?"""
         return (self.stop.is_set() or self.used() > fraction * self.seconds
-                or time.monotonic() - self.started > WALL_FACTOR * fraction * self.seconds)
+                or time.monotonic() - self.started > self.wall_factor * fraction * self.seconds)
 
     @contextmanager
     def watched(self) -> Iterator[Budget]:
@@ -71,6 +70,7 @@ class Context:
     budget: Budget
     verbose: bool = True
     processes: int = 1
+    options: DiagnosisOptions = DEFAULT_OPTIONS
     record: object = None  # the experiment's record kind (vcbmodel.experiments)
     quantisation: float = 0.0
     sigma_hf: float = math.nan  # the measured channel's high-frequency noise (record's unit)
@@ -87,6 +87,9 @@ class Context:
     coarse_step: float | None = None
     spring_final: object = None  # the spring model the final model is refined with (ANCF)
     fits: int = 0
+    #: the rig's other records, (rig, measurement) pairs, predicted but not fitted (.held_out)
+    held_out: tuple = ()
+    held_out_contexts: list | None = None  # their contexts, aligned once (.held_out)
 
     @property
     def stop(self) -> threading.Event:

@@ -1,0 +1,74 @@
+"""Records the fit never saw: a rig's other records (another release angle or preload, a repeat)
+predicted with the model values fitted on the diagnosed record. Each held-out record is aligned
+as the diagnosed one is (:func:`.align.align`: its own noise, window and nuisance's starting
+values), then only its nuisance (release time, sensor offset, initial angle...) is fitted; the
+model's values stay as fitted. Its residual is judged by the one criterion (:mod:`.at_noise`)
+against its own noise and witnesses. ``explained`` requires every held-out record at its noise:
+a model that absorbed a missing effect into wrong values fits its own record at the noise and
+mispredicts a record at another amplitude or speed. Units: the record's (rad or m)."""
+from __future__ import annotations
+
+from dataclasses import replace
+
+from ...errors import SimulationError
+from ..fit import FitAborted, FitResult
+from .align import align
+from .at_noise import judge_noise
+from .context import Context
+from .fits import fit_record, parameters
+from .state import State
+
+
+def record_context(ctx, rig: object, measurement: object) -> Context:
+    """A context for another record of the rig, aligned, sharing ``ctx``'s pool, budget and options."""
+    other = Context(rig, measurement, ctx.pool, ctx.budget, False, ctx.processes, ctx.options)
+    align(other, State())
+    return other
+
+
+def predict(hctx: Context, model: FitResult) -> FitResult:
+    """``model``'s effects and spring with its model values held, on the record of ``hctx``: only
+    the record's nuisance is fitted."""
+    params = parameters(hctx, model.effects, model.values)
+    for name, p in params.items():
+        if p.kind == "model" and name in model.parameters:
+            params[name] = replace(p, value=model.parameters[name].value, vary=False)
+    return fit_record(hctx, model.effects, model.spring_model, params, f"prediction of {hctx.measurement.path}")
+
+
+def prediction_row(hctx: Context, model: FitResult) -> dict:
+    """``model`` predicting the record of ``hctx``: its rms, over the record's noise, and whether
+    the residual is at the noise (:func:`.at_noise.judge_noise`)."""
+    try:
+        fit = predict(hctx, model)
+    except (FitAborted, SimulationError) as e:
+        return {"record": str(hctx.measurement.path), "at_noise": False, "rms": None, "rms_over_noise": float("inf"),
+                "failed": str(e).splitlines()[0][:200]}
+    judgement = judge_noise(hctx, fit)
+    return {"record": str(hctx.measurement.path), "at_noise": judgement.at_noise, "rms": fit.rms,
+            "noise": hctx.sigma_hf, "rms_over_noise": fit.rms / hctx.sigma_hf, "fit": fit}
+
+
+def held_out_contexts(ctx) -> list[Context]:
+    """The held-out records' contexts, aligned once per diagnosis (kept on ``ctx``)."""
+    if ctx.held_out_contexts is None:
+        ctx.held_out_contexts = [record_context(ctx, rig, meas) for rig, meas in ctx.held_out]
+    return ctx.held_out_contexts
+
+
+def held_out_at_noise(ctx, model: FitResult) -> bool:
+    """Does ``model`` predict every held-out record at its noise (True when there are none)?"""
+    return all(prediction_row(h, model)["at_noise"] for h in held_out_contexts(ctx))
+
+
+def predict_held_out(ctx, state) -> list[dict]:
+    """Every held-out record predicted by the starting and the final model: rows for the verdict's
+    ``held_out`` (the final model's prediction, and ``rms_before`` the starting model's)."""
+    rows = []
+    for hctx in held_out_contexts(ctx):
+        before = prediction_row(hctx, state.baseline)
+        after = prediction_row(hctx, state.final) if state.final is not state.baseline else before
+        row = {k: v for k, v in after.items() if k != "fit"}
+        row.update(rms_before=before["rms"], rms_before_over_noise=before["rms_over_noise"])
+        rows.append(row)
+    return rows
