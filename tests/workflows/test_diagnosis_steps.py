@@ -69,7 +69,7 @@ def ctx_of(**kw):
                           skipped=[], say=lambda m: None, fits=0, valley=[], record=SimpleNamespace(period_fields=(),
                                                                                         measured_channel="angle",
                                                                                         natural_frequency=None),
-                          stop=SimpleNamespace(is_set=lambda: False), spring_final=None, options=DEFAULT_OPTIONS,
+                          stop=SimpleNamespace(is_set=lambda: False), spring_final=None, options=DEFAULT_OPTIONS, held_out=(),
                           dataset=SimpleNamespace(t=T), rig=SimpleNamespace(experiment="cam_drop", record={}),
                           setup=SimpleNamespace(release=0.0, still_start=False, hand_start=False),
                           measurement=SimpleNamespace(t=T, channel=lambda name: np.zeros_like(T)))

@@ -90,6 +90,7 @@ class Context:
     #: the rig's other records, (rig, measurement) pairs, predicted but not fitted (.held_out)
     held_out: tuple = ()
     held_out_contexts: list | None = None  # their contexts, aligned once (.held_out)
+    predictions: dict = field(default_factory=dict)  # id(model) -> (model, its prediction of this record)
 
     @property
     def stop(self) -> threading.Event:

@@ -150,8 +150,9 @@ def _selection_text(ctx, baseline, final, missing, backward, start_at_noise: boo
         text = (" The starting model's residual is already at the noise, its level confirmed by a witness the fit "
                 "did not shape (the criterion the verdict uses): no effect is searched, none is named.")
     elif missing:
+        where = " on this record and the held-out records' predictions together" if ctx.held_out else ""
         text = (f" Forward selection keeps {', '.join(missing)} (each lowering the whitened BIC by more than "
-                f"{margin:g}); the rms goes {baseline.rms:.3g} -> {final.rms:.3g} {unit}, each model at its own best "
+                f"{margin:g}{where}); the rms goes {baseline.rms:.3g} -> {final.rms:.3g} {unit}, each model at its own best "
                 f"alignment of the record ({final.rms / sigma:.2f}x the noise).")
     else:
         text = f" No candidate lowers the whitened BIC by more than {margin:g}."

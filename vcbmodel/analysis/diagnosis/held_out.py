@@ -12,6 +12,7 @@ from dataclasses import replace
 
 from ...errors import SimulationError
 from ..fit import FitAborted, FitResult
+from ..noise import noise_of_best, variance_gain
 from .align import align
 from .at_noise import judge_noise
 from .context import Context
@@ -36,11 +37,37 @@ def predict(hctx: Context, model: FitResult) -> FitResult:
     return fit_record(hctx, model.effects, model.spring_model, params, f"prediction of {hctx.measurement.path}")
 
 
+def prediction(hctx: Context, model: FitResult) -> FitResult:
+    """:func:`predict`, once per model and record (kept on the record's context with the model,
+    so that its id stays its own)."""
+    kept = hctx.predictions.get(id(model))
+    if kept is None or kept[0] is not model:
+        kept = hctx.predictions[id(model)] = (model, predict(hctx, model))
+    return kept[1]
+
+
+def held_out_evidence(ctx, current: FitResult, fit: FitResult) -> tuple[float, float]:
+    """What the held-out records say of ``fit`` against ``current`` (both fitted on the diagnosed
+    record), summed over the records: the drop of the whitened chi^2 of their predictions (under
+    each record's noise model, from the better prediction's residual) and the share of each
+    record's noise variance removed. Predictions are out of sample: no parameter is charged."""
+    delta = gain = 0.0
+    for h in held_out_contexts(ctx):
+        try:
+            before, after = prediction(h, current), prediction(h, fit)
+        except (FitAborted, SimulationError):
+            continue
+        noise = noise_of_best([before, after], h.sigma_hf, h.quantisation)
+        delta += before.chi2_with(noise) - after.chi2_with(noise)
+        gain += variance_gain(before, after, h.sigma_hf)
+    return delta, gain
+
+
 def prediction_row(hctx: Context, model: FitResult) -> dict:
     """``model`` predicting the record of ``hctx``: its rms, over the record's noise, and whether
     the residual is at the noise (:func:`.at_noise.judge_noise`)."""
     try:
-        fit = predict(hctx, model)
+        fit = prediction(hctx, model)
     except (FitAborted, SimulationError) as e:
         return {"record": str(hctx.measurement.path), "at_noise": False, "rms": None, "rms_over_noise": float("inf"),
                 "failed": str(e).splitlines()[0][:200]}

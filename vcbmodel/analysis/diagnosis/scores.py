@@ -32,6 +32,16 @@ def earns_margin(ctx, current, fit, delta_bic: float) -> bool:
     return delta_bic > ctx.options.bic_margin and variance_gain(ctx, current, fit) >= min_gain(ctx)
 
 
+def earns(ctx, current, candidate) -> bool:
+    """Does ``candidate`` (:class:`.state.Candidate`) earn its place on top of ``current``: its
+    evidence (the whitened BIC drop on the record plus, with held-out records, the drop of their
+    predictions' whitened chi^2) above ``bic_margin``, and the share of the noise variance it
+    removes (on the record, plus the held-out records') at least :func:`min_gain`? Without
+    held-out records this is :func:`earns_margin`."""
+    return (candidate.evidence > ctx.options.bic_margin
+            and variance_gain(ctx, current, candidate.fit) + candidate.held_out_gain >= min_gain(ctx))
+
+
 def excess_share_left(ctx, current, fit) -> float:
     """The share of the current model's residual variance in excess of the noise that ``fit``
     still leaves."""

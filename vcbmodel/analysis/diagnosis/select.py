@@ -12,7 +12,8 @@ import time
 from ..noise import fit_noise
 from .candidates import candidate_jobs, pair_jobs
 from .at_noise import at_noise, judge_noise
-from .scores import earns_margin, excess_share_left, noise_of_best, noise_separable
+from .held_out import held_out_at_noise, held_out_evidence
+from .scores import earns, excess_share_left, noise_of_best, noise_separable
 from .side_by_side import run_candidates
 from .state import Candidate, SelectionStep
 
@@ -22,7 +23,7 @@ def pair_reason(ctx, current: object, best: Candidate) -> str | None:
     (each alone may fit worse than neither), the best leaves most of the gap (two may be missing
     together: more than the options' ``pair_share_left``), or the best passes the noise tests
     only as strongly correlated noise (a slow model error passes for it)."""
-    if not earns_margin(ctx, current, best.fit, best.delta_bic):
+    if not earns(ctx, current, best):
         return "no single effect earns the evidence"
     if excess_share_left(ctx, current, best.fit) > ctx.options.pair_share_left:
         return "the best single effect leaves most of the gap"
@@ -38,7 +39,9 @@ def _score(ctx, state, current, round_cands) -> Candidate:
     ctx.noise = noise_of_best(ctx, state.all_fits)
     for c in round_cands:
         c.delta_bic = current.bic_with(ctx.noise) - c.fit.bic_with(ctx.noise)
-    return max(round_cands, key=lambda c: c.delta_bic)
+        if ctx.held_out:
+            c.held_out_delta, c.held_out_gain = held_out_evidence(ctx, current, c.fit)
+    return max(round_cands, key=lambda c: c.evidence)
 
 
 def _singles(ctx, state, current, jobs, round_no) -> list:
@@ -107,7 +110,7 @@ def select_round(ctx, state, round_no: int) -> bool:
     if why and not at_noise(ctx, current) and not ctx.over() and _pairs(ctx, state, current, jobs, round_no, why,
                                                                           round_cands):
         best = _score(ctx, state, current, round_cands)
-    if not earns_margin(ctx, current, best.fit, best.delta_bic):
+    if not earns(ctx, current, best):
         return False
     _keep(ctx, state, best, round_no)
     return True
@@ -116,15 +119,18 @@ def select_round(ctx, state, round_no: int) -> bool:
 def select_effects(ctx, state) -> None:
     """Forward selection from ``state.current`` (see the module docstring)."""
     if judge_noise(ctx, state.current).settled:
-        state.start_at_noise = True
-        ctx.say("the starting model is at the noise: no effect is searched")
-        return
+        if held_out_at_noise(ctx, state.current):
+            state.start_at_noise = True
+            ctx.say("the starting model is at the noise: no effect is searched")
+            return
+        ctx.say("the starting model fits its record at the noise but mispredicts a held-out record: "
+                "searching with the held-out records' evidence")
     round_no = 0
     while True:
         round_no += 1
         if not select_round(ctx, state, round_no):
             return
-        if at_noise(ctx, state.current):
+        if at_noise(ctx, state.current) and held_out_at_noise(ctx, state.current):
             return
         if ctx.over():
             ctx.skipped.append(f"round {round_no + 1} (time budget)")

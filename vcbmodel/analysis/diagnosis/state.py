@@ -24,6 +24,15 @@ class Candidate:
     delta_bic: float  # BIC(current model) - BIC(with effect), whitened: positive is better
     round: int = 1
     variants: list | None = None  # spring models tried: (label, rms)
+    #: what the held-out records say (.held_out.held_out_evidence): their predictions' whitened
+    #: chi^2 drop and the share of their noise variance removed (0: no held-out records)
+    held_out_delta: float = 0.0
+    held_out_gain: float = 0.0
+
+    @property
+    def evidence(self) -> float:
+        """The candidate's evidence: its whitened BIC drop on the record, plus the held-out drop."""
+        return self.delta_bic + self.held_out_delta
 
     def summary(self, noise: object = None) -> dict:
         r = self.fit
@@ -31,7 +40,9 @@ class Candidate:
                 "bic": round(r.bic_with(noise) if noise is not None else r.bic, 2), "rms": r.rms,
                 "lag1_autocorrelation": round(lag1_autocorrelation(r.residuals[0]), 4),
                 "spring_model": r.spring_model_label, "parameters": rounded(r.model_values), "simulations": r.nfev,
-                **({"variants": self.variants} if self.variants else {})}
+                **({"variants": self.variants} if self.variants else {}),
+                **({"held_out_delta_chi2": round(self.held_out_delta, 2), "held_out_variance_gain":
+                    round(self.held_out_gain, 4)} if self.held_out_delta or self.held_out_gain else {})}
 
 
 @dataclass
