@@ -87,3 +87,31 @@ def test_no_diagnosis_state_dict_has_private_keys():
     before JSON)."""
     found = {p.name: private_keys(p) for p in DIAGNOSIS.rglob("*.py")}
     assert {k: v for k, v in found.items() if v} == {}
+
+
+def test_only_align_writes_the_context_the_search_writes_its_own_state():
+    """``Context`` is what is fixed for a run: its record fields are set by the align step alone;
+    what the steps change as the search goes is ``ctx.search`` (``Search``)."""
+    fixed = {"record", "quantisation", "sigma_hf", "setup", "channel_sigma", "dataset", "guesses", "valley",
+             "uncertain", "coarse_step", "rig", "measurement", "pool", "budget", "options", "held_out", "search"}
+    writes = {}
+    for path in DIAGNOSIS.rglob("*.py"):
+        for node in ast.walk(ast.parse(path.read_text(encoding="utf-8"))):
+            targets = node.targets if isinstance(node, ast.Assign) else [node.target] if isinstance(
+                node, (ast.AugAssign, ast.AnnAssign)) else []
+            for t in targets:
+                if (isinstance(t, ast.Attribute) and isinstance(t.value, ast.Name) and t.value.id == "ctx"
+                        and t.attr in fixed):
+                    writes.setdefault(path.name, set()).add(t.attr)
+    assert set(writes) <= {"align.py"}, writes
+
+
+def function_lengths(path):
+    tree = ast.parse(path.read_text(encoding="utf-8"))
+    return {f"{path.name}:{n.name}": n.end_lineno - n.lineno + 1 for n in ast.walk(tree)
+            if isinstance(n, (ast.FunctionDef, ast.AsyncFunctionDef))}
+
+
+def test_the_diagnosis_functions_stay_short():
+    lengths = {k: v for p in DIAGNOSIS.rglob("*.py") for k, v in function_lengths(p).items()}
+    assert {k: v for k, v in lengths.items() if v > 60} == {}

@@ -7,6 +7,7 @@ import math
 import re
 import threading
 import time
+from dataclasses import fields
 from pathlib import Path
 from types import SimpleNamespace
 
@@ -19,7 +20,7 @@ from vcbmodel.analysis.diagnosis import refine as refine_step
 from vcbmodel.analysis.diagnosis import springs as springs_step
 from vcbmodel.analysis.diagnosis.align import align, fitted_channels
 from vcbmodel.analysis.diagnosis.candidates import NULL_VALUES, nested, pair_jobs
-from vcbmodel.analysis.diagnosis.context import Budget, Context
+from vcbmodel.analysis.diagnosis.context import Budget, Context, Search
 from vcbmodel.analysis.diagnosis.fits import _fresh_bases, valley_bases
 from vcbmodel.analysis.diagnosis.period import period_mismatch, needs_period
 from vcbmodel.analysis.diagnosis.pipeline import STEPS, Step, run_steps
@@ -64,12 +65,16 @@ def record_of(**kw):
                               **kw})
 
 
+SEARCH_FIELDS = {f.name for f in fields(Search)}
+
+
 def ctx_of(**kw):
-    out = SimpleNamespace(sigma_hf=SIGMA, quantisation=0.0, noise=NoiseModel.white(SIGMA), over=lambda f=0.8: False,
-                          skipped=[], say=lambda m: None, fits=0, valley=[], record=SimpleNamespace(period_fields=(),
-                                                                                        measured_channel="angle",
-                                                                                        natural_frequency=None),
-                          stop=SimpleNamespace(is_set=lambda: False), spring_final=None, options=DEFAULT_OPTIONS, held_out=(),
+    """A stand-in context: the record's fields as keywords, the search's (noise, implied, fits,
+    spring_final, ...) into ``search``."""
+    search = Search(noise=NoiseModel.white(SIGMA), **{k: kw.pop(k) for k in list(kw) if k in SEARCH_FIELDS})
+    out = SimpleNamespace(sigma_hf=SIGMA, quantisation=0.0, over=lambda f=0.8: False, search=search,
+                          skipped=[], say=lambda m: None, valley=[], record=record_of(),
+                          stop=SimpleNamespace(is_set=lambda: False), options=DEFAULT_OPTIONS, held_out=(),
                           dataset=SimpleNamespace(t=T), rig=SimpleNamespace(experiment="cam_drop", record={}),
                           setup=SimpleNamespace(release=0.0, still_start=False, hand_start=False),
                           measurement=SimpleNamespace(t=T, channel=lambda name: np.zeros_like(T)))
@@ -441,7 +446,7 @@ def test_a_period_mismatch_is_found_from_the_drift_of_the_extremes():
     model = 0.3 * np.cos(2 * np.pi * t) * np.exp(-0.4 * t)
     ctx = SimpleNamespace(record=SimpleNamespace(period_fields=("pendulum.inertia",)), sigma_hf=SIGMA,
                           dataset=SimpleNamespace(t=t, y=record, mask=lambda: np.ones(t.size, bool)),
-                          uncertain={}, implied={}, options=DEFAULT_OPTIONS)
+                          uncertain={}, search=Search(), options=DEFAULT_OPTIONS)
     fit = SimpleNamespace(simulations=[SimpleNamespace(measured=model)])
     out = period_mismatch(ctx, fit)
     assert out["relative"] == pytest.approx(0.01, abs=0.002) and out["significant"]
@@ -463,7 +468,7 @@ def test_a_record_ending_mid_swing_gives_the_period_mismatch_unbiased(t_end, err
     record = 0.3 * np.cos(2 * np.pi * t / (1 + error)) * np.exp(-0.2 * t) + SIGMA * rng.standard_normal(t.size)
     ctx = SimpleNamespace(record=SimpleNamespace(period_fields=("pendulum.inertia",)), sigma_hf=SIGMA,
                           dataset=SimpleNamespace(t=t, y=record, mask=lambda: np.ones(t.size, bool)),
-                          uncertain={}, implied={}, options=DEFAULT_OPTIONS)
+                          uncertain={}, search=Search(), options=DEFAULT_OPTIONS)
     out = period_mismatch(ctx, SimpleNamespace(simulations=[SimpleNamespace(measured=model)]))
     assert out["significant"] and out["relative"] == pytest.approx(error, abs=max(1e-4, 4 * out["stderr"]))
     assert abs(out["relative"] - error) < 0.05 * abs(error)
@@ -481,13 +486,13 @@ def test_align_then_start_on_a_synthetic_cam_drop(tmp_path):
         align(ctx, state)
         assert ctx.sigma_hf == pytest.approx(2e-3, rel=0.15)  # the camera's noise (synthetic.py)
         assert fitted_channels(rig, measurement) == (ctx.record.measured_channel,)
-        assert ctx.dataset is not None and ctx.guesses and ctx.fits == 0
+        assert ctx.dataset is not None and ctx.guesses and ctx.search.fits == 0
         assert state.period is None  # a cam drop has no period
         fit_start(ctx, state)
     assert state.baseline is state.current and state.all_fits == [state.baseline]
-    assert state.baseline.effects == tuple(rig.model.effects) and ctx.fits == 1
+    assert state.baseline.effects == tuple(rig.model.effects) and ctx.search.fits == 1
     assert state.baseline.rms < 1.2 * ctx.sigma_hf  # the starting model is the truth's family
-    assert math.isfinite(ctx.noise.marginal_sd)
+    assert math.isfinite(ctx.search.noise.marginal_sd)
 
 
 @pytest.mark.parametrize("finer", [True, False])

@@ -236,7 +236,7 @@ def test_a_kept_effect_within_the_margin_of_a_rival_is_a_tie():
     chosen = _candidate("spring_mass", 12.0, np.zeros_like(t), t)
     candidates = [chosen, _candidate("coulomb_friction", 9.0, bump, t), _candidate("viscous_friction", 1.0, bump, t),
                   _candidate("stribeck", -4.0, bump, t)]
-    ctx = SimpleNamespace(dataset=SimpleNamespace(t=t), noise=SimpleNamespace(marginal_sd=1e-3),
+    ctx = SimpleNamespace(dataset=SimpleNamespace(t=t), search=SimpleNamespace(noise=SimpleNamespace(marginal_sd=1e-3)),
                           record=SimpleNamespace(measured_channel="cam_angle"), options=DEFAULT_OPTIONS)
     path = [SelectionStep("spring_mass", 1, 12.0, 0.0, "massless", None, chosen.fit)]
     ties = _ties(ctx, path, candidates)

@@ -1,7 +1,8 @@
-"""What the steps of one diagnosis share: the record as aligned, the simulation pool, the
-current noise model, the time budget, and a progress voice. It holds no logic of the search:
-:mod:`.align` fills it, the steps read it (and update ``noise``, ``fits``, ``implied`` and
-``spring_final``)."""
+"""What the steps of one diagnosis share: what is fixed for the run (:class:`Context`: the record
+as aligned, the simulation pool, the time budget, the options, a progress voice), and the search's
+state the steps update (:class:`Search`, ``ctx.search``: the current noise model, values the
+diagnosis takes as uncertain, the record's time base, the number of fits). It holds no logic of
+the search: :mod:`.align` fills the context once, the steps read it."""
 from __future__ import annotations
 
 import math
@@ -60,9 +61,28 @@ class Budget:
 
 
 @dataclass
+class Search:
+    """The search's state the steps update: the current noise model (start, select, judge), rig
+    values the diagnosis itself takes as uncertain (a period mismatch), the record's time base when
+    it is fitted as a nuisance, the spring model the final model is refined with (the continuum a
+    lumped chain stood in for), the number of fits, and caches (the held-out records' contexts,
+    a held-out record's predictions by model)."""
+
+    noise: object = None  # the current noise model (NoiseModel)
+    implied: dict = field(default_factory=dict)  # uncertain values the diagnosis added itself
+    time_scale: dict | None = None  # the record's time base as a nuisance: {"value", "sd", "source"}
+    spring_final: object = None  # the spring model the final model is refined with (ANCF)
+    fits: int = 0
+    held_out_contexts: list | None = None  # the held-out records' contexts, aligned once (.held_out)
+    predictions: dict = field(default_factory=dict)  # id(model) -> (model, its prediction of this record)
+
+
+@dataclass
 class Context:
-    """One diagnosis' shared state. The record's fields (``record`` .. ``coarse_step``) are set by
-    :func:`.align.align`; see there for what each is."""
+    """What is fixed for one diagnosis: the rig, the record and how it is read, the pool, the time
+    budget, the options and the held-out records. The record's fields (``record`` ..
+    ``coarse_step``) are set once by :func:`.align.align` (see there for what each is) and only
+    read afterwards; what the search changes as it goes is in ``search`` (:class:`Search`)."""
 
     rig: object
     measurement: object
@@ -71,10 +91,11 @@ class Context:
     verbose: bool = True
     processes: int = 1
     options: DiagnosisOptions = DEFAULT_OPTIONS
+    #: the rig's other records, (rig, measurement) pairs, predicted but not fitted (.held_out)
+    held_out: tuple = ()
     record: object = None  # the experiment's record kind (vcbmodel.experiments)
     quantisation: float = 0.0
     sigma_hf: float = math.nan  # the measured channel's high-frequency noise (record's unit)
-    noise: object = None  # the current noise model (NoiseModel)
     setup: object = None  # the record's nuisance setup (nuisance.RecordSetup)
     channel_sigma: dict = field(default_factory=dict)
     dataset: object = None
@@ -82,15 +103,8 @@ class Context:
     #: a free swing's starts spread along the Coulomb-viscous valley (fits.valley_bases)
     valley: list = field(default_factory=list)
     uncertain: dict = field(default_factory=dict)
-    implied: dict = field(default_factory=dict)  # uncertain values the diagnosis added itself
-    time_scale: dict | None = None  # the record's time base as a nuisance: {"value", "sd", "source"}
     coarse_step: float | None = None
-    spring_final: object = None  # the spring model the final model is refined with (ANCF)
-    fits: int = 0
-    #: the rig's other records, (rig, measurement) pairs, predicted but not fitted (.held_out)
-    held_out: tuple = ()
-    held_out_contexts: list | None = None  # their contexts, aligned once (.held_out)
-    predictions: dict = field(default_factory=dict)  # id(model) -> (model, its prediction of this record)
+    search: Search = field(default_factory=Search)
 
     @property
     def stop(self) -> threading.Event:

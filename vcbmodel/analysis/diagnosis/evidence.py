@@ -41,7 +41,7 @@ def nuisance_report(ctx, final, period, explained: bool = True) -> dict:
            "pinned": dict(s.pinned), "window": list(s.window), "hand_start": s.hand_start,
            "pre_trigger_s": max(0.0, vals.get("release_time", s.release) - float(ctx.measurement.t[0]))
            if not s.hand_start else None, "notes": list(s.notes),
-           "uncertain": dict(ctx.uncertain), "implied_uncertain": dict(ctx.implied),
+           "uncertain": dict(ctx.uncertain), "implied_uncertain": dict(ctx.search.implied),
            "units": {"release_time": "s", "initial_angle": "rad", "sensor_offset": ctx.record.unit,
                      "sensor_gain": "-"}}
     if period:
@@ -64,7 +64,7 @@ def period_sentence(ctx, period: dict, explained: bool) -> str:
                 "no conclusion is drawn about the rig or the record.")
     return (text + f": the rig's I/(M g L) is about {200 * period['relative']:+.1f} % off or the record's time base "
             f"{100 * period['relative']:+.2f} %; "
-            + ("the period was fitted as a nuisance (pendulum inertia)." if ctx.implied else
+            + ("the period was fitted as a nuisance (pendulum inertia)." if ctx.search.implied else
                "the rig marks the period's fields uncertain, so they were fitted."))
 
 
@@ -75,7 +75,7 @@ def describe_signature(ctx, baseline, final=None) -> dict:
         t = fit.times[0]
         r = fit.residuals[0]
         half = t.size // 2
-        return {"residual_rms_over_noise": fit.rms / ctx.noise.marginal_sd,
+        return {"residual_rms_over_noise": fit.rms / ctx.search.noise.marginal_sd,
                 "residual_growth": float(np.sqrt(np.mean(r[half:] ** 2)) / max(np.sqrt(np.mean(r[:half] ** 2)), 1e-300)),
                 "residual_dominant_frequency_hz": dominant_frequency(t, r),
                 "lag1_autocorrelation": lag1_autocorrelation(r)}
@@ -84,7 +84,7 @@ def describe_signature(ctx, baseline, final=None) -> dict:
     m = ctx.dataset.mask()
     meas = ctx.measurement.window(ctx.setup.window[0], ctx.setup.window[1])
     model = baseline.simulations[0].measured[m]
-    sig.update(ctx.record.signature(ctx.rig, meas, model, baseline.residuals[0], ctx.noise.marginal_sd))
+    sig.update(ctx.record.signature(ctx.rig, meas, model, baseline.residuals[0], ctx.search.noise.marginal_sd))
     if final is not None and final is not baseline:
         sig["final"] = feats(final)
     if any(ch.endswith("_contact") for ch in ctx.dataset.fitted_channels):
@@ -126,10 +126,10 @@ def evidence_text(ctx, baseline, final, missing, window, signature, verdict: Ver
 def _start_text(ctx, baseline, window, signature, verdict: Verdict, period) -> str:
     """The starting residual and what the record's signature shows."""
     unit = ctx.record.unit
-    sigma = ctx.noise.marginal_sd
+    sigma = ctx.search.noise.marginal_sd
     text = (f"The starting model leaves an rms residual of {baseline.rms:.3g} {unit}, "
             f"{baseline.rms / sigma:.2f}x the noise {sigma:.3g} {unit} (lag-1 correlation of the noise "
-            f"{ctx.noise.lag1:.2f}), largest in t = [{window[0]:.4g}, {window[1]:.4g}] s.")
+            f"{ctx.search.noise.lag1:.2f}), largest in t = [{window[0]:.4g}, {window[1]:.4g}] s.")
     if "amplitude_decay" in signature and signature["amplitude_decay"].get("shape") != "unknown":
         d = signature["amplitude_decay"]
         text += (f" The measured swing amplitude decays {d['shape']}ly over {d['peaks']} peaks and stops at "
@@ -145,7 +145,7 @@ def _start_text(ctx, baseline, window, signature, verdict: Verdict, period) -> s
 
 def _selection_text(ctx, baseline, final, missing, backward, start_at_noise: bool) -> str:
     """What forward selection kept, and what the refinements changed."""
-    unit, sigma, margin = ctx.record.unit, ctx.noise.marginal_sd, ctx.options.bic_margin
+    unit, sigma, margin = ctx.record.unit, ctx.search.noise.marginal_sd, ctx.options.bic_margin
     if start_at_noise:
         text = (" The starting model's residual is already at the noise, its level confirmed by a witness the fit "
                 "did not shape (the criterion the verdict uses): no effect is searched, none is named.")
@@ -189,7 +189,7 @@ def _ties_text(ctx, verdict: Verdict) -> str:
 
 def _verdict_text(ctx, final, verdict: Verdict) -> str:
     """The verdict with its tests (and the held-out records' predictions)."""
-    unit, sigma = ctx.record.unit, ctx.noise.marginal_sd
+    unit, sigma = ctx.record.unit, ctx.search.noise.marginal_sd
     text = held_out_text(verdict, unit)
     if verdict.explained:
         text += " The final residual is consistent with the noise (white once whitened, at the record's level): explained."

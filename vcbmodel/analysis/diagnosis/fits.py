@@ -34,7 +34,7 @@ def _sensor_parameters(ctx, add) -> None:
 
 def _rig_parameters(ctx, add) -> None:
     """Rig values marked uncertain (or implied by a period mismatch), each with its prior."""
-    for path, rel in {**ctx.uncertain, **ctx.implied}.items():
+    for path, rel in {**ctx.uncertain, **ctx.search.implied}.items():
         if path.startswith(("friction.", "record.")):
             continue
         nominal = float(loaded_value(ctx.rig, path))
@@ -64,8 +64,8 @@ def nuisance_parameters(ctx, previous: dict | None = None) -> dict:
         add(Parameter("initial_angle_0", s.initial_angle, s.initial_angle - 0.1, s.initial_angle + 0.1,
                       vary="initial_angle" not in s.pinned, unit="rad", kind="state", dataset=0,
                       path=ctx.record.initial_angle_field, prior=s.initial_angle_prior))
-    if ctx.time_scale:  # the record's clock (..time_base)
-        add(time_scale_parameter(ctx.time_scale["sd"], ctx.time_scale["value"]))
+    if ctx.search.time_scale:  # the record's clock (..time_base)
+        add(time_scale_parameter(ctx.search.time_scale["sd"], ctx.search.time_scale["value"]))
     _rig_parameters(ctx, add)
     return params
 
@@ -138,7 +138,7 @@ def fit_record(ctx, effects: tuple, spring_model: object, params: dict, label: s
         r = fitting.fit(ds, effects, spring_model, params, starts=starts, step=step,
                         enough=lambda f: at_noise(ctx, f), **kw)
     r.label = label
-    ctx.fits += 1
+    ctx.search.fits += 1
     return r
 
 

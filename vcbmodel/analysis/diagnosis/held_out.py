@@ -40,9 +40,9 @@ def predict(hctx: Context, model: FitResult) -> FitResult:
 def prediction(hctx: Context, model: FitResult) -> FitResult:
     """:func:`predict`, once per model and record (kept on the record's context with the model,
     so that its id stays its own)."""
-    kept = hctx.predictions.get(id(model))
+    kept = hctx.search.predictions.get(id(model))
     if kept is None or kept[0] is not model:
-        kept = hctx.predictions[id(model)] = (model, predict(hctx, model))
+        kept = hctx.search.predictions[id(model)] = (model, predict(hctx, model))
     return kept[1]
 
 
@@ -78,9 +78,9 @@ def prediction_row(hctx: Context, model: FitResult) -> dict:
 
 def held_out_contexts(ctx) -> list[Context]:
     """The held-out records' contexts, aligned once per diagnosis (kept on ``ctx``)."""
-    if ctx.held_out_contexts is None:
-        ctx.held_out_contexts = [record_context(ctx, rig, meas) for rig, meas in ctx.held_out]
-    return ctx.held_out_contexts
+    if ctx.search.held_out_contexts is None:
+        ctx.search.held_out_contexts = [record_context(ctx, rig, meas) for rig, meas in ctx.held_out]
+    return ctx.search.held_out_contexts
 
 
 def held_out_at_noise(ctx, model: FitResult) -> bool:

@@ -31,7 +31,7 @@ def what_is_left(ctx, final: FitResult, judgement) -> dict:
     t = final.times[0]
     r = judgement.cleaned[0]
     t0, t1, peak = disagreement_window(t, r, judgement.noise.marginal_sd)
-    return {"window": [t0, t1], "rms": judgement.rms, "excess": excess(judgement.rms, ctx.noise.marginal_sd),
+    return {"window": [t0, t1], "rms": judgement.rms, "excess": excess(judgement.rms, ctx.search.noise.marginal_sd),
             "dominant_frequency_hz": dominant_frequency(t, r), "lag1_autocorrelation": lag1_autocorrelation(r),
             "peak_running_rms": peak}
 
@@ -55,7 +55,7 @@ def time_base(ctx, state) -> None:
     lowers the whitened BIC by more than the margin, stays inside its bounds (a scale at +-1 %
     stands in for something else) and is a clock's error at all (``min_clock_error``)."""
     current = state.current
-    if ctx.over() or ctx.time_scale is not None:
+    if ctx.over() or ctx.search.time_scale is not None:
         return
     first = judge_noise(ctx, current)
     if first.at_noise:
@@ -63,18 +63,18 @@ def time_base(ctx, state) -> None:
     lines = found_named(list(first.artefacts), "sensor_lines")
     clock = clock_from_lines(lines.estimate if lines else None)
     if clock is not None:
-        ctx.time_scale = {"value": clock[0], "sd": clock[1], "source": "mains line"}
+        ctx.search.time_scale = {"value": clock[0], "sd": clock[1], "source": "mains line"}
     elif period_fields_fitted(ctx):
         return
     else:
-        ctx.time_scale = {"value": 1.0, "sd": None, "source": "fitted"}
+        ctx.search.time_scale = {"value": 1.0, "sd": None, "source": "fitted"}
     ctx.say(f"the final model leaves more than the noise: refitting it with the record's time base as a nuisance "
-            f"({ctx.time_scale['source']})")
+            f"({ctx.search.time_scale['source']})")
     try:
         timed = fit_record(ctx, current.effects, current.spring_model, parameters(ctx, current.effects, current.values),
                            "final model (record's time base fitted)")
     except (FitAborted, SimulationError):
-        ctx.time_scale = None
+        ctx.search.time_scale = None
         return
     _keep_time_base(ctx, state, current, timed)
 
@@ -88,7 +88,7 @@ def _keep_time_base(ctx, state, current: FitResult, timed: FitResult) -> None:
     if gain <= ctx.options.bic_margin or scale.at_bound() or abs(scale.value - 1.0) < ctx.options.min_clock_error:
         ctx.say(f"time base: scale {scale.value:.5f}, rms {timed.rms:.3g} {ctx.record.unit}, delta BIC {gain:.1f}: "
                 "not kept")
-        ctx.time_scale = None
+        ctx.search.time_scale = None
         return
     ctx.say(f"time base: scale {scale.value:.5f}; rms {current.rms:.3g} -> {timed.rms:.3g} {ctx.record.unit} "
             f"(delta BIC {gain:.0f})")
@@ -101,7 +101,7 @@ def _tie(ctx, chosen: Candidate, rival: Candidate) -> dict:
     fitted models differ most (what would separate them)."""
     t = chosen.fit.times[0] if chosen.fit.times else ctx.dataset.t
     difference = np.asarray(chosen.fit.residuals[0]) - np.asarray(rival.fit.residuals[0])
-    t0, t1, _ = disagreement_window(t, difference, ctx.noise.marginal_sd)
+    t0, t1, _ = disagreement_window(t, difference, ctx.search.noise.marginal_sd)
     return {"between": [chosen.effect, rival.effect], "round": chosen.round,
             "delta_bic_between": float(chosen.delta_bic - rival.delta_bic),
             "separate_by": {"window": [float(t0), float(t1)],
@@ -134,13 +134,13 @@ def ties(ctx, path: list[SelectionStep], candidates: list[Candidate]) -> list:
 def _rescore(ctx, state) -> None:
     """Every step of the search scored again with the final noise model."""
     final = state.final
-    ctx.noise = noise_of_best(ctx, [final] + [f for f in state.all_fits if f.rms < final.rms])
+    ctx.search.noise = noise_of_best(ctx, [final] + [f for f in state.all_fits if f.rms < final.rms])
     for step in state.path:
-        step.delta_bic_final_noise = step.before.bic_with(ctx.noise) - step.fit.bic_with(ctx.noise)
+        step.delta_bic_final_noise = step.before.bic_with(ctx.search.noise) - step.fit.bic_with(ctx.search.noise)
     for b in state.backward:
-        b.delta_bic_final_noise = b.without.bic_with(ctx.noise) - b.with_.bic_with(ctx.noise)
+        b.delta_bic_final_noise = b.without.bic_with(ctx.search.noise) - b.with_.bic_with(ctx.search.noise)
     for c in state.candidates:
-        c.delta_bic = state.round_ref[c.round].bic_with(ctx.noise) - c.fit.bic_with(ctx.noise)
+        c.delta_bic = state.round_ref[c.round].bic_with(ctx.search.noise) - c.fit.bic_with(ctx.search.noise)
     state.missing = [step.effect for step in state.path]
 
 
@@ -149,7 +149,7 @@ def _spring_refined(ctx, state) -> dict | None:
     if state.coarse_spring is None:
         return None
     return {"from": state.coarse_spring.spring_model_label, "to": state.final.spring_model_label,
-            "delta_bic": state.coarse_spring.bic_with(ctx.noise) - state.final.bic_with(ctx.noise),
+            "delta_bic": state.coarse_spring.bic_with(ctx.search.noise) - state.final.bic_with(ctx.search.noise),
             # the best other chain can have fewer masses (or another convention): finer only with more
             "finer": state.final.spring_model.masses > state.coarse_spring.spring_model.masses}
 

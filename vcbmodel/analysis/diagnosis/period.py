@@ -61,14 +61,14 @@ def period_mismatch(ctx, fit: FitResult) -> dict | None:
 def period_fields_fitted(ctx) -> bool:
     """Is a field that sets the swing's period already fitted (uncertain in the rig, or implied)?"""
     fields = ctx.record.period_fields
-    return any(f in ctx.uncertain or f in ctx.implied for f in fields)
+    return any(f in ctx.uncertain or f in ctx.search.implied for f in fields)
 
 
 def imply_period(ctx, period: dict) -> None:
     """A period mismatch the rig does not allow for: fit the period's first field (the
     pendulum's inertia) as a nuisance, with an uncertainty three times the mismatch's."""
     field_name = ctx.record.period_fields[0]
-    ctx.implied[field_name] = max(0.02, 3 * abs(2 * period["relative"]))
+    ctx.search.implied[field_name] = max(0.02, 3 * abs(2 * period["relative"]))
     ctx.say(f"the record's swing period differs from the rig's by {100 * period['relative']:+.2f} %: "
             f"fitting {field_name} as a nuisance")
 

@@ -162,7 +162,7 @@ def search_harder(ctx, state) -> None:
         wider = _wider_fit(ctx, current, params, scan)
     except (FitAborted, SimulationError):
         return
-    ctx.fits += 1
+    ctx.search.fits += 1
     wider.label = "final model (wider search)"
     state.all_fits.append(wider)
     if wider.chi2 >= current.chi2:

@@ -17,7 +17,7 @@ from .time_base import time_base_report
 
 def window(ctx, fit: object) -> tuple:
     """Where ``fit``'s residual stands out most from the noise (record time, s)."""
-    t0, t1, _ = disagreement_window(fit.times[0], fit.residuals[0], ctx.noise.marginal_sd)
+    t0, t1, _ = disagreement_window(fit.times[0], fit.residuals[0], ctx.search.noise.marginal_sd)
     return (t0, t1)
 
 
@@ -25,7 +25,7 @@ def timing(ctx) -> dict:
     """Time and work spent, and whether the budget cut the search short."""
     b = ctx.budget
     return {"seconds": time.monotonic() - b.started, "budget_used_s": b.used(),
-            "simulations": ctx.pool.simulations, "fits": ctx.fits,
+            "simulations": ctx.pool.simulations, "fits": ctx.search.fits,
             "budget_s": b.seconds, "budget_reached": bool(b.skipped or b.stop.is_set()),
             "skipped": list(b.skipped)}
 
@@ -36,9 +36,9 @@ def nuisance(ctx, state) -> dict:
     final = state.final
     out = nuisance_report(ctx, final, state.period, state.verdict.explained)
     out.update({f.name: f.json for f in state.verdict.artefacts})
-    if ctx.time_scale is not None and time_scale_name(0) in final.parameters:
+    if ctx.search.time_scale is not None and time_scale_name(0) in final.parameters:
         p = final.parameters[time_scale_name(0)]
-        out["time_base"] = time_base_report(p.value, p.stderr, ctx.time_scale["source"], period_fields_fitted(ctx))
+        out["time_base"] = time_base_report(p.value, p.stderr, ctx.search.time_scale["source"], period_fields_fitted(ctx))
     return out
 
 
@@ -60,6 +60,6 @@ def report(ctx, state) -> None:
             f"{ctx.record.unit}; explained: {state.verdict.explained}; {spent['seconds']:.0f} s, "
             f"{spent['simulations']} simulations")
     selection = [s.to_json() for s in state.path] + [b.to_json() for b in state.backward]
-    state.diagnosis = Diagnosis(ctx.rig, ctx.measurement, ctx.noise, baseline, state.candidates, state.missing, final,
+    state.diagnosis = Diagnosis(ctx.rig, ctx.measurement, ctx.search.noise, baseline, state.candidates, state.missing, final,
                                 where, signature, evidence, stopped, state.verdict, found, spent, selection,
                                 state.discovery, state.discovered, ctx.options, state.start_at_noise)

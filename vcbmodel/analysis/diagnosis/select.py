@@ -36,9 +36,9 @@ def pair_reason(ctx, current: object, best: Candidate) -> str | None:
 def _score(ctx, state, current, round_cands) -> Candidate:
     """Every candidate of the round scored with the noise model of the best residual so far;
     returns the best."""
-    ctx.noise = noise_of_best(ctx, state.all_fits)
+    ctx.search.noise = noise_of_best(ctx, state.all_fits)
     for c in round_cands:
-        c.delta_bic = current.bic_with(ctx.noise) - c.fit.bic_with(ctx.noise)
+        c.delta_bic = current.bic_with(ctx.search.noise) - c.fit.bic_with(ctx.search.noise)
         if ctx.held_out:
             c.held_out_delta, c.held_out_gain = held_out_evidence(ctx, current, c.fit)
     return max(round_cands, key=lambda c: c.evidence)
@@ -85,7 +85,7 @@ def _keep(ctx, state, best, round_no) -> None:
     if stand_in is not None:
         # further effects are searched on the best lumped chain (an ANCF spring costs five to
         # ten times as much); the final model is refined with the continuum at the end
-        ctx.spring_final = best.fit.spring_model
+        ctx.search.spring_final = best.fit.spring_model
         ctx.say(f"round {round_no}: further effects are fitted with {stand_in.spring_model_label} standing in "
                 f"for {best.fit.spring_model_label}")
         state.current = stand_in

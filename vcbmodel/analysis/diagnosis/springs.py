@@ -32,10 +32,10 @@ def final_spring(ctx, state) -> None:
     for the spring model chosen for the spring's mass (ANCF, five to ten times dearer); the final
     model is refined with it from the stand-in's values, and kept if it fits better."""
     current = state.current
-    if ctx.spring_final is None or "spring_mass" not in current.effects or ctx.stop.is_set():
+    if ctx.search.spring_final is None or "spring_mass" not in current.effects or ctx.stop.is_set():
         return
-    ctx.say(f"refining the final model with the {ctx.spring_final.label} spring")
-    fine = _refined(ctx, current, ctx.spring_final, f"final [{ctx.spring_final.label}]")
+    ctx.say(f"refining the final model with the {ctx.search.spring_final.label} spring")
+    fine = _refined(ctx, current, ctx.search.spring_final, f"final [{ctx.search.spring_final.label}]")
     if fine is None:
         return
     state.all_fits.append(fine)
@@ -75,7 +75,7 @@ def finer_spring(ctx, state) -> None:
     finer = _refined(ctx, current, chain, f"final [{chain.label}]")
     if finer is None:
         return
-    ctx.fits += 1
+    ctx.search.fits += 1
     state.all_fits.append(finer)
     noise = fit_noise(finer.residuals, ctx.sigma_hf, ctx.quantisation)
     gain = current.bic_with(noise) - finer.bic_with(noise)
