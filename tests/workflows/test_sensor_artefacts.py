@@ -80,9 +80,11 @@ def test_an_object_that_does_not_follow_the_protocol_is_refused():
 def test_a_12_bit_record_gets_no_friction_effect_named(tmp_path, complication):
     """A pendulum from the independent reference solve (no code shared with the model), read on a
     12-bit grid over a potentiometer's 340 degrees (1.45 mrad): alone, and after 0.5 mrad of
-    sensor noise. The rounding is counted as noise: no Stribeck friction is named for it."""
+    sensor noise. The rounding is counted as noise: no Stribeck friction is named for it (the
+    rounded record of seed 11 had Stribeck friction named at 0.97x its noise; of 36 such records,
+    Coulomb or viscous friction hidden or none, it was the only one whose answer changed)."""
     values = {"quantised": LOGGER_STEP} if complication == ("quantised",) else None
-    rig_path, meas_path, truth = realistic_record("pend_none", 7, tmp_path, complication, values=values)
+    rig_path, meas_path, truth = realistic_record("pend_none", 11, tmp_path, complication, values=values)
     rig = load_rig(rig_path)
     j = diagnose(rig, load_record(meas_path, rig), verbose=False).to_json()
     assert j["missing_effects"] == [] and j["explained"], j["evidence"]
