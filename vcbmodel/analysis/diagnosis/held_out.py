@@ -63,6 +63,20 @@ def held_out_evidence(ctx, current: FitResult, fit: FitResult) -> tuple[float, f
     return delta, gain
 
 
+def held_out_share_left(ctx, current: FitResult, fit: FitResult) -> float:
+    """The share of the held-out records' prediction variance in excess of their noise (summed
+    over the records) that ``fit`` still leaves, against ``current``."""
+    before = after = 0.0
+    for h in held_out_contexts(ctx):
+        try:
+            a, b = prediction(h, current), prediction(h, fit)
+        except (FitAborted, SimulationError):
+            continue
+        before += max(a.rms**2 - h.sigma_hf**2, 0.0)
+        after += max(b.rms**2 - h.sigma_hf**2, 0.0)
+    return after / before if before > 0 else 0.0
+
+
 def prediction_row(hctx: Context, model: FitResult) -> dict:
     """``model`` predicting the record of ``hctx``: its rms, over the record's noise, and whether
     the residual is at the noise (:func:`.at_noise.judge_noise`)."""

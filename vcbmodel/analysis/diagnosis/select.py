@@ -12,7 +12,7 @@ import time
 from ..noise import fit_noise
 from .candidates import candidate_jobs, pair_jobs
 from .at_noise import at_noise, judge_noise
-from .held_out import held_out_at_noise, held_out_evidence
+from .held_out import held_out_at_noise, held_out_evidence, held_out_share_left
 from .scores import earns, excess_share_left, noise_of_best, noise_separable
 from .side_by_side import run_candidates
 from .state import Candidate, SelectionStep
@@ -22,15 +22,29 @@ def pair_reason(ctx, current: object, best: Candidate) -> str | None:
     """Why a round should try pairs of effects too, or None: no single effect earns the evidence
     (each alone may fit worse than neither), the best leaves most of the gap (two may be missing
     together: more than the options' ``pair_share_left``), or the best passes the noise tests
-    only as strongly correlated noise (a slow model error passes for it)."""
+    only as strongly correlated noise (a slow model error passes for it). None, with held-out
+    records, when the best single effect brings the record and every held-out record to the noise
+    (the simplest model that predicts them all: the held-out records chose among the candidates,
+    so a pair's extra values would be fitted to them)."""
+    if ctx.held_out and at_noise(ctx, best.fit) and held_out_at_noise(ctx, best.fit):
+        return None
     if not earns(ctx, current, best):
         return "no single effect earns the evidence"
-    if excess_share_left(ctx, current, best.fit) > ctx.options.pair_share_left:
+    if gap_share_left(ctx, current, best) > ctx.options.pair_share_left:
         return "the best single effect leaves most of the gap"
     noise = fit_noise(best.fit.residuals, ctx.sigma_hf, ctx.quantisation)
     if not noise_separable(ctx, noise) and at_noise(ctx, best.fit):
         return "the best single effect passes for noise only as strongly correlated noise"
     return None
+
+
+def gap_share_left(ctx, current: object, best: Candidate) -> float:
+    """The share of the gap the best single effect leaves: of the current model's residual variance
+    in excess of the noise; or, where the current model fits its own record at the noise and
+    held-out records are what show the gap, of theirs."""
+    if ctx.held_out and at_noise(ctx, current):
+        return held_out_share_left(ctx, current, best.fit)
+    return excess_share_left(ctx, current, best.fit)
 
 
 def _score(ctx, state, current, round_cands) -> Candidate:
