@@ -226,5 +226,12 @@ def held_out_text(verdict: Verdict, unit: str) -> str:
         return ""
     parts = [f"{row['record']} at {row['rms_over_noise']:.2f}x its noise ({'at' if row['at_noise'] else 'NOT at'} "
              "the noise)" for row in verdict.held_out]
-    return (" Predicted with the values fitted here and each record's own alignment, the held-out records stand: "
+    text = (" Predicted with the values fitted here and each record's own alignment, the held-out records stand: "
             + "; ".join(parts) + ".")
+    for row in verdict.held_out:
+        for name in row.get("moved", ()):
+            v = row["values_refitted_here"][name]
+            text += (f" Refitted on {row['record']}, {name} is {v['here']:.4g} against {v['fitted_record']:.4g} here "
+                     f"({abs(v['z']):.1f} combined stated errors): a value that moves between records of one rig names "
+                     "an amplitude- or speed-dependent effect the model lacks.")
+    return text

@@ -102,14 +102,39 @@ def held_out_at_noise(ctx, model: FitResult) -> bool:
     return all(prediction_row(h, model)["at_noise"] for h in held_out_contexts(ctx))
 
 
+def moved_values(ctx, hctx: Context, model: FitResult) -> dict:
+    """``model`` refitted on the held-out record of ``hctx`` (its values free): each fitted model
+    value there against the diagnosed record's, in combined stated errors (``z``), the names that
+    moved by more than the options' ``moved_errors``, and the refit's rms over the record's noise.
+    A value that moves between records of one rig names an amplitude- or speed-dependent effect the
+    model lacks; a refit that stays above the noise, a shape the model cannot follow at any values."""
+    try:
+        refit = fit_record(hctx, model.effects, model.spring_model, parameters(hctx, model.effects, model.values),
+                           f"refit on {hctx.measurement.path}")
+    except (FitAborted, SimulationError):
+        return {}
+    values = {}
+    for name, p in model.parameters.items():
+        q = refit.parameters.get(name)
+        if p.kind != "model" or not p.vary or q is None or not p.stderr or not q.stderr:
+            continue
+        z = (q.value - p.value) / (p.stderr**2 + q.stderr**2) ** 0.5
+        values[name] = {"here": q.value, "stderr": q.stderr, "fitted_record": p.value, "stderr_fitted_record": p.stderr,
+                        "z": z}
+    moved = [name for name, v in values.items() if abs(v["z"]) > ctx.options.moved_errors]
+    return {"values_refitted_here": values, "moved": moved, "refit_rms_over_noise": refit.rms / hctx.sigma_hf}
+
+
 def predict_held_out(ctx, state) -> list[dict]:
-    """Every held-out record predicted by the starting and the final model: rows for the verdict's
-    ``held_out`` (the final model's prediction, and ``rms_before`` the starting model's)."""
+    """Every held-out record predicted by the starting and the final model, and the final model
+    refitted on it (:func:`moved_values`): rows for the verdict's ``held_out`` (the final model's
+    prediction, ``rms_before`` the starting model's)."""
     rows = []
     for hctx in held_out_contexts(ctx):
         before = prediction_row(hctx, state.baseline)
         after = prediction_row(hctx, state.final) if state.final is not state.baseline else before
         row = {k: v for k, v in after.items() if k != "fit"}
         row.update(rms_before=before["rms"], rms_before_over_noise=before["rms_over_noise"])
+        row.update(moved_values(ctx, hctx, state.final))
         rows.append(row)
     return rows

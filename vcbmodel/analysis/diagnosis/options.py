@@ -46,6 +46,10 @@ class DiagnosisOptions:
     pair_share_left: float = 0.5
     #: A swing's period mismatch is reported when it exceeds this fraction (and 4 standard errors).
     period_tolerance: float = 0.002
+    #: A model value fitted on a held-out record that differs from the diagnosed record's by more
+    #: than this many combined stated errors has moved between records: an amplitude- or
+    #: speed-dependent effect is missing (three: a 0.3 % chance for one value if both are right).
+    moved_errors: float = 3.0
     #: Smallest clock error the time-base nuisance is kept for (relative): a crystal clock is
     #: good to about 1e-4.
     min_clock_error: float = 2e-4
