@@ -1,10 +1,12 @@
 """Step 3, select effects (forward selection): a starting model already at the noise, its level
-confirmed by a witness (:mod:`.at_noise`, the criterion the verdict uses), gets nothing named. Otherwise every registered
-effect the model lacks (and that applies) is added in turn and fitted; the best is kept if it
-lowers the whitened BIC by more than the options' ``bic_margin`` and removes enough of the noise
-variance; repeat until no candidate earns it or the model reaches the noise. Pairs are tried when single effects fall short
-(:func:`pair_reason`). The loop runs over :data:`vcbmodel.model.effects.EFFECTS`: registering an
-effect makes it a candidate with no change here."""
+confirmed by a witness (:mod:`.at_noise`, the criterion the verdict uses), gets nothing named.
+Otherwise every registered effect the model lacks (and that applies) is added in turn and fitted;
+the best is kept if it lowers the whitened BIC by more than the options' ``bic_margin`` and removes
+enough of the noise variance (with held-out records, their predictions' evidence counts too:
+:mod:`.held_out`); repeat until no candidate earns it or the model reaches the noise. Pairs are
+tried when single effects fall short (:func:`pair_reason`). The loop runs over
+:data:`vcbmodel.model.effects.EFFECTS`: registering an effect makes it a candidate with no change
+here."""
 from __future__ import annotations
 
 import time
