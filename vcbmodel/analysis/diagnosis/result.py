@@ -112,8 +112,9 @@ class Diagnosis:
                  f"  disagreement largest in t = [{self.window[0]:.4g}, {self.window[1]:.4g}] s",
                  "  candidates (delta BIC of the whitened residual, positive = better):"]
         for c in self.candidates:
+            held = f"  held-out dchi2 {c.held_out_delta:.1f}" if c.held_out_delta else ""
             lines.append(f"    round {c.round} {c.effect:18s} dBIC {c.delta_bic:12.1f}  rms {c.fit.rms:.3g} {u} "
-                         f"[{c.fit.spring_model_label}]")
+                         f"[{c.fit.spring_model_label}]{held}")
         for name in self.stopped or []:
             lines.append(f"    {name:18s} stopped: a simpler candidate explains the data within the noise")
         lines.append(f"  missing effects: {', '.join(self.missing_effects) or 'none'}")
