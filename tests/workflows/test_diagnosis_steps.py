@@ -229,8 +229,10 @@ def test_a_candidate_is_never_worse_than_its_nested_model():
     current = fit_of(noise(), effects=("coulomb_friction",), varied={"mu_k": 0.1})
     worse = fit_of(noise() + bump(), effects=("coulomb_friction", "viscous_friction"),
                    varied={"mu_k": 0.12, "viscous": 0.3})
+    current.jacobian = (("mu_k",), np.ones((N, 1)))
     out = nested(ctx, current, worse.effects, worse)
     assert out.values == {"mu_k": 0.1, "viscous": NULL_VALUES["viscous"]}
+    assert out.jacobian == (None, None) and out.stand_in is None  # the current fit's Jacobian lacks viscous
     assert out.chi2 == current.chi2 and out.effects == worse.effects
     better = fit_of(0.5 * noise(), effects=worse.effects, varied={"mu_k": 0.1, "viscous": 0.3})
     assert nested(ctx, current, better.effects, better) is better

@@ -69,12 +69,12 @@ def nested(ctx, current: FitResult, effects: tuple, fit: FitResult | None) -> Fi
     new = {k: p for k, p in params.items() if k not in current.parameters}
     if any(p.vary and k not in NULL_VALUES for k, p in new.items()):
         return fit
-    out = replace(current, effects=tuple(effects), parameters={**{k: replace(p) for k, p in current.parameters.items()},
-                                                               **{k: replace(p, value=p.value if NULL_VALUES.get(k) is None
-                                                                             else NULL_VALUES[k], stderr=None)
-                                                                  for k, p in new.items()}})
-    out.label = "nested (new effect at its null value)"
-    return out
+    kept = {k: replace(p) for k, p in current.parameters.items()}
+    nulls = {k: replace(p, value=p.value if NULL_VALUES.get(k) is None else NULL_VALUES[k], stderr=None)
+             for k, p in new.items()}
+    # no Jacobian: the current fit's lacks the new parameters' columns
+    return replace(current, effects=tuple(effects), parameters={**kept, **nulls}, jacobian=(None, None), stand_in=None,
+                   label="nested (new effect at its null value)")
 
 
 def fit_candidate(ctx, current: FitResult, name: str, effects: tuple, variants: tuple, scan: dict,
