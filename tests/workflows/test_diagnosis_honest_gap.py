@@ -115,3 +115,22 @@ def function_lengths(path):
 def test_the_diagnosis_functions_stay_short():
     lengths = {k: v for p in DIAGNOSIS.rglob("*.py") for k, v in function_lengths(p).items()}
     assert {k: v for k, v in lengths.items() if v > 60} == {}
+
+
+def judgement(checks, at_noise=True):
+    from vcbmodel.analysis.diagnosis.at_noise import NoiseJudgement
+    holds = True if any(c["holds"] for c in checks) else None
+    return NoiseJudgement(at_noise, {}, None, {"holds": holds, "decided_by": [], "checks": checks}, (), (), 0.0)
+
+
+def test_a_starting_model_is_settled_only_on_a_confirmed_level():
+    """The high-frequency witness alone allows up to 2x its level (correlated noise): a residual at
+    1.47x it (a cam drop hiding viscous friction, cam_visc seed 12) is at the noise for the verdict,
+    but not settled, so its starting model is still searched; within 1.15x it, or with a pre-trigger
+    or stated level that holds, it is."""
+    hf = {"witness": "high_frequency", "bounds_whole_level": False, "holds": True}
+    assert judgement([{**hf, "rms_ratio": 1.04}]).settled
+    assert not judgement([{**hf, "rms_ratio": 1.47}]).settled
+    pre = {"witness": "pre_trigger", "bounds_whole_level": True, "holds": True, "rms_ratio": 1.3}
+    assert judgement([{**hf, "rms_ratio": 1.47}, pre]).settled
+    assert not judgement([{**hf, "rms_ratio": 1.04}], at_noise=False).settled

@@ -16,9 +16,11 @@ candidates of its round, stops a fit's further starts) and the verdict ``explain
    (``noise_confirmed`` None): the residual passes only as strongly correlated noise, which a
    slow model error can pass for too.
 
-So a judgement has three outcomes: at the noise with the level confirmed by a witness
-(``settled``), at the noise as far as the record can tell (``at_noise`` with ``noise_confirmed``
-None), or not at the noise. The search stops and the verdict says ``explained`` on ``at_noise``;
+So a judgement has three outcomes: at the noise with the level confirmed (``settled``: a witness of
+the whole level holds, or the residual is within ``level_factor`` of the record's high-frequency
+level, what white noise at that level leaves; the high-frequency witness alone allows up to
+``high_frequency_factor`` for correlated noise, which a slow model error can pass for), at the
+noise as far as the record can tell (``at_noise``), or not at the noise. The search stops and the verdict says ``explained`` on ``at_noise``;
 a starting model gets nothing named only when its residual is ``settled`` (an unconfirmed level
 cannot rule out a model error the record's nuisance has bent to hide).
 
@@ -59,6 +61,7 @@ class NoiseJudgement:
     artefacts: tuple[Found, ...]
     cleaned: tuple
     rms: float
+    level_factor: float = DEFAULT_OPTIONS.level_factor
 
     @property
     def noise_confirmed(self) -> bool | None:
@@ -66,8 +69,14 @@ class NoiseJudgement:
 
     @property
     def settled(self) -> bool:
-        """At the noise, and a witness the fit did not shape confirms the level."""
-        return self.at_noise and self.noise_confirmed is True
+        """At the noise, and the level confirmed by evidence the fit did not shape: a witness of the
+        whole level holds, or the residual stands within ``level_factor`` of the record's
+        high-frequency level (what white noise at that level leaves)."""
+        if not self.at_noise or self.noise_confirmed is not True:
+            return False
+        checks = self.evidence["checks"]
+        return (any(c["holds"] is True and c["bounds_whole_level"] for c in checks)
+                or any(c["witness"] == "high_frequency" and c["rms_ratio"] <= self.level_factor for c in checks))
 
     def to_json(self) -> dict:
         return {"tests": self.tests, "noise_of_final_residual": self.noise.to_json(),
@@ -124,7 +133,7 @@ def judge_residual(view: ResidualView, others: Sequence[np.ndarray], witnesses: 
     tests["rms_over_high_frequency_noise"] = rms / hf if hf > 0 else float("nan")
     evidence = judge_against_witnesses(first, witnesses, noise.lag1, view.t, release, options)
     at_noise = bool(tests["consistent"]) and evidence["holds"] is not False
-    return NoiseJudgement(at_noise, tests, noise, evidence, tuple(found), cleaned, rms)
+    return NoiseJudgement(at_noise, tests, noise, evidence, tuple(found), cleaned, rms, options.level_factor)
 
 
 def judge_noise(ctx, fit) -> NoiseJudgement:
