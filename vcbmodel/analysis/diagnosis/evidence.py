@@ -147,8 +147,8 @@ def _selection_text(ctx, baseline, final, missing, backward, start_at_noise: boo
     """What forward selection kept, and what the refinements changed."""
     unit, sigma, margin = ctx.record.unit, ctx.search.noise.marginal_sd, ctx.options.bic_margin
     if start_at_noise:
-        text = (" The starting model's residual is already at the noise, its level confirmed by a witness the fit "
-                "did not shape (the criterion the verdict uses): no effect is searched, none is named.")
+        text = (" The starting model's residual is already at the noise (the criterion the verdict uses), its level "
+                "confirmed by evidence the fit did not shape: no effect is searched, none is named.")
     elif missing:
         where = " on this record and the held-out records' predictions together" if ctx.held_out else ""
         text = (f" Forward selection keeps {', '.join(missing)} (each lowering the whitened BIC by more than "
