@@ -70,3 +70,12 @@ def test_a_held_out_record_mispredicted_makes_the_verdict_not_explained(records,
     # the noise there (a decay shape it cannot follow); its mu_k, with the refit's inflated error, does
     # not move by more than the options' moved_errors
     assert row["refit_rms_over_noise"] > 1.5 and "mu_k" in row["values_refitted_here"]
+
+
+def test_a_held_out_record_of_another_experiment_is_bad_input(capsys):
+    """One line naming the held-out record's rig and the field, exit status 2, nothing run."""
+    from vcbmodel.app.cli import main
+    synthetic = Path(__file__).resolve().parents[2] / "results" / "synthetic"
+    code = main(["diagnose", str(synthetic / "held_out_10deg.csv"), "--held-out", str(synthetic / "demo_cam.csv")])
+    err = capsys.readouterr().err
+    assert code == 2 and "demo_cam.rig.json: experiment:" in err and len(err.strip().splitlines()) == 1

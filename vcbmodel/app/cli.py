@@ -258,6 +258,8 @@ def cmd_identify(args: argparse.Namespace) -> int:
 def cmd_diagnose(args: argparse.Namespace) -> int:
     rig, meas = load_pair(args.measurement, args.rig)
     held_out = [load_pair(path, None) for path in args.held_out]
+    for other, _ in held_out:  # records of the same rig: the same experiment
+        require_experiment(other, rig.experiment, "diagnose --held-out")
     check_output(args.plot, "--plot", inputs=(args.measurement, rig.path), force=args.force,
                  formats=supported_image_formats())
     with results_only_on_stdout():
