@@ -8,7 +8,8 @@ records (the paper's friction test: 10 deg on the long link, 15 deg on the short
 from the independent Tustin solve (vcbmodel.reference.truth_friction, mu_s = mu_k: Coulomb plus
 viscous friction, no code shared with the model): the 10 deg record alone is "explained" by a
 Coulomb-only model with a wrong mu_k; held out, the 15 deg record exposes it, the diagnosis names
-viscous friction and the 15 deg record's prediction gap shrinks.
+viscous friction and the 15 deg record's prediction gap shrinks (not to its noise: 1.2 s of a 10 deg
+swing do not pin the viscous value, and the verdict says so).
 Writes results/discrepancy_demo_cam.png, discrepancy_demo_pendulum.png, discrepancy_demo.{json,md}
 and results/synthetic/held_out_{10,15}deg.{csv,rig.json}.
 """
@@ -62,7 +63,9 @@ def pendulum_case(out, quick):
 #: friction with exact sticking), solved by scipy in vcbmodel.reference.truth_friction.
 HELD_OUT_TRUTH = {"mu_s": 0.10, "mu_k": 0.10, "stribeck_velocity": 0.1, "viscous": 0.10}
 #: (name, rig, duration s, noise seed): a short 10 deg record is diagnosed, a 15 deg one held out.
-HELD_OUT_RECORDS = (("held_out_10deg", P.REFERENCE_PENDULUM, 2.0, 51), ("held_out_15deg", P.REFERENCE_PENDULUM_15, 6.0, 52))
+#: The 10 deg record is short enough that viscous friction earns no evidence on it alone, even
+#: with every candidate fitted (delta BIC about 7, under the margin of 10).
+HELD_OUT_RECORDS = (("held_out_10deg", P.REFERENCE_PENDULUM, 1.2, 51), ("held_out_15deg", P.REFERENCE_PENDULUM_15, 6.0, 52))
 
 
 def held_out_records(out: Path) -> list:
@@ -102,7 +105,7 @@ def held_out_case(out: Path) -> tuple[dict, str]:
                                  "held_out_noise": row["noise"]}, "diagnosis": both}
     md = (f"## A rig with two records: the held-out record exposes an \"explained\" fit\n\n"
           f"Truth (independent Tustin solve, mu_s = mu_k): mu_k {HELD_OUT_TRUTH['mu_k']}, viscous "
-          f"{HELD_OUT_TRUTH['viscous']} N m s/rad. The 10 deg record (2 s) alone, Coulomb-only model: named "
+          f"{HELD_OUT_TRUTH['viscous']} N m s/rad. The 10 deg record (1.2 s) alone, Coulomb-only model: named "
           f"{alone['missing_effects'] or 'nothing'}, explained {alone['explained']}, mu_k {mu_k:.5f} +- {se:.2g} "
           f"({summary['alone']['mu_k_errors_from_truth']:.0f} stated errors from the truth).\n\n"
           f"With the 15 deg record (6 s) held out: named {both['missing_effects']}, explained {both['explained']}; "

@@ -1,9 +1,11 @@
 """Validation on records the fit never saw (issue 28 item 2, diagnose side): a rig with two
-records (studies/discrepancy_demo.py: 10 deg on the long link, 2 s; 15 deg on the short link,
+records (studies/discrepancy_demo.py: 10 deg on the long link, 1.2 s; 15 deg on the short link,
 6 s; truth from the independent Tustin solve with mu_s = mu_k, Coulomb plus viscous friction).
 The 10 deg record alone is "explained" by a Coulomb-only model whose mu_k is tens of stated errors
-off; held out, the 15 deg record exposes it: the diagnosis names viscous friction with the
-held-out records' evidence, and the 15 deg record's prediction gap shrinks to its noise."""
+off (viscous friction earns no evidence there even when fitted); held out, the 15 deg record
+exposes it: the diagnosis names viscous friction with the held-out records' evidence, and the
+15 deg record's prediction gap shrinks (not to its noise: the short record does not pin the
+viscous value; refitted on the 15 deg record the model reaches its noise)."""
 import importlib.util
 import sys
 from pathlib import Path
@@ -45,15 +47,19 @@ def test_the_held_out_record_exposes_it_and_the_gap_shrinks_there(records):
     demo, ((rig, meas), held) = records
     d = diagnose(rig, meas, verbose=False, held_out=[held])
     j = d.to_json()
-    assert j["missing_effects"] == ["viscous_friction"] and j["explained"], d.evidence
+    assert j["missing_effects"] == ["viscous_friction"], d.evidence
+    (cand,) = [c for c in j["candidates"] if c["effect"] == "viscous_friction"]
+    # on the 10 deg record alone viscous friction earns nothing; the held-out record's evidence names it
+    assert cand["delta_bic"] < j["options"]["bic_margin"] < cand["held_out_delta_chi2"]
     (row,) = j["verdict"]["held_out"]
-    assert row["rms_before"] > 1.5 * row["noise"] and row["rms"] < 1.1 * row["noise"] and row["at_noise"]
+    assert row["rms_before"] > 2.5 * row["noise"] and row["rms"] < 0.5 * row["rms_before"]
     truth = demo.HELD_OUT_TRUTH
     assert abs(j["fitted"]["mu_k"] - truth["mu_k"]) < 0.02 * truth["mu_k"]
-    assert abs(j["fitted"]["viscous"] - truth["viscous"]) < 0.2 * truth["viscous"]
-    (cand,) = [c for c in j["candidates"] if c["effect"] == "viscous_friction"]
-    assert cand["held_out_delta_chi2"] > j["options"]["bic_margin"]  # the held-out record's evidence
-    assert row["moved"] == []  # with viscous friction in, the values hold on the other record
+    # not to its noise: the verdict says so, and that refitted there the model holds
+    assert not row["at_noise"] and not j["explained"] and row["refit_at_noise"] and row["moved"] == []
+    refit = row["values_refitted_here"]["viscous"]
+    assert abs(refit["here"] - truth["viscous"]) < 3 * refit["stderr"]
+    assert "the model holds, this record does not pin its values" in d.evidence
 
 
 def test_a_held_out_record_mispredicted_makes_the_verdict_not_explained(records, monkeypatch):
@@ -67,9 +73,9 @@ def test_a_held_out_record_mispredicted_makes_the_verdict_not_explained(records,
     (row,) = j["verdict"]["held_out"]
     assert not row["at_noise"] and "held-out record is not predicted" in d.evidence
     # refitted on the 15 deg record with its own values, the Coulomb-only model still leaves more than
-    # the noise there (a decay shape it cannot follow); its mu_k, with the refit's inflated error, does
-    # not move by more than the options' moved_errors
-    assert row["refit_rms_over_noise"] > 1.5 and "mu_k" in row["values_refitted_here"]
+    # the noise there (a decay shape it cannot follow): the evidence says an effect is missing
+    assert row["refit_rms_over_noise"] > 1.5 and not row["refit_at_noise"] and "mu_k" in row["values_refitted_here"]
+    assert "a shape it cannot follow at any values" in d.evidence
 
 
 def test_a_held_out_record_of_another_experiment_is_bad_input(capsys):

@@ -195,7 +195,8 @@ def _verdict_text(ctx, final, verdict: Verdict) -> str:
         text += " The final residual is consistent with the noise (white once whitened, at the record's level): explained."
     elif verdict.judgement.at_noise:
         text += (" NOT explained: the fitted record's residual is at its noise, but a held-out record is not predicted "
-                 "at its noise: the fit has absorbed an effect it lacks into wrong values.")
+                 "at its noise: the values fitted here do not hold on the rig's other records (an effect the model "
+                 "lacks absorbed into them, or values this record does not pin).")
     else:
         left = verdict.left or {}
         tests = verdict.tests
@@ -220,6 +221,21 @@ def artefact_sentences(verdict: Verdict, unit: str) -> str:
     return text
 
 
+def _refit_sentence(row: dict) -> str:
+    """What the final model refitted on a held-out record it did not predict says."""
+    ratio = row.get("refit_rms_over_noise")
+    if row["at_noise"] or ratio is None:
+        return ""
+    if not row["refit_at_noise"]:
+        return (f" Refitted on {row['record']} with its own values the model still leaves {ratio:.2f}x its noise: a "
+                "shape it cannot follow at any values, an effect is missing.")
+    if row.get("moved"):
+        return ""
+    values = ", ".join(f"{k} {v['here']:.4g} +- {v['stderr']:.2g}" for k, v in row["values_refitted_here"].items())
+    return (f" Refitted on {row['record']} the model reaches {ratio:.2f}x its noise with values within their errors of "
+            f"these ({values} there): the model holds, this record does not pin its values.")
+
+
 def held_out_text(verdict: Verdict, unit: str) -> str:
     """The held-out records' predictions in words ('' when the rig has none)."""
     if not verdict.held_out:
@@ -229,6 +245,7 @@ def held_out_text(verdict: Verdict, unit: str) -> str:
     text = (" Predicted with the values fitted here and each record's own alignment, the held-out records stand: "
             + "; ".join(parts) + ".")
     for row in verdict.held_out:
+        text += _refit_sentence(row)
         for name in row.get("moved", ()):
             v = row["values_refitted_here"][name]
             text += (f" Refitted on {row['record']}, {name} is {v['here']:.4g} against {v['fitted_record']:.4g} here "

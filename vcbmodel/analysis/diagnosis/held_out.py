@@ -105,7 +105,8 @@ def held_out_at_noise(ctx, model: FitResult) -> bool:
 def moved_values(ctx, hctx: Context, model: FitResult) -> dict:
     """``model`` refitted on the held-out record of ``hctx`` (its values free): each fitted model
     value there against the diagnosed record's, in combined stated errors (``z``), the names that
-    moved by more than the options' ``moved_errors``, and the refit's rms over the record's noise.
+    moved by more than the options' ``moved_errors``, and the refit's rms over the record's noise and
+    whether it is at the noise (the one criterion).
     A value that moves between records of one rig names an amplitude- or speed-dependent effect the
     model lacks; a refit that stays above the noise, a shape the model cannot follow at any values."""
     try:
@@ -122,7 +123,8 @@ def moved_values(ctx, hctx: Context, model: FitResult) -> dict:
         values[name] = {"here": q.value, "stderr": q.stderr, "fitted_record": p.value, "stderr_fitted_record": p.stderr,
                         "z": z}
     moved = [name for name, v in values.items() if abs(v["z"]) > ctx.options.moved_errors]
-    return {"values_refitted_here": values, "moved": moved, "refit_rms_over_noise": refit.rms / hctx.sigma_hf}
+    return {"values_refitted_here": values, "moved": moved, "refit_rms_over_noise": refit.rms / hctx.sigma_hf,
+            "refit_at_noise": judge_noise(hctx, refit).at_noise}
 
 
 def predict_held_out(ctx, state) -> list[dict]:
