@@ -7,6 +7,7 @@ import math
 import re
 import threading
 import time
+from dataclasses import fields
 from pathlib import Path
 from types import SimpleNamespace
 
@@ -19,19 +20,20 @@ from vcbmodel.analysis.diagnosis import refine as refine_step
 from vcbmodel.analysis.diagnosis import springs as springs_step
 from vcbmodel.analysis.diagnosis.align import align, fitted_channels
 from vcbmodel.analysis.diagnosis.candidates import NULL_VALUES, nested, pair_jobs
-from vcbmodel.analysis.diagnosis.context import Budget, Context
+from vcbmodel.analysis.diagnosis.context import Budget, Context, Search
 from vcbmodel.analysis.diagnosis.fits import _fresh_bases, valley_bases
 from vcbmodel.analysis.diagnosis.period import period_mismatch, needs_period
 from vcbmodel.analysis.diagnosis.pipeline import STEPS, Step, run_steps
 from vcbmodel.analysis.diagnosis.report import timing, window
-from vcbmodel.analysis.diagnosis.scores import (BIC_MARGIN, consistent, earns_margin, excess_share_left,
-                                                noise_separable)
+from vcbmodel.analysis.diagnosis.at_noise import at_noise
+from vcbmodel.analysis.diagnosis.options import DEFAULT_OPTIONS
+from vcbmodel.analysis.diagnosis.scores import earns_margin, excess_share_left, noise_separable
 from vcbmodel.analysis.diagnosis.select import pair_reason
 from vcbmodel.analysis.diagnosis import side_by_side
 from vcbmodel.analysis.diagnosis.side_by_side import cannot_win, pruned
 from vcbmodel.analysis.diagnosis.start import fit_start
-from vcbmodel.analysis.diagnosis.state import Candidate, State
-from vcbmodel.analysis.diagnosis_report import evidence_text
+from vcbmodel.analysis.diagnosis.evidence import evidence_text
+from vcbmodel.analysis.diagnosis.state import Candidate, SelectionStep, State, Verdict, adopt
 from vcbmodel.analysis.fit import FitAborted, FitResult, Parameter, SimulationPool
 from vcbmodel.analysis.noise import NoiseModel
 from vcbmodel.analysis.synthetic import random_case
@@ -40,6 +42,7 @@ from vcbmodel.experiments.pendulum import decay_split_guesses, start_guesses
 from vcbmodel.model.effects import parameter_specs
 from vcbmodel.rig.spring_model import SpringModel
 
+BIC_MARGIN = DEFAULT_OPTIONS.bic_margin
 SIGMA = 1e-3
 N = 4000
 T = np.arange(N) * 1e-3
@@ -57,12 +60,21 @@ def fit_of(residual, effects=(), varied=(), spring=None, nuisance=()):
                      times=[T[: len(residual)]])
 
 
+def record_of(**kw):
+    return SimpleNamespace(**{"period_fields": (), "measured_channel": "angle", "natural_frequency": None, "unit": "rad",
+                              **kw})
+
+
+SEARCH_FIELDS = {f.name for f in fields(Search)}
+
+
 def ctx_of(**kw):
-    out = SimpleNamespace(sigma_hf=SIGMA, quantisation=0.0, noise=NoiseModel.white(SIGMA), over=lambda f=0.8: False,
-                          skipped=[], say=lambda m: None, fits=0, valley=[], record=SimpleNamespace(period_fields=(),
-                                                                                        measured_channel="angle",
-                                                                                        natural_frequency=None),
-                          stop=SimpleNamespace(is_set=lambda: False), spring_final=None,
+    """A stand-in context: the record's fields as keywords, the search's (noise, implied, fits,
+    spring_final, ...) into ``search``."""
+    search = Search(noise=NoiseModel.white(SIGMA), **{k: kw.pop(k) for k in list(kw) if k in SEARCH_FIELDS})
+    out = SimpleNamespace(sigma_hf=SIGMA, quantisation=0.0, over=lambda f=0.8: False, search=search,
+                          skipped=[], say=lambda m: None, valley=[], record=record_of(),
+                          stop=SimpleNamespace(is_set=lambda: False), options=DEFAULT_OPTIONS, held_out=(),
                           dataset=SimpleNamespace(t=T), rig=SimpleNamespace(experiment="cam_drop", record={}),
                           setup=SimpleNamespace(release=0.0, still_start=False, hand_start=False),
                           measurement=SimpleNamespace(t=T, channel=lambda name: np.zeros_like(T)))
@@ -72,6 +84,12 @@ def ctx_of(**kw):
 
 def bump(centre=2.0, width=0.2, size=5e-3):
     return size * np.exp(-((T - centre) / width) ** 2)
+
+
+def explained_verdict(ctx):
+    out = judge_step.verdict(ctx, fit_of(noise(7)))
+    assert out.explained
+    return out
 
 
 # --- the pipeline ---------------------------------------------------------------------------------
@@ -113,10 +131,10 @@ def test_run_steps_runs_every_step_once_in_order_on_one_state():
 
 # --- scores -------------------------------------------------------------------------------------
 
-def test_consistent_accepts_noise_and_refuses_a_slow_model_error():
+def test_at_noise_accepts_noise_and_refuses_a_slow_model_error():
     ctx = ctx_of()
-    assert consistent(ctx, fit_of(noise()))
-    assert not consistent(ctx, fit_of(noise() + bump()))
+    assert at_noise(ctx, fit_of(noise()))
+    assert not at_noise(ctx, fit_of(noise() + bump()))
 
 
 def test_an_effect_must_earn_the_margin_and_remove_enough_variance():
@@ -197,7 +215,7 @@ def test_running_candidates_that_cannot_win_are_cancelled(monkeypatch):
         return fit_of(noise(2)), None
 
     monkeypatch.setattr(side_by_side, "fit_candidate", fake)
-    ctx = ctx_of(processes=3, stop=threading.Event(), record=SimpleNamespace(unit="rad"),
+    ctx = ctx_of(processes=3, stop=threading.Event(), record=record_of(unit="rad"),
                  budget=SimpleNamespace(started=time.monotonic()))
     jobs = [(name, ((), (), {}), k) for name, k in (("a", 0), ("b", 1), ("c", 0), ("d", 2))]
     fits, _ = side_by_side.run_candidates(ctx, fit_of(noise() + bump()), jobs, 1)
@@ -211,8 +229,10 @@ def test_a_candidate_is_never_worse_than_its_nested_model():
     current = fit_of(noise(), effects=("coulomb_friction",), varied={"mu_k": 0.1})
     worse = fit_of(noise() + bump(), effects=("coulomb_friction", "viscous_friction"),
                    varied={"mu_k": 0.12, "viscous": 0.3})
+    current.jacobian = (("mu_k",), np.ones((N, 1)))
     out = nested(ctx, current, worse.effects, worse)
     assert out.values == {"mu_k": 0.1, "viscous": NULL_VALUES["viscous"]}
+    assert out.jacobian == (None, None) and out.stand_in is None  # the current fit's Jacobian lacks viscous
     assert out.chi2 == current.chi2 and out.effects == worse.effects
     better = fit_of(0.5 * noise(), effects=worse.effects, varied={"mu_k": 0.1, "viscous": 0.3})
     assert nested(ctx, current, better.effects, better) is better
@@ -257,7 +277,7 @@ def test_a_free_swing_scan_is_also_centred_along_the_coulomb_viscous_valley():
 # --- refine the selection -------------------------------------------------------------------------
 
 def step(effect, round_no, fit, before=None):
-    return {"effect": effect, "round": round_no, "with": None, "_fit": fit, "_before": before}
+    return SelectionStep(effect, round_no, 20.0, fit.rms, "massless", before, fit)
 
 
 def test_refinements_run_in_their_documented_order():
@@ -282,9 +302,9 @@ def test_backward_elimination_drops_an_effect_the_others_make_up_for(monkeypatch
     refine_step.backward_elimination(ctx_of(), state)
     # the second removal is tried on the model the first one left
     assert refits == [("coulomb_friction",), ()]
-    assert [s["effect"] for s in state.path] == ["coulomb_friction"]
-    assert state.current.effects == ("coulomb_friction",) and state.path[0]["_fit"] is state.current
-    assert [b["dropped"] for b in state.backward] == [True, False]
+    assert [s.effect for s in state.path] == ["coulomb_friction"]
+    assert state.current.effects == ("coulomb_friction",) and state.path[0].fit is state.current
+    assert [b.dropped for b in state.backward] == [True, False]
 
 
 def test_backward_elimination_leaves_a_single_round_alone(monkeypatch):
@@ -305,12 +325,12 @@ def test_swap_replaces_a_kept_effect_by_one_that_explains_the_record(monkeypatch
     state = State(current=current, all_fits=[current], path=[step("viscous_friction", 1, current)])
     refine_step.swap_effects(ctx_of(), state)
     assert state.current.effects == ("coulomb_friction",)
-    assert state.path[0]["effect"] == "coulomb_friction" and state.path[0]["swapped_from"] == "viscous_friction"
-    assert {b["swap_for"] for b in state.backward} == {"coulomb_friction", "stribeck"}
+    assert state.path[0].effect == "coulomb_friction" and state.path[0].swapped_from == "viscous_friction"
+    assert {b.swap_for for b in state.backward} == {"coulomb_friction", "stribeck"}
     # the record of the swap taken (not merely the last one tried) says so, and the evidence words it
-    assert [b["swap_for"] for b in state.backward if b["dropped"]] == ["coulomb_friction"]
-    ctx = ctx_of(record=SimpleNamespace(unit="rad"), implied={})
-    text = evidence_text(ctx, current, state.current, ["coulomb_friction"], (0.0, 1.0), {}, {"explained": True},
+    assert [b.swap_for for b in state.backward if b.dropped] == ["coulomb_friction"]
+    ctx = ctx_of(record=record_of(unit="rad"), implied={})
+    text = evidence_text(ctx, current, state.current, ["coulomb_friction"], (0.0, 1.0), {}, explained_verdict(ctx),
                          None, state.backward)
     assert "viscous_friction was kept on the way but replaced by coulomb_friction" in text
 
@@ -320,7 +340,7 @@ def test_swap_and_search_harder_leave_a_model_at_the_noise_alone(monkeypatch):
     monkeypatch.setattr(refine_step, "_wider_fit", lambda *a: pytest.fail("searched"))
     current = fit_of(noise(), effects=("viscous_friction",))
     state = State(current=current, path=[step("viscous_friction", 1, current)])
-    ctx = ctx_of(record=SimpleNamespace(period_fields=("pendulum.inertia",), measured_channel="angle"))
+    ctx = ctx_of(record=record_of(period_fields=("pendulum.inertia",)))
     refine_step.swap_effects(ctx, state)
     refine_step.search_harder(ctx, state)
     assert state.current is current
@@ -345,46 +365,27 @@ def test_spring_refinements_need_the_springs_mass():
 def test_adopt_moves_only_the_steps_that_ended_in_the_old_fit():
     old, other, new = fit_of(noise()), fit_of(noise()), fit_of(noise())
     path = [step("a", 1, old), step("b", 2, other)]
-    springs_step.adopt(path, old, new)
-    assert path[0]["_fit"] is new and path[1]["_fit"] is other
+    adopt(path, old, new)
+    assert path[0].fit is new and path[1].fit is other
 
 
 # --- judge the residual ----------------------------------------------------------------------------
 
 def test_the_verdict_explains_noise_and_locates_what_is_left():
     ctx = ctx_of()
-    assert judge_step.verdict(ctx, fit_of(noise()))["explained"]
+    assert judge_step.verdict(ctx, fit_of(noise())).explained
     out = judge_step.verdict(ctx, fit_of(noise() + bump(centre=3.0)))
-    assert not out["explained"]
-    t0, t1 = out["left"]["window"]
-    assert t0 <= 3.0 <= t1 and out["left"]["excess"] > SIGMA
+    assert not out.explained
+    t0, t1 = out.left["window"]
+    assert t0 <= 3.0 <= t1 and out.left["excess"] > SIGMA
 
 
 def test_a_pair_kept_together_is_no_tie():
     kept = Candidate("a+b", fit_of(noise()), 40.0)
     rival = Candidate("c", fit_of(noise() + bump()), 38.0)
-    path = [{"effect": "a", "round": 1, "with": "a+b"}, {"effect": "b", "round": 1, "with": "a+b"}]
+    path = [SelectionStep("a", 1, 40.0, 0.0, "massless", None, kept.fit, "a+b"),
+            SelectionStep("b", 1, 40.0, 0.0, "massless", None, kept.fit, "a+b")]
     assert judge_step.ties(ctx_of(), path, [kept, rival]) == []
-
-
-def test_the_starting_model_is_refitted_on_the_final_alignment(monkeypatch):
-    baseline = fit_of(noise() + bump(), varied={"mu_k": 0.1}, nuisance={"sensor_offset_0": 0.01})
-    final = fit_of(noise(), varied={"mu_k": 0.1}, nuisance={"sensor_offset_0": 0.03})
-    seen = {}
-
-    def fit_record(ctx, effects, spring, params, label):
-        seen.update(params)
-        return fit_of(noise() + 1.5 * bump())
-
-    monkeypatch.setattr(judge_step, "parameters", lambda ctx, effects, values: {
-        k: Parameter(k, v, kind=baseline.parameters[k].kind) for k, v in values.items()})
-    monkeypatch.setattr(judge_step, "fit_record", fit_record)
-    aligned = judge_step.on_final_alignment(ctx_of(), baseline, final)
-    assert seen["sensor_offset_0"].value == 0.03 and not seen["sensor_offset_0"].vary
-    assert seen["mu_k"].vary and aligned.rms > baseline.rms
-    # a refit that ends better than the starting model's own fit stopped short: not kept
-    monkeypatch.setattr(judge_step, "fit_record", lambda *a: fit_of(noise()))
-    assert judge_step.on_final_alignment(ctx_of(), baseline, final) is baseline
 
 
 # --- discover, report ---------------------------------------------------------------------------
@@ -407,18 +408,18 @@ def test_discover_searches_only_an_unexplained_record_and_changes_no_fit(monkeyp
         return Found()
 
     monkeypatch.setattr(discover_step, "discovery_step", step)
-    state = State(current=current, final=current, own_alignment=start, verdict={"explained": True})
+    state = State(current=current, final=current, baseline=start, verdict=explained_verdict(ctx_of()))
     pendulum = SimpleNamespace(experiment="pendulum")
     discover_step.discover(ctx_of(measurement=None, rig=pendulum), state)
     assert not state.discovery["attempted"] and not seen  # explained: nothing to look for
-    state.verdict = {"explained": False}
+    state.verdict = Verdict(False, None)
     closing = SimpleNamespace(experiment="vcb_closing")
     discover_step.discover(ctx_of(measurement=None, pool=None, rig=closing), state)  # a closing: no search
     assert not state.discovery["attempted"] and "does not search vcb_closing" in state.discovery["reason"] and not seen
     discover_step.discover(ctx_of(measurement=None, pool=None, rig=pendulum), state)
     assert state.discovery["attempted"] and state.discovery["found"] and state.discovery["report"]
     assert seen["final"] is current and seen["starting"] is start  # both bases, the diagnosis's threshold
-    assert seen["margin"] == BIC_MARGIN and seen["gain"] > 0
+    assert seen["margin"] == DEFAULT_OPTIONS.bic_margin and seen["gain"] > 0
     assert state.final is current
     monkeypatch.setattr(discover_step, "discovery_step", lambda *a, **k: (_ for _ in ()).throw(ValueError("no")))
     discover_step.discover(ctx_of(measurement=None, pool=None, rig=pendulum), state)
@@ -447,7 +448,7 @@ def test_a_period_mismatch_is_found_from_the_drift_of_the_extremes():
     model = 0.3 * np.cos(2 * np.pi * t) * np.exp(-0.4 * t)
     ctx = SimpleNamespace(record=SimpleNamespace(period_fields=("pendulum.inertia",)), sigma_hf=SIGMA,
                           dataset=SimpleNamespace(t=t, y=record, mask=lambda: np.ones(t.size, bool)),
-                          uncertain={}, implied={})
+                          uncertain={}, search=Search(), options=DEFAULT_OPTIONS)
     fit = SimpleNamespace(simulations=[SimpleNamespace(measured=model)])
     out = period_mismatch(ctx, fit)
     assert out["relative"] == pytest.approx(0.01, abs=0.002) and out["significant"]
@@ -469,7 +470,7 @@ def test_a_record_ending_mid_swing_gives_the_period_mismatch_unbiased(t_end, err
     record = 0.3 * np.cos(2 * np.pi * t / (1 + error)) * np.exp(-0.2 * t) + SIGMA * rng.standard_normal(t.size)
     ctx = SimpleNamespace(record=SimpleNamespace(period_fields=("pendulum.inertia",)), sigma_hf=SIGMA,
                           dataset=SimpleNamespace(t=t, y=record, mask=lambda: np.ones(t.size, bool)),
-                          uncertain={}, implied={})
+                          uncertain={}, search=Search(), options=DEFAULT_OPTIONS)
     out = period_mismatch(ctx, SimpleNamespace(simulations=[SimpleNamespace(measured=model)]))
     assert out["significant"] and out["relative"] == pytest.approx(error, abs=max(1e-4, 4 * out["stderr"]))
     assert abs(out["relative"] - error) < 0.05 * abs(error)
@@ -487,13 +488,13 @@ def test_align_then_start_on_a_synthetic_cam_drop(tmp_path):
         align(ctx, state)
         assert ctx.sigma_hf == pytest.approx(2e-3, rel=0.15)  # the camera's noise (synthetic.py)
         assert fitted_channels(rig, measurement) == (ctx.record.measured_channel,)
-        assert ctx.dataset is not None and ctx.guesses and ctx.fits == 0
+        assert ctx.dataset is not None and ctx.guesses and ctx.search.fits == 0
         assert state.period is None  # a cam drop has no period
         fit_start(ctx, state)
     assert state.baseline is state.current and state.all_fits == [state.baseline]
-    assert state.baseline.effects == tuple(rig.model.effects) and ctx.fits == 1
+    assert state.baseline.effects == tuple(rig.model.effects) and ctx.search.fits == 1
     assert state.baseline.rms < 1.2 * ctx.sigma_hf  # the starting model is the truth's family
-    assert math.isfinite(ctx.noise.marginal_sd)
+    assert math.isfinite(ctx.search.noise.marginal_sd)
 
 
 @pytest.mark.parametrize("finer", [True, False])
@@ -501,10 +502,10 @@ def test_the_evidence_calls_a_spring_model_too_coarse_only_when_the_new_one_is_f
     """The spring-model refinement tries the best other lumped chain, which can have fewer masses
     (a closing record went lumped-2 -> lumped-1 and read "lumped-2 was too coarse")."""
     current = fit_of(noise(), effects=("coulomb_friction",))
-    ctx = ctx_of(record=SimpleNamespace(unit="m"), implied={})
+    ctx = ctx_of(record=record_of(unit="m"), implied={})
     to = "lumped-3 (paper)" if finer else "lumped-1 (paper)"
-    verdict = {"explained": True, "spring_model_refined": {"from": "lumped-2 (paper)", "to": to, "delta_bic": 143.0,
-                                                           "finer": finer}}
+    verdict = explained_verdict(ctx)
+    verdict.spring_model_refined = {"from": "lumped-2 (paper)", "to": to, "delta_bic": 143.0, "finer": finer}
     text = evidence_text(ctx, current, current, [], (0.0, 1.0), {}, verdict, None)
     assert ("lumped-2 (paper) was too coarse" in text) == finer
     assert f"with {to} the whitened BIC drops by 143" in text

@@ -10,6 +10,7 @@ import pytest
 
 from vcbmodel import parameters as P
 from vcbmodel.analysis import diagnose as D
+from vcbmodel.analysis.diagnosis.state import SelectionStep
 from vcbmodel.analysis.identify import WARN_RATIO, identify, usual_rate
 from vcbmodel.app.cli import main
 from vcbmodel.experiments.loading import rig_from_data
@@ -64,9 +65,9 @@ def test_a_tie_under_the_margin_is_reported_with_what_would_separate_it():
     kept = D.Candidate("spring_mass", _fit(np.zeros_like(t), t), 40.0, round=1)
     rival = D.Candidate("coulomb_friction", _fit(0.01 * bump, t), 37.0, round=1)
     far = D.Candidate("viscous_friction", _fit(0.05 * bump, t), 5.0, round=1)
-    ctx = SimpleNamespace(noise=SimpleNamespace(marginal_sd=1e-3), dataset=SimpleNamespace(t=t),
-                          record=SimpleNamespace(measured_channel="cam_angle"))
-    path = [{"effect": "spring_mass", "round": 1, "with": None}]
+    ctx = SimpleNamespace(search=SimpleNamespace(noise=SimpleNamespace(marginal_sd=1e-3)), dataset=SimpleNamespace(t=t),
+                          record=SimpleNamespace(measured_channel="cam_angle"), options=D.DEFAULT_OPTIONS)
+    path = [SelectionStep("spring_mass", 1, 40.0, 0.0, "massless", None, kept.fit)]
     ties = D._ties(ctx, path, [kept, rival, far])
     assert [tie["between"] for tie in ties] == [["spring_mass", "coulomb_friction"]]
     lo, hi = ties[0]["separate_by"]["window"]

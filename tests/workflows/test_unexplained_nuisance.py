@@ -5,14 +5,14 @@ from types import SimpleNamespace
 
 import numpy as np
 
-from vcbmodel.analysis.diagnosis_report import UNEXPLAINED_CAVEAT, nuisance_report, period_sentence
+from vcbmodel.analysis.diagnosis.evidence import UNEXPLAINED_CAVEAT, nuisance_report, period_sentence
 
 
 def fake_ctx():
     setup = SimpleNamespace(pinned={}, window=(0.0, 5.0), hand_start=False, release=0.1, notes=[])
     record = SimpleNamespace(unit="rad")
     return SimpleNamespace(setup=setup, measurement=SimpleNamespace(t=np.array([0.0, 1.0])), uncertain={},
-                           implied={"pendulum.inertia": 0.02}, record=record)
+                           search=SimpleNamespace(implied={"pendulum.inertia": 0.02}), record=record)
 
 
 def fake_fit():

@@ -16,12 +16,17 @@ from vcbmodel.analysis.fit.objective import Curves
 from vcbmodel.analysis.fit.parameters import Parameter
 from vcbmodel.analysis.fit.pool import run_job
 from vcbmodel.analysis.noise import consistency, fit_noise
-from vcbmodel.analysis.noise_evidence import (HIGH_FREQUENCY_FACTOR, high_frequency_witness, judge_against_witnesses,
+from vcbmodel.analysis.diagnosis.witnesses import (high_frequency_witness, judge_against_witnesses,
                                               pre_trigger_witness, rounded_high_frequency_level, stated_witness,
                                               variance_dof, witness_text)
 from vcbmodel.analysis.nuisance import RecordSetup
-from vcbmodel.analysis.sensor_artefacts import find_lines, name_line, quantisation_nuisance, remove_lines, timing_jitter
-from vcbmodel.analysis.verdict_evidence import judge_residual
+from vcbmodel.analysis.diagnosis.artefacts import ResidualView
+from vcbmodel.analysis.diagnosis.artefacts.jitter import timing_jitter
+from vcbmodel.analysis.diagnosis.artefacts.lines import find_lines, name_line, remove_lines
+from vcbmodel.analysis.diagnosis.artefacts.quantisation import quantisation_nuisance
+from vcbmodel.analysis.diagnosis.at_noise import judge_residual
+from vcbmodel.analysis.diagnosis.options import DEFAULT_OPTIONS
+from vcbmodel.analysis.diagnosis.state import SelectionStep
 from vcbmodel.experiments.simulation import simulate
 from vcbmodel.records.measurement import Measurement
 from vcbmodel.records.signals import noise_estimate
@@ -79,7 +84,7 @@ def test_high_frequency_witness_alone_cannot_decide_for_correlated_noise():
     assert judge_against_witnesses(white, [high_frequency_witness(noise_estimate(white))])["holds"] is True
     red = ar1(rng, 5000, SIGMA, 0.9)
     ev = judge_against_witnesses(red, [high_frequency_witness(noise_estimate(red))])
-    assert ev["holds"] is None and ev["checks"][0]["rms_ratio"] > HIGH_FREQUENCY_FACTOR
+    assert ev["holds"] is None and ev["checks"][0]["rms_ratio"] > DEFAULT_OPTIONS.high_frequency_factor
     assert "No independent witness" in witness_text(ev, "rad")
 
 
@@ -231,9 +236,9 @@ def test_a_kept_effect_within_the_margin_of_a_rival_is_a_tie():
     chosen = _candidate("spring_mass", 12.0, np.zeros_like(t), t)
     candidates = [chosen, _candidate("coulomb_friction", 9.0, bump, t), _candidate("viscous_friction", 1.0, bump, t),
                   _candidate("stribeck", -4.0, bump, t)]
-    ctx = SimpleNamespace(dataset=SimpleNamespace(t=t), noise=SimpleNamespace(marginal_sd=1e-3),
-                          record=SimpleNamespace(measured_channel="cam_angle"))
-    path = [{"effect": "spring_mass", "round": 1, "with": None}]
+    ctx = SimpleNamespace(dataset=SimpleNamespace(t=t), search=SimpleNamespace(noise=SimpleNamespace(marginal_sd=1e-3)),
+                          record=SimpleNamespace(measured_channel="cam_angle"), options=DEFAULT_OPTIONS)
+    path = [SelectionStep("spring_mass", 1, 12.0, 0.0, "massless", None, chosen.fit)]
     ties = _ties(ctx, path, candidates)
     assert [tie["between"] for tie in ties] == [["spring_mass", "coulomb_friction"]]
     tie = ties[0]
@@ -251,9 +256,9 @@ def test_rounding_is_not_taken_for_timing_jitter():
     model = 0.2 * np.exp(-0.3 * t) * np.cos(6.0 * t)
     residual = np.round(model / q) * q - model
     assert timing_jitter(t, residual, model) is not None
-    out = judge_residual([t], [residual], q / math.sqrt(12), q, [high_frequency_witness(q / math.sqrt(12))], None,
-                         model=model)
-    assert out["timing_jitter"] is None
+    out = judge_residual(ResidualView(t, residual, model, q / math.sqrt(12), q, None), [],
+                         [high_frequency_witness(q / math.sqrt(12))])
+    assert "timing_jitter" not in out.to_json()["sensor_artefacts"]
 
 
 def test_timing_jitter_is_found_and_a_smooth_error_is_not_taken_for_it():

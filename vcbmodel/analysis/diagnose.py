@@ -2,21 +2,22 @@
 :mod:`.diagnosis.pipeline` on one record (align the record, fit the starting model, select
 effects, refine the selection, judge the residual, discover, report; each step its own module in
 :mod:`vcbmodel.analysis.diagnosis`). This module only re-exports the names other modules, studies
-and tests import from here."""
+and tests import from here. Every threshold is in :class:`.diagnosis.options.DiagnosisOptions`."""
 from __future__ import annotations
 
 from .diagnosis.align import fitted_channels
 from .diagnosis.candidates import NULL_VALUES, candidate_jobs as _candidate_jobs
-from .diagnosis.context import TIME_BUDGET, WALL_FACTOR
-from .diagnosis.fits import MAX_STARTS
 from .diagnosis.judge import ties as _ties
-from .diagnosis.period import PERIOD_TOLERANCE, period_mismatch
+from .diagnosis.options import DEFAULT_OPTIONS, DiagnosisOptions
+from .diagnosis.period import period_mismatch
 from .diagnosis.pipeline import STEPS, diagnose
-from .diagnosis.refine import WIDER_STARTS
 from .diagnosis.result import Diagnosis
-from .diagnosis.scores import BIC_MARGIN, MIN_VARIANCE_GAIN, SEPARABLE_NOISE_RATIO
 from .diagnosis.state import Candidate
 
-__all__ = ["BIC_MARGIN", "MAX_STARTS", "MIN_VARIANCE_GAIN", "NULL_VALUES", "PERIOD_TOLERANCE", "SEPARABLE_NOISE_RATIO",
-           "STEPS", "TIME_BUDGET", "WALL_FACTOR", "WIDER_STARTS", "Candidate", "Diagnosis", "_candidate_jobs", "_ties",
-           "diagnose", "fitted_channels", "period_mismatch"]
+#: The default evidence margin and variance gain (:class:`DiagnosisOptions`), for the studies and
+#: the discovery demo that score by the diagnosis's rule.
+BIC_MARGIN = DEFAULT_OPTIONS.bic_margin
+MIN_VARIANCE_GAIN = DEFAULT_OPTIONS.min_variance_gain
+
+__all__ = ["BIC_MARGIN", "DEFAULT_OPTIONS", "MIN_VARIANCE_GAIN", "NULL_VALUES", "STEPS", "Candidate", "Diagnosis",
+           "DiagnosisOptions", "_candidate_jobs", "_ties", "diagnose", "fitted_channels", "period_mismatch"]

@@ -138,8 +138,10 @@ def rounding_dominates(quantisation: float, high_frequency: float) -> bool:
     return quantisation > 0 and quantisation / math.sqrt(12.0) >= 0.5 * high_frequency
 
 
-def consistency(segments, noise: NoiseModel, lags=20, smooth=None):
-    """Is the residual (contiguous segments) what the noise alone would leave?
+def consistency(segments, noise: NoiseModel, lags=20, smooth=None, tolerance: float = STRUCTURE_TOLERANCE,
+                alpha: float = ALPHA):
+    """Is the residual (contiguous segments) what the noise alone would leave? (``tolerance``:
+    the structure tolerated, :data:`STRUCTURE_TOLERANCE`; ``alpha``: each whiteness test's level.)
 
     Returns a dict: ``consistent`` (bool), ``level_ratio`` (rms of the innovations / sigma),
     ``ljung_box_p``, ``periodogram_p``, and for a quantised sensor ``band_excess`` (largest
@@ -171,7 +173,7 @@ def consistency(segments, noise: NoiseModel, lags=20, smooth=None):
         out["rms_over_rounding"] = rms / math.sqrt(noise.quantisation**2 / 12.0 + other**2)
         out["consistent"] = bool(out["band_excess"] <= 1.0 and out["rms_over_rounding"] <= 1.5)
         return out
-    white = p_lb >= ALPHA and p_cp >= ALPHA
+    white = p_lb >= alpha and p_cp >= alpha
     # a residual that is not white but holds barely more than the record's own high-frequency
     # noise (a transient of a few samples where a stop comes a step earlier, a model error far
     # below the noise) is not a missing effect: tolerate up to STRUCTURE_TOLERANCE of the noise
@@ -180,9 +182,35 @@ def consistency(segments, noise: NoiseModel, lags=20, smooth=None):
     excess = float(np.mean(r**2)) / noise.high_frequency**2 - 1.0 if noise.high_frequency > 0 else math.inf
     out["excess_variance_over_high_frequency_noise"] = excess
     out["white"] = bool(white)
-    out["consistent"] = bool((white or excess <= STRUCTURE_TOLERANCE)
+    out["consistent"] = bool((white or excess <= tolerance)
                              and 0.5 <= out["high_frequency_ratio"] <= 2.0 and level <= 1.5)
     return out
+
+
+def white_chi2(fit, sigma: float) -> float:
+    """chi^2 of a fit's residual as white noise of level ``sigma`` (every fitted channel: the
+    measured one's residual over ``sigma``, the others already scaled)."""
+    return (float(sum(np.sum(r**2) for r in fit.residuals)) / sigma**2
+            + float(sum(np.sum(r**2) for r in fit.extra_residuals.values())))
+
+
+def variance_gain(before, after, sigma: float) -> float:
+    """The share of the noise variance (``sigma``, the measured channel's unit) that fit ``after``
+    removes from fit ``before``'s residual: the drop of the white chi^2 per sample of the measured
+    channel. What a named effect (and a discovered term) must remove."""
+    return (white_chi2(before, sigma) - white_chi2(after, sigma)) / max(1, before.n_data)
+
+
+def noise_of_best(fits: Sequence, high_frequency: float, quantisation: float = 0.0) -> NoiseModel:
+    """The noise model every score uses: fitted to the residual of the fit with the smallest rms."""
+    best = min(fits, key=lambda f: f.rms)
+    return fit_noise(best.residuals, high_frequency, quantisation,
+                     source=f"residual of {best.label or ', '.join(best.effects) or 'no effects'}")
+
+
+def excess(rms: float, sigma: float) -> float:
+    """The residual rms in excess of the noise: sqrt(rms^2 - sigma^2), zero below the noise."""
+    return math.sqrt(max(rms * rms - sigma * sigma, 0.0))
 
 
 def describe_left(t, residual, noise: NoiseModel, sigma_white=None):
@@ -202,4 +230,5 @@ def describe_left(t, residual, noise: NoiseModel, sigma_white=None):
     return {"window": [float(t[a]), float(t[b])], "peak_running_rms": float(rr[i])}
 
 
-__all__ = ["NoiseModel", "fit_noise", "consistency", "describe_left", "levinson"]
+__all__ = ["NoiseModel", "consistency", "describe_left", "excess", "fit_noise", "levinson", "noise_of_best", "variance_gain",
+           "white_chi2"]

@@ -119,6 +119,9 @@ def build_parser() -> argparse.ArgumentParser:
                    + ", ".join(supported_image_formats()))
     d.add_argument("--force", action="store_true", help="replace the --plot file if it exists")
     d.add_argument("--processes", type=int, default=2, help="parallel candidate fits (default 2)")
+    d.add_argument("--held-out", action="append", default=[], metavar="MEAS.csv",
+                   help="another record of the same rig (its sibling NAME.rig.json), predicted with the values fitted "
+                   "on MEAS.csv, not fitted; explained requires it at its noise (repeatable)")
 
     w = sub.add_parser("sweep", parents=[common], help="run the rig's experiment over a grid or random draws of rig fields: one row per run",
                        description="Runs the rig's experiment (its model) once per parameter set and writes one CSV row "
@@ -309,10 +312,13 @@ def cmd_identify(args: argparse.Namespace) -> int:
 
 def cmd_diagnose(args: argparse.Namespace) -> int:
     rig, meas = load_pair(args.measurement, args.rig)
+    held_out = [load_pair(path, None) for path in args.held_out]
+    for other, _ in held_out:  # records of the same rig: the same experiment
+        require_experiment(other, rig.experiment, "diagnose --held-out")
     check_output(args.plot, "--plot", inputs=(args.measurement, rig.path), force=args.force,
                  formats=supported_image_formats())
     with results_only_on_stdout():
-        d = diagnose(rig, meas, processes=max(1, args.processes))
+        d = diagnose(rig, meas, processes=max(1, args.processes), held_out=held_out)
         if args.plot:
             plot_diagnosis(d, args.plot)
     if args.json:

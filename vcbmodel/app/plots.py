@@ -99,7 +99,7 @@ def plot_diagnosis(diagnosis, path: str | os.PathLike, measured_label: str = "me
     for k in (-2, 2):
         ax2.axhline(k * d.noise, color="k", lw=0.6, ls=":")
     ax2.axvspan(*d.window, color="orange", alpha=0.25, label="largest disagreement")
-    left = d.verdict.get("left") if d.verdict else None
+    left = d.verdict.left if d.verdict else None
     if left:
         ax2.axvspan(*left["window"], color="red", alpha=0.15, label="left unexplained")
     ax2.set_xlabel("t (s, record time)")

@@ -20,10 +20,6 @@ from ..noise import NoiseModel
 from ..nuisance import record_setup, release_from_model, swing_period_mismatch
 from .period import imply_period, needs_period
 
-#: Shares of a free swing's decay put in Coulomb friction by the starts spread along the
-#: Coulomb-viscous valley (:func:`.fits.valley_bases`; the same as identify.DECAY_SPLITS).
-VALLEY_SHARES = (0.8, 0.6, 0.4)
-
 
 def fitted_channels(rig: object, measurement: object) -> tuple:
     """The record's channels that are fitted: the experiment's measured channel, and any of the
@@ -81,7 +77,7 @@ def align(ctx, state) -> None:
     y = measurement.channel(rec.measured_channel)
     ctx.quantisation = quantisation_step(y)
     ctx.sigma_hf = noise_estimate_floored(y, ctx.quantisation)
-    ctx.noise = NoiseModel.white(ctx.sigma_hf, ctx.quantisation)
+    ctx.search.noise = NoiseModel.white(ctx.sigma_hf, ctx.quantisation)
     ctx.setup = record_setup(rig, measurement, ctx.sigma_hf)
     chans = _channels(ctx)
     if rec.release_from_model and "release_time" not in ctx.setup.pinned:
@@ -89,11 +85,11 @@ def align(ctx, state) -> None:
     ctx.dataset = Dataset(rig, measurement, ctx.setup, chans)
     window = measurement.window(ctx.setup.window[0], ctx.setup.window[1])
     ctx.guesses = rec.start_guesses(rig, window)
-    ctx.valley = decay_split_guesses(rig, window, VALLEY_SHARES) if rec.free_swing else []
+    ctx.valley = decay_split_guesses(rig, window, ctx.options.valley_shares) if rec.free_swing else []
     ctx.uncertain = dict(getattr(rig, "uncertain", None) or {})
-    ctx.implied = {}
+    ctx.search.implied = {}
     clock_sd = ctx.uncertain.get("record.time_base")  # the rig says the record's clock is approximate
-    ctx.time_scale = {"value": 1.0, "sd": clock_sd, "source": "rig (uncertain record.time_base)"} if clock_sd else None
+    ctx.search.time_scale = {"value": 1.0, "sd": clock_sd, "source": "rig (uncertain record.time_base)"} if clock_sd else None
     ctx.coarse_step = 2 * rec.step(rig) if rec.staged_fit else None
     s = ctx.setup
     ctx.say(f"noise {ctx.sigma_hf:.3g} {rec.unit} (high frequencies"

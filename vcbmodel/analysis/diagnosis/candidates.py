@@ -14,7 +14,7 @@ from ...model.values import rig_values
 from .. import fit as fitting
 from ..fit import FitResult
 from .fits import fit_record, parameters
-from .scores import consistent
+from .at_noise import at_noise
 
 #: Values at which a parameter's effect vanishes (the candidate then equals the model it was
 #: added to): a candidate fit is never returned worse than that nested point.
@@ -69,12 +69,12 @@ def nested(ctx, current: FitResult, effects: tuple, fit: FitResult | None) -> Fi
     new = {k: p for k, p in params.items() if k not in current.parameters}
     if any(p.vary and k not in NULL_VALUES for k, p in new.items()):
         return fit
-    out = replace(current, effects=tuple(effects), parameters={**{k: replace(p) for k, p in current.parameters.items()},
-                                                               **{k: replace(p, value=p.value if NULL_VALUES.get(k) is None
-                                                                             else NULL_VALUES[k], stderr=None)
-                                                                  for k, p in new.items()}})
-    out.label = "nested (new effect at its null value)"
-    return out
+    kept = {k: replace(p) for k, p in current.parameters.items()}
+    nulls = {k: replace(p, value=p.value if NULL_VALUES.get(k) is None else NULL_VALUES[k], stderr=None)
+             for k, p in new.items()}
+    # no Jacobian: the current fit's lacks the new parameters' columns
+    return replace(current, effects=tuple(effects), parameters={**kept, **nulls}, jacobian=(None, None), stand_in=None,
+                   label="nested (new effect at its null value)")
 
 
 def fit_candidate(ctx, current: FitResult, name: str, effects: tuple, variants: tuple, scan: dict,
@@ -137,7 +137,7 @@ def fit_spring_variants(ctx, current: FitResult, effects: tuple, variants: tuple
                                     f"+spring_mass [{first.label}]", starts=[dict(current.values)],
                                     should_stop=should_stop)}
     best = fits[first.label]
-    if not consistent(ctx, best):
+    if not at_noise(ctx, best):
         runners = [variants[i] for i in order[1:3] if math.isfinite(costs[i])]
         runners += [v for v in variants if v.kind == "ancf" and v not in runners and v is not first]
         _refine_runners(ctx, effects, best, runners, fits, should_stop)
@@ -145,7 +145,7 @@ def fit_spring_variants(ctx, current: FitResult, effects: tuple, variants: tuple
     lumped = [f for f in fits.values() if f.spring_model.kind == "lumped"]
     if chosen.spring_model.kind != "lumped" and lumped:
         # a cheap stand-in for fitting further effects on top of this spring (refined at the end)
-        chosen.stand_in = min(lumped, key=lambda f: f.chi2)
+        chosen = replace(chosen, stand_in=min(lumped, key=lambda f: f.chi2))
     n = max(1, int(ctx.dataset.mask().sum()))
     summary = [{"spring_model": v.label, "rms_at_current_values": math.sqrt(c / n) * ctx.sigma_hf
                 if math.isfinite(c) else None, "rms_fitted": fits[v.label].rms if v.label in fits else None}

@@ -1,7 +1,8 @@
-"""What the steps of one diagnosis share: the record as aligned, the simulation pool, the
-current noise model, the time budget, and a progress voice. It holds no logic of the search:
-:mod:`.align` fills it, the steps read it (and update ``noise``, ``fits``, ``implied`` and
-``spring_final``)."""
+"""What the steps of one diagnosis share: what is fixed for the run (:class:`Context`: the record
+as aligned, the simulation pool, the time budget, the options, a progress voice), and the search's
+state the steps update (:class:`Search`, ``ctx.search``: the current noise model, values the
+diagnosis takes as uncertain, the record's time base, the number of fits). It holds no logic of
+the search: :mod:`.align` fills the context once, the steps read it."""
 from __future__ import annotations
 
 import math
@@ -12,35 +13,34 @@ from contextlib import contextmanager
 from dataclasses import dataclass, field
 
 from ..progress import progress
-
-#: Time budget of one diagnosis (s on its processes: processor seconds of this process and the
-#: simulation workers divided by their number, so that a machine shared with other work does
-#: not cut the search short). Past 80 % of it no new fit starts; at the budget the running fits
-#: stop and the diagnosis reports what it has (``timing.budget_reached``). Four times the budget
-#: in wall time stops it in any case.
-TIME_BUDGET = 50.0
-WALL_FACTOR = 4.0
+from .options import DEFAULT_OPTIONS, DiagnosisOptions
 
 
 class Budget:
-    """The time budget of one diagnosis (see :data:`TIME_BUDGET`): what is used, whether a new
-    fit may start, and the event that stops the running ones."""
+    """The time budget of one diagnosis (``time_budget`` s of :class:`.options.DiagnosisOptions`,
+    on its processes: processor seconds of this process and the simulation workers divided by
+    their number, so that a machine shared with other work does not cut the search short). Past
+    80 % of it no new fit starts; at the budget the running fits stop and the diagnosis reports
+    what it has (``timing.budget_reached``). ``wall_factor`` times the budget in wall time stops
+    it in any case. Holds what is used, whether a new fit may start, and the event that stops the
+    running ones."""
 
-    def __init__(self, pool: object, processes: int, seconds: float = TIME_BUDGET, started: float | None = None):
-        self.pool, self.processes, self.seconds = pool, processes, seconds
+    def __init__(self, pool: object, processes: int, seconds: float = DEFAULT_OPTIONS.time_budget,
+                 started: float | None = None, wall_factor: float = DEFAULT_OPTIONS.wall_factor):
+        self.pool, self.processes, self.seconds, self.wall_factor = pool, processes, seconds, wall_factor
         self.started = time.monotonic() if started is None else started
         self.cpu0 = pool.cpu_seconds()
         self.stop = threading.Event()
         self.skipped = []  # fits not started for the time budget
 
     def used(self) -> float:
-        """Time used against the budget: processor seconds per process (see TIME_BUDGET)."""
+        """Time used against the budget: processor seconds per process."""
         return (self.pool.cpu_seconds() - self.cpu0) / max(1, self.processes)
 
     def over(self, fraction: float = 0.8) -> bool:
         """Past ``fraction`` of the time budget (no new fit should start)?"""
         return (self.stop.is_set() or self.used() > fraction * self.seconds
-                or time.monotonic() - self.started > WALL_FACTOR * fraction * self.seconds)
+                or time.monotonic() - self.started > self.wall_factor * fraction * self.seconds)
 
     @contextmanager
     def watched(self) -> Iterator[Budget]:
@@ -61,9 +61,28 @@ class Budget:
 
 
 @dataclass
+class Search:
+    """The search's state the steps update: the current noise model (start, select, judge), rig
+    values the diagnosis itself takes as uncertain (a period mismatch), the record's time base when
+    it is fitted as a nuisance, the spring model the final model is refined with (the continuum a
+    lumped chain stood in for), the number of fits, and caches (the held-out records' contexts,
+    a held-out record's predictions by model)."""
+
+    noise: object = None  # the current noise model (NoiseModel)
+    implied: dict = field(default_factory=dict)  # uncertain values the diagnosis added itself
+    time_scale: dict | None = None  # the record's time base as a nuisance: {"value", "sd", "source"}
+    spring_final: object = None  # the spring model the final model is refined with (ANCF)
+    fits: int = 0
+    held_out_contexts: list | None = None  # the held-out records' contexts, aligned once (.held_out)
+    predictions: dict = field(default_factory=dict)  # id(model) -> (model, its prediction of this record)
+
+
+@dataclass
 class Context:
-    """One diagnosis' shared state. The record's fields (``record`` .. ``coarse_step``) are set by
-    :func:`.align.align`; see there for what each is."""
+    """What is fixed for one diagnosis: the rig, the record and how it is read, the pool, the time
+    budget, the options and the held-out records. The record's fields (``record`` ..
+    ``coarse_step``) are set once by :func:`.align.align` (see there for what each is) and only
+    read afterwards; what the search changes as it goes is in ``search`` (:class:`Search`)."""
 
     rig: object
     measurement: object
@@ -71,10 +90,12 @@ class Context:
     budget: Budget
     verbose: bool = True
     processes: int = 1
+    options: DiagnosisOptions = DEFAULT_OPTIONS
+    #: the rig's other records, (rig, measurement) pairs, predicted but not fitted (.held_out)
+    held_out: tuple = ()
     record: object = None  # the experiment's record kind (vcbmodel.experiments)
     quantisation: float = 0.0
     sigma_hf: float = math.nan  # the measured channel's high-frequency noise (record's unit)
-    noise: object = None  # the current noise model (NoiseModel)
     setup: object = None  # the record's nuisance setup (nuisance.RecordSetup)
     channel_sigma: dict = field(default_factory=dict)
     dataset: object = None
@@ -82,11 +103,8 @@ class Context:
     #: a free swing's starts spread along the Coulomb-viscous valley (fits.valley_bases)
     valley: list = field(default_factory=list)
     uncertain: dict = field(default_factory=dict)
-    implied: dict = field(default_factory=dict)  # uncertain values the diagnosis added itself
-    time_scale: dict | None = None  # the record's time base as a nuisance: {"value", "sd", "source"}
     coarse_step: float | None = None
-    spring_final: object = None  # the spring model the final model is refined with (ANCF)
-    fits: int = 0
+    search: Search = field(default_factory=Search)
 
     @property
     def stop(self) -> threading.Event:

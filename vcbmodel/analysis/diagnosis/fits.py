@@ -9,12 +9,8 @@ from ...model.effects import parameter_specs
 from ...rig.paths import loaded_value
 from .. import fit as fitting
 from ..fit import FitResult, Parameter, make_parameters
-from ..time_base import time_scale_parameter
-from .scores import consistent
-
-#: Optimiser runs per fit: from the best of its ranked starts (and the next best, when 2 and the
-#: first does not reach the noise).
-MAX_STARTS = 2
+from .at_noise import at_noise
+from .time_base import time_scale_parameter
 
 
 def _sensor_parameters(ctx, add) -> None:
@@ -38,7 +34,7 @@ def _sensor_parameters(ctx, add) -> None:
 
 def _rig_parameters(ctx, add) -> None:
     """Rig values marked uncertain (or implied by a period mismatch), each with its prior."""
-    for path, rel in {**ctx.uncertain, **ctx.implied}.items():
+    for path, rel in {**ctx.uncertain, **ctx.search.implied}.items():
         if path.startswith(("friction.", "record.")):
             continue
         nominal = float(loaded_value(ctx.rig, path))
@@ -68,8 +64,8 @@ def nuisance_parameters(ctx, previous: dict | None = None) -> dict:
         add(Parameter("initial_angle_0", s.initial_angle, s.initial_angle - 0.1, s.initial_angle + 0.1,
                       vary="initial_angle" not in s.pinned, unit="rad", kind="state", dataset=0,
                       path=ctx.record.initial_angle_field, prior=s.initial_angle_prior))
-    if ctx.time_scale:  # the record's clock (..time_base)
-        add(time_scale_parameter(ctx.time_scale["sd"], ctx.time_scale["value"]))
+    if ctx.search.time_scale:  # the record's clock (..time_base)
+        add(time_scale_parameter(ctx.search.time_scale["sd"], ctx.search.time_scale["value"]))
     _rig_parameters(ctx, add)
     return params
 
@@ -126,7 +122,7 @@ def fit_record(ctx, effects: tuple, spring_model: object, params: dict, label: s
     ``new``: the parameters a candidate adds (default: the scanned ones)."""
     ds = [ctx.dataset]
     kw = dict(sigma=ctx.sigma_hf, verbose=False, label=label, pool=ctx.pool, processes=1,
-              scales=ctx.scales(), should_stop=should_stop or ctx.stop.is_set, max_starts=MAX_STARTS)
+              scales=ctx.scales(), should_stop=should_stop or ctx.stop.is_set, max_starts=ctx.options.max_starts)
     bases = _fresh_bases(ctx, effects, params, tuple(scan) if new is None else new) if scan else None
     if ctx.record.staged_fit:
         r = fitting.staged_fit(ds, effects, spring_model, params, starts=starts, scan=scan,
@@ -136,13 +132,13 @@ def fit_record(ctx, effects: tuple, spring_model: object, params: dict, label: s
             starts = fitting.scan_starts(ds, effects, spring_model, params, scan, pool=ctx.pool,
                                          scales=kw["scales"], bases=bases,
                                          step=fitting.scan_step(ctx.rig)) + list(starts or [])
-        # a further start is pointless once a residual is consistent with the noise (level and
-        # whiteness under the noise model fitted to it): with correlated noise the rms stays above
-        # the white level the fitter's own test uses, and an ANCF start costs half a minute
+        # a further start is pointless once a residual is at the noise (the one criterion,
+        # .at_noise): with correlated noise the rms stays above the white level the fitter's own
+        # test uses, and an ANCF start costs half a minute
         r = fitting.fit(ds, effects, spring_model, params, starts=starts, step=step,
-                        enough=lambda f: consistent(ctx, f), **kw)
+                        enough=lambda f: at_noise(ctx, f), **kw)
     r.label = label
-    ctx.fits += 1
+    ctx.search.fits += 1
     return r
 
 

@@ -10,10 +10,6 @@ import numpy as np
 from ...records.signals import complete_swing_extremes
 from ..fit import FitResult
 
-#: A period mismatch is reported when the record's swing period differs from the model's by
-#: more than this fraction (and by more than 4 standard errors).
-PERIOD_TOLERANCE = 0.002
-
 
 def _paired_extremes(ctx, fit):
     """Times of the record's and the model's extremes, paired by order while both swing clearly
@@ -38,7 +34,8 @@ def _paired_extremes(ctx, fit):
 def period_mismatch(ctx, fit: FitResult) -> dict | None:
     """Compare the extremes of the record's swing with the model's: a steady drift of their
     times means the periods differ. Returns a dict (relative mismatch, its standard error, and
-    whether it is significant), or None when the record does not swing."""
+    whether it is significant: beyond the options' ``period_tolerance`` and 4 standard errors),
+    or None when the record does not swing."""
     if not ctx.record.period_fields:  # only a free swing has a period to check
         return None
     pairs = _paired_extremes(ctx, fit)
@@ -56,7 +53,7 @@ def period_mismatch(ctx, fit: FitResult) -> dict | None:
     half = float(np.median(np.diff(ts)))
     rel = float(coef[0] / half)
     rel_se = float(se / half)
-    significant = abs(rel) > PERIOD_TOLERANCE and abs(rel) > 4 * rel_se
+    significant = abs(rel) > ctx.options.period_tolerance and abs(rel) > 4 * rel_se
     return {"relative": rel, "stderr": rel_se, "significant": bool(significant),
             "record_half_period_s": half * (1 + rel), "model_half_period_s": half, "extremes_compared": int(k)}
 
@@ -64,14 +61,14 @@ def period_mismatch(ctx, fit: FitResult) -> dict | None:
 def period_fields_fitted(ctx) -> bool:
     """Is a field that sets the swing's period already fitted (uncertain in the rig, or implied)?"""
     fields = ctx.record.period_fields
-    return any(f in ctx.uncertain or f in ctx.implied for f in fields)
+    return any(f in ctx.uncertain or f in ctx.search.implied for f in fields)
 
 
 def imply_period(ctx, period: dict) -> None:
     """A period mismatch the rig does not allow for: fit the period's first field (the
     pendulum's inertia) as a nuisance, with an uncertainty three times the mismatch's."""
     field_name = ctx.record.period_fields[0]
-    ctx.implied[field_name] = max(0.02, 3 * abs(2 * period["relative"]))
+    ctx.search.implied[field_name] = max(0.02, 3 * abs(2 * period["relative"]))
     ctx.say(f"the record's swing period differs from the rig's by {100 * period['relative']:+.2f} %: "
             f"fitting {field_name} as a nuisance")
 

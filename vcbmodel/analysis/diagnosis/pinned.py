@@ -18,10 +18,6 @@ from ... import parameters as P
 from ..fit.dataset import gain_name, offset_name
 from ..fit.result import jacobian_of
 
-#: A pinned value is worth a caveat when its plausible error would move a fitted model parameter
-#: by more than this many stated errors (the half-width of the stated 95 % interval).
-BEYOND_STATED = 1.96
-
 
 def gain_column(ctx, fit) -> np.ndarray | None:
     """d(scaled residual)/d(gain) of the measured channel at ``fit``, in its Jacobian's row order
@@ -60,7 +56,8 @@ def parameter_shifts(fit, column: np.ndarray, error: float) -> dict:
 def pinned_gain(ctx, fit) -> dict | None:
     """The sensor gain the rig does not let the fit estimate (not marked uncertain): the shift of
     each fitted model parameter a plausible gain error (parameters.PINNED_GAIN_ERROR) would cause,
-    in stated errors, and whether any goes beyond the stated 95 % interval. Reason: the stated
+    in stated errors, and whether any goes beyond the stated 95 % interval (the options'
+    ``beyond_stated``). Reason: the stated
     errors are conditional on the pinned gain, and the residual cannot show its error."""
     main = ctx.record.measured_channel
     p = fit.parameters.get(gain_name(0, main))
@@ -78,7 +75,7 @@ def pinned_gain(ctx, fit) -> dict | None:
             rows[name] = {"shift": s, "stated_errors": abs(s) / se, "stderr_with_pinned": float(math.hypot(se, s))}
     worst = max(rows.items(), key=lambda kv: kv[1]["stated_errors"], default=None)
     return {"field": "record.sensor_gain", "value": p.value, "plausible_error": error, "shifts": rows,
-            "beyond_stated": bool(worst and worst[1]["stated_errors"] > BEYOND_STATED),
+            "beyond_stated": bool(worst and worst[1]["stated_errors"] > ctx.options.beyond_stated),
             "worst": worst[0] if worst else None}
 
 

@@ -20,9 +20,10 @@ from typing import Callable, NamedTuple
 
 from ..fit import SimulationPool
 from .align import align
-from .context import TIME_BUDGET, Budget, Context
+from .context import Budget, Context
 from .discover import discover
 from .judge import judge
+from .options import DEFAULT_OPTIONS, DiagnosisOptions
 from .refine import refine_selection
 from .report import report
 from .result import Diagnosis
@@ -50,11 +51,17 @@ def run_steps(ctx: Context, state: State, steps: tuple = STEPS) -> State:
 
 
 def diagnose(rig: object, measurement: object, processes: int = 2, verbose: bool = True,
-             time_budget: float = TIME_BUDGET) -> Diagnosis:
-    """Run the pipeline on one record (within ``time_budget`` s of the processes' time)."""
+             time_budget: float | None = None, options: DiagnosisOptions = DEFAULT_OPTIONS,
+             held_out: tuple = ()) -> Diagnosis:
+    """Run the pipeline on one record with the thresholds of ``options`` (``time_budget``, s of
+    the processes' time, overrides the options' own). ``held_out``: (rig, measurement) pairs of the
+    same rig's other records, predicted with the values fitted here (:mod:`.held_out`): the
+    verdict ``explained`` requires each at its noise."""
+    if time_budget is not None:
+        options = options.with_(time_budget=time_budget)
     started = time.monotonic()
     with SimulationPool(processes) as pool:
-        budget = Budget(pool, processes, time_budget, started)
-        ctx = Context(rig, measurement, pool, budget, verbose, processes)
+        budget = Budget(pool, processes, options.time_budget, started, options.wall_factor)
+        ctx = Context(rig, measurement, pool, budget, verbose, processes, options, held_out=tuple(held_out))
         with budget.watched():
             return run_steps(ctx, State()).diagnosis

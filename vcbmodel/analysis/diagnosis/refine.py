@@ -14,22 +14,18 @@ from ...errors import SimulationError
 from ...model.effects import EFFECTS
 from .. import fit as fitting
 from ..fit import FitAborted
+from .at_noise import at_noise
 from .fits import parameters, refit
-from .scores import BIC_MARGIN, consistent, earns_margin, noise_of_best
-from .springs import adopt, final_spring, finer_spring
-
-#: Optimiser runs of the wider search before a "not explained" verdict (search_harder): a free
-#: swing's cost is rugged where the stop moves by a half-swing; in the measured case that needed it
-#: the grid point that led to the noise-level fit ranked third by its cost (the final fit's own
-#: point first, a point of its basin second).
-WIDER_STARTS = 3
+from .scores import earns_margin, noise_of_best
+from .springs import final_spring, finer_spring
+from .state import Refinement, SelectionStep, adopt
 
 
-def _without(ctx, state, step) -> bool:
+def _without(ctx, state, step: SelectionStep) -> bool:
     """Refit the current model without ``step``'s effect; drop it if it no longer earns the
     margin. True when dropped."""
     current = state.current
-    effect = step["effect"]
+    effect = step.effect
     effects = tuple(e for e in current.effects if e != effect)
     spring = ctx.rig.model.spring_model if effect == "spring_mass" else current.spring_model
     ctx.say(f"backward: refitting without {effect}")
@@ -41,15 +37,14 @@ def _without(ctx, state, step) -> bool:
     noise = noise_of_best(ctx, state.all_fits)
     evidence = reduced.bic_with(noise) - current.bic_with(noise)
     dropped = not earns_margin(ctx, reduced, current, evidence)
-    state.backward.append({"effect": effect, "backward": True, "delta_bic_without": evidence,
-                           "rms_without": reduced.rms, "dropped": dropped, "_without": reduced, "_with": current})
+    state.backward.append(Refinement(effect, reduced, current, evidence, dropped))
     ctx.say(f"backward: without {effect} the whitened BIC rises by {evidence:.0f} (rms {reduced.rms:.3g}): "
             + ("dropped" if dropped else "kept"))
     if dropped:
         state.path.remove(step)
         state.current = reduced
         for other in state.path:  # the remaining steps lead to this model now
-            other["_fit"] = reduced
+            other.fit = reduced
     return dropped
 
 
@@ -58,11 +53,11 @@ def backward_elimination(ctx, state) -> None:
     friction and spring mass together until both are in): each kept effect is removed in turn
     and the model refitted; if the others explain the record as well, it is dropped. Only after
     two rounds or more (a pair found together has nothing to undo)."""
-    if len({step["round"] for step in state.path}) < 2:
+    if len({step.round for step in state.path}) < 2:
         return
     for step in list(state.path):
         if ctx.over():
-            ctx.skipped.append(f"backward elimination of {step['effect']}")
+            ctx.skipped.append(f"backward elimination of {step.effect}")
             continue
         _without(ctx, state, step)
 
@@ -71,15 +66,15 @@ def _swap_pairs(ctx, state):
     """(kept effect, replacement) pairs: kept effects with parameters, applicable effects not in
     the model (spring models, chosen among variants, are not swapped)."""
     current = state.current
-    kept = [s["effect"] for s in state.path if EFFECTS[s["effect"]].parameters and not EFFECTS[s["effect"]].variants]
+    kept = [s.effect for s in state.path if EFFECTS[s.effect].parameters and not EFFECTS[s.effect].variants]
     others = [name for name, e in EFFECTS.items() if name not in current.effects
               and e.applies_to(ctx.rig.experiment, current.spring_model) and e.parameters and not e.variants]
     return [(old, new) for old in kept for new in others]
 
 
-def _try_swap(ctx, state, old, new):
+def _try_swap(ctx, state, old, new) -> Refinement | None:
     """The current model with ``old`` replaced by ``new``, refitted: its record (appended to
-    ``state.backward``: ``delta_bic`` the whitened BIC gain, ``_with`` the fit) or None."""
+    ``state.backward``: ``delta_bic`` the whitened BIC gain, ``with_`` the fit) or None."""
     current = state.current
     effects = tuple(e for e in EFFECTS if (e in current.effects and e != old) or e == new)
     ctx.say(f"swap: {old} -> {new}")
@@ -90,8 +85,7 @@ def _try_swap(ctx, state, old, new):
     state.all_fits.append(f)
     noise = noise_of_best(ctx, state.all_fits)
     gain = current.bic_with(noise) - f.bic_with(noise)
-    record = {"effect": old, "swap_for": new, "delta_bic": gain, "rms": f.rms, "_without": current,
-              "_with": f, "dropped": False, "backward": False}
+    record = Refinement(old, current, f, gain, swap_for=new)
     state.backward.append(record)
     return record
 
@@ -101,7 +95,7 @@ def swap_effects(ctx, state) -> None:
     in for another (in a cam drop, viscous friction mimics shaft friction plus the spring's
     mass): each kept effect with parameters is replaced in turn by each applicable effect not in
     the model; the best replacement is taken if it earns the margin."""
-    if not state.path or ctx.over() or consistent(ctx, state.current):
+    if not state.path or ctx.over() or at_noise(ctx, state.current):
         return
     best = None
     for old, new in _swap_pairs(ctx, state):
@@ -109,25 +103,25 @@ def swap_effects(ctx, state) -> None:
             ctx.skipped.append(f"swap {old} -> {new}")
             continue
         tried = _try_swap(ctx, state, old, new)
-        if tried is not None and tried["delta_bic"] > BIC_MARGIN and (best is None or
-                                                                     tried["delta_bic"] > best["delta_bic"]):
+        if tried is not None and tried.delta_bic > ctx.options.bic_margin and (best is None or
+                                                                              tried.delta_bic > best.delta_bic):
             best = tried
     if best is None:
         return
-    old, new, f = best["effect"], best["swap_for"], best["_with"]
-    ctx.say(f"swap: {old} replaced by {new} (whitened BIC lower by {best['delta_bic']:.0f})")
+    old, new, f = best.effect, best.swap_for, best.with_
+    ctx.say(f"swap: {old} replaced by {new} (whitened BIC lower by {best.delta_bic:.0f})")
     for step in state.path:
-        if step["effect"] == old:
-            step["effect"], step["swapped_from"] = new, old
-        step["_fit"] = f
-    best["dropped"] = True  # the swap taken (``old`` left the model)
+        if step.effect == old:
+            step.effect, step.swapped_from = new, old
+        step.fit = f
+    best.dropped = True  # the swap taken (``old`` left the model)
     state.current = f
 
 
 def _scan_of(ctx, state, params):
     """At most two friction parameters to grid, the kept effects' first."""
     current = state.current
-    kept = [s["effect"] for s in state.path]
+    kept = [s.effect for s in state.path]
     order = [e for e in kept if e in current.effects] + [e for e in current.effects if e not in kept]
     scan = {}
     for e in order:
@@ -138,14 +132,15 @@ def _scan_of(ctx, state, params):
 
 
 def _wider_fit(ctx, current, params, scan):
-    """The final model refitted from the WIDER_STARTS best grid points, the nuisance from the
+    """The final model refitted from the ``wider_starts`` best grid points, the nuisance from the
     final fit's (a start's own re-alignment moves the release and the offset into its basin)."""
-    starts = fitting.scan_starts([ctx.dataset], current.effects, current.spring_model, params, scan, keep=WIDER_STARTS,
+    wider = ctx.options.wider_starts
+    starts = fitting.scan_starts([ctx.dataset], current.effects, current.spring_model, params, scan, keep=wider,
                                  pool=ctx.pool, scales=ctx.scales(), step=fitting.scan_step(ctx.rig))
     starts = [{k: v for k, v in start.items() if k in scan} for start in starts]
     return fitting.fit([ctx.dataset], current.effects, current.spring_model, params, starts=starts,
                        sigma=ctx.sigma_hf, verbose=False, pool=ctx.pool, processes=1, scales=ctx.scales(),
-                       should_stop=ctx.stop.is_set, max_starts=WIDER_STARTS, enough=lambda f: consistent(ctx, f))
+                       should_stop=ctx.stop.is_set, max_starts=wider, enough=lambda f: at_noise(ctx, f))
 
 
 def search_harder(ctx, state) -> None:
@@ -156,7 +151,7 @@ def search_harder(ctx, state) -> None:
     from a grid of its friction values (:func:`_scan_of`), kept if it fits better. A cam drop's
     or a closing's cost has no such stop, and there a grid costs as much as the search so far."""
     current = state.current
-    if ctx.over() or consistent(ctx, current) or not ctx.record.period_fields:
+    if ctx.over() or at_noise(ctx, current) or not ctx.record.period_fields:
         return
     params = parameters(ctx, current.effects, current.values)  # the nuisance from the final fit, too
     scan = _scan_of(ctx, state, params)
@@ -167,7 +162,7 @@ def search_harder(ctx, state) -> None:
         wider = _wider_fit(ctx, current, params, scan)
     except (FitAborted, SimulationError):
         return
-    ctx.fits += 1
+    ctx.search.fits += 1
     wider.label = "final model (wider search)"
     state.all_fits.append(wider)
     if wider.chi2 >= current.chi2:

@@ -1,14 +1,16 @@
 """The diagnosis' result: what the steps found, as a report in words and as JSON (keys listed in
-docs/cli.md). Residuals and noise in the measured channel's unit (rad or m), times s."""
+docs/cli.md). The gap is each model at its own best alignment of the record: ``baseline`` is the
+starting model with the record's nuisance fitted to it, ``final`` the final model with its own.
+Residuals and noise in the measured channel's unit (rad or m), times s."""
 from __future__ import annotations
 
 from dataclasses import dataclass, field
 
 from ...experiments import experiment_of
 from ..fit import FitResult
-from ..noise import NoiseModel
-from .scores import BIC_MARGIN, excess
-from .state import rounded
+from ..noise import NoiseModel, excess
+from .options import DEFAULT_OPTIONS, DiagnosisOptions
+from .state import Verdict, rounded
 
 
 @dataclass
@@ -25,17 +27,21 @@ class Diagnosis:
     window: tuple
     signature: dict
     evidence: str
-    stopped: list = None  # candidates not fitted: a simpler one explained the data already
-    verdict: dict = field(default_factory=dict)
+    stopped: list | None = None  # candidates not fitted: a simpler one explained the data already
+    verdict: Verdict | None = None
     nuisance: dict = field(default_factory=dict)
     timing: dict = field(default_factory=dict)
-    selection: list = field(default_factory=list)
-    #: the starting model with the record's nuisance fitted to it (``baseline`` is the starting
-    #: model on the final model's alignment of the record: see judge.on_final_alignment)
-    baseline_own_alignment: FitResult = None
+    selection: list = field(default_factory=list)  # SelectionStep / Refinement JSON
     #: the discover step's report (:mod:`.discover`): a torque outside the registry, or why none
     discovered: dict = field(default_factory=dict)
     discovery: object = None  # its Discovery (vcbmodel.analysis.discovery), when it searched
+    options: DiagnosisOptions = DEFAULT_OPTIONS
+    start_at_noise: bool = False  # the starting model was at the noise: no effect searched
+
+    @property
+    def baseline_own_alignment(self) -> FitResult:
+        """The starting model with its own alignment of the record (the same as ``baseline``)."""
+        return self.baseline
 
     @property
     def missing_effect(self) -> str | None:
@@ -48,12 +54,12 @@ class Diagnosis:
 
     @property
     def explained(self) -> bool:
-        return bool(self.verdict.get("explained"))
+        return bool(self.verdict is not None and self.verdict.explained)
 
     @property
     def ambiguous(self) -> list:
         """[(kept effect, rival)] the evidence does not separate (BIC within the margin)."""
-        return [tuple(t["between"]) for t in self.verdict.get("ambiguous", ())]
+        return [tuple(t["between"]) for t in (self.verdict.ambiguous if self.verdict else ())]
 
     @property
     def unit(self) -> str:
@@ -68,7 +74,7 @@ class Diagnosis:
             "baseline_effects": list(b.effects), "final_effects": list(f.effects),
             "baseline_spring_model": b.spring_model_label, "final_spring_model": f.spring_model_label,
             "simulated_with": f.backend, "rms_before": b.rms, "rms_after": f.rms,
-            "rms_before_own_alignment": (self.baseline_own_alignment or b).rms,
+            "start_at_noise": self.start_at_noise,
             "max_error_before": b.max_error, "max_error_after": f.max_error,
             "gap_ratio": f.rms / b.rms if b.rms > 0 else None,
             # the model-truth gap: residual rms in excess of the noise, sqrt(rms^2 - sigma^2)
@@ -76,7 +82,7 @@ class Diagnosis:
             "excess_after": excess(f.rms, sigma),
             "noise_estimate": sigma, "noise_correlation": self.noise_model.lag1,
             "noise": self.noise_model.to_json(),
-            "window": list(self.window), "bic_margin": BIC_MARGIN,
+            "window": list(self.window), "bic_margin": self.options.bic_margin, "options": self.options.to_json(),
             "selection": self.selection,
             "candidates": [c.summary(self.noise_model) for c in self.candidates] + [
                 {"effect": name, "delta_bic": None, "status": "stopped: a candidate with no more parameters "
@@ -88,7 +94,7 @@ class Diagnosis:
             "fitted_units": {p.name: p.unit or "-" for fit in (b, f) for p in fit.parameters.values()
                              if p.kind == "model"},
             "at_bound": [p.name for p in f.parameters.values() if p.at_bound()],
-            "nuisance": self.nuisance, "verdict": self.verdict,
+            "nuisance": self.nuisance, "verdict": self.verdict.to_json() if self.verdict else {},
             "signature": self.signature, "evidence": self.evidence, "timing": self.timing,
             "discovered": {k: v for k, v in self.discovered.items() if k != "report"},
         }
@@ -106,14 +112,15 @@ class Diagnosis:
                  f"  disagreement largest in t = [{self.window[0]:.4g}, {self.window[1]:.4g}] s",
                  "  candidates (delta BIC of the whitened residual, positive = better):"]
         for c in self.candidates:
+            held = f"  held-out dchi2 {c.held_out_delta:.1f}" if c.held_out_delta else ""
             lines.append(f"    round {c.round} {c.effect:18s} dBIC {c.delta_bic:12.1f}  rms {c.fit.rms:.3g} {u} "
-                         f"[{c.fit.spring_model_label}]")
+                         f"[{c.fit.spring_model_label}]{held}")
         for name in self.stopped or []:
             lines.append(f"    {name:18s} stopped: a simpler candidate explains the data within the noise")
         lines.append(f"  missing effects: {', '.join(self.missing_effects) or 'none'}")
-        for tie in self.verdict.get("ambiguous", ()):
+        for tie in self.verdict.ambiguous if self.verdict else ():
             lines.append(f"  AMBIGUOUS between {tie['between'][0]} and {tie['between'][1]} (BIC "
-                         f"{tie['delta_bic_between']:.1f} apart, margin {BIC_MARGIN:g})")
+                         f"{tie['delta_bic_between']:.1f} apart, margin {self.options.bic_margin:g})")
         lines.append(f"  rms {self.baseline.rms:.3g} -> {self.final.rms:.3g} {u}; explained: {self.explained}")
         lines.append("  " + self.evidence)
         if self.discovered.get("report"):

@@ -1,5 +1,5 @@
 """Candidates fitted side by side: threads share the simulation pool, simplest candidate first.
-Two rules spare work once a candidate's residual is consistent with the noise (a "winner"):
+Two rules spare work once a candidate's residual is at the noise (:mod:`.at_noise`; a "winner"):
 
 - Occam's pruning (:func:`pruned`): pending candidates with at least as many new parameters are
   not started (they could not beat it by the margin).
@@ -20,7 +20,7 @@ from concurrent.futures import FIRST_COMPLETED, ThreadPoolExecutor, wait
 from ...errors import SimulationError
 from ..fit import FitAborted
 from .candidates import fit_candidate
-from .scores import consistent
+from .at_noise import at_noise
 
 
 def pruned(size: int, winners: list) -> bool:
@@ -64,7 +64,7 @@ class _Round:
             res, var = None, None
         self.results[i], self.variants[i] = res, var
         self.done += 1
-        if res is not None and consistent(self.ctx, res):
+        if res is not None and at_noise(self.ctx, res):
             self.winners.append(self.jobs[i][2])
             self.cancel_losers(running)
         left = len([j for j in pending if not pruned(self.jobs[j][2], self.winners)]) + len(running)

@@ -11,15 +11,9 @@ from ...model.effects import EFFECTS
 from .. import fit as fitting
 from ..fit import FitAborted
 from ..noise import fit_noise
+from .at_noise import at_noise
 from .candidates import screen_spring_models
-from .scores import BIC_MARGIN, consistent
-
-
-def adopt(path: list, old: object, new: object) -> None:
-    """Selection steps that ended in fit ``old`` now end in ``new`` (a refinement of it)."""
-    for step in path:
-        if step["_fit"] is old:
-            step["_fit"] = new
+from .state import adopt
 
 
 def _refined(ctx, current, spring, label):
@@ -38,10 +32,10 @@ def final_spring(ctx, state) -> None:
     for the spring model chosen for the spring's mass (ANCF, five to ten times dearer); the final
     model is refined with it from the stand-in's values, and kept if it fits better."""
     current = state.current
-    if ctx.spring_final is None or "spring_mass" not in current.effects or ctx.stop.is_set():
+    if ctx.search.spring_final is None or "spring_mass" not in current.effects or ctx.stop.is_set():
         return
-    ctx.say(f"refining the final model with the {ctx.spring_final.label} spring")
-    fine = _refined(ctx, current, ctx.spring_final, f"final [{ctx.spring_final.label}]")
+    ctx.say(f"refining the final model with the {ctx.search.spring_final.label} spring")
+    fine = _refined(ctx, current, ctx.search.spring_final, f"final [{ctx.search.spring_final.label}]")
     if fine is None:
         return
     state.all_fits.append(fine)
@@ -66,10 +60,10 @@ def finer_spring(ctx, state) -> None:
     """A model with the spring's mass whose residual stands above the noise may have too coarse a
     spring model rather than a missing effect (the rig's lumped-2 against a continuum): the best
     other lumped chain at the current values is refined, and kept if it lowers the whitened BIC by
-    more than the margin (``state.coarse_spring`` keeps the fit it replaced). The ANCF continuum
+    more than ``bic_margin`` (``state.coarse_spring`` keeps the fit it replaced). The ANCF continuum
     is not tried here (a closing with it costs 8 s)."""
     current = state.current
-    if ctx.over() or consistent(ctx, current):
+    if ctx.over() or at_noise(ctx, current):
         return
     if "spring_mass" not in current.effects or current.spring_model.is_massless:
         return
@@ -81,11 +75,11 @@ def finer_spring(ctx, state) -> None:
     finer = _refined(ctx, current, chain, f"final [{chain.label}]")
     if finer is None:
         return
-    ctx.fits += 1
+    ctx.search.fits += 1
     state.all_fits.append(finer)
     noise = fit_noise(finer.residuals, ctx.sigma_hf, ctx.quantisation)
     gain = current.bic_with(noise) - finer.bic_with(noise)
-    if gain <= BIC_MARGIN:
+    if gain <= ctx.options.bic_margin:
         return
     ctx.say(f"spring model {current.spring_model_label} -> {finer.spring_model_label}: rms {current.rms:.3g} -> "
             f"{finer.rms:.3g} {ctx.record.unit} (delta BIC {gain:.0f})")

@@ -25,7 +25,7 @@ def fit_start(ctx, state) -> None:
         imply_period(ctx, drift)
         params = parameters(ctx, rig.model.effects, baseline.values)
         baseline = fit_record(ctx, rig.model.effects, rig.model.spring_model, params, "starting model (period fitted)")
-    ctx.noise = fit_noise(baseline.residuals, ctx.sigma_hf, ctx.quantisation)
+    ctx.search.noise = fit_noise(baseline.residuals, ctx.sigma_hf, ctx.quantisation)
     ctx.say(f"starting model rms {baseline.rms:.3g} {rec.unit} ({baseline.rms / ctx.sigma_hf:.1f}x the "
             f"high-frequency noise); {time.monotonic() - ctx.budget.started:.0f} s")
     state.baseline = state.current = baseline

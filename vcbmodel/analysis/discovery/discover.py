@@ -17,7 +17,6 @@ nothing that fits.
 """
 from __future__ import annotations
 
-import math
 import time
 from collections.abc import Sequence
 from dataclasses import dataclass, field
@@ -27,6 +26,7 @@ from ...experiments import experiment_of
 from ...model.effects import MACHINERY as MODEL_MACHINERY
 from ...records.signals import noise_estimate_floored, quantisation_step
 from ..fit import Dataset, FitAborted, FitResult
+from ..noise import excess as excess  # re-exported (discovery.excess)
 from ..nuisance import record_setup
 from .force import ForceEstimate, missing_torque, unread
 from .judge import EXPLAINS, evidence, explains, scoring_noise
@@ -272,11 +272,6 @@ def _prune(dataset, registered, support, after, index, noise, sigma, pool, shoul
                       "dropped": name, "dropped_delta_bic": step["delta_bic"]})
         index = len(tried) - 1
     return support, after, index
-
-
-def excess(rms: float, noise: float) -> float:
-    """The residual's rms in excess of the noise, sqrt(rms^2 - noise^2) (measured unit)."""
-    return math.sqrt(max(rms * rms - noise * noise, 0.0))
 
 
 def discover_among(rig, measurement, fits: Sequence[FitResult], **options) -> Discovery:

@@ -36,12 +36,12 @@ from .minimizer import fit, noise_scales, refine, staged_fit
 from .objective import Curves, Objective
 from .optimisers import levenberg_marquardt, nelder_mead
 from .options import FitAborted, FitOptions
-from .parameters import Parameter, at_noise_level, make_parameters, pooled_noise
+from .parameters import Parameter, make_parameters, pooled_noise
 from .pool import SimJob, SimulationPool, dataset_pool, fit_step, run_job, scan_step, user_function_for
 from .result import FitResult, jacobian_of
 from .starts import scan_starts
 
 __all__ = ["AlignedModel", "Covariance", "Curves", "Dataset", "FitAborted", "FitOptions", "FitResult", "Objective", "Parameter",
-           "SimJob", "SimulationPool", "at_noise_level", "dataset_pool", "fit", "fit_step", "jacobian_of",
+           "SimJob", "SimulationPool", "dataset_pool", "fit", "fit_step", "jacobian_of",
            "levenberg_marquardt", "make_parameters", "nelder_mead", "noise_scales", "parameter_covariance", "pooled_noise", "refine",
            "run_job", "scan_starts", "scan_step", "staged_fit", "truncated", "user_function_for"]

@@ -40,8 +40,15 @@ class Parameter:
     stderr_naive: float | None = None  # the white-noise 1-sigma s^2 (J^T J)^-1, for comparison
 
     def at_bound(self, rel: float = 1e-3) -> bool:
+        """Does a bound hold the value: within ``rel`` of the span from it and, when the stated
+        error is known, nearer to it than one stated error (a value several errors from its bound
+        is not held by it, however small)?"""
         span = (self.max - self.min) if math.isfinite(self.max - self.min) else max(abs(self.value), 1.0)
-        return self.vary and (abs(self.value - self.min) <= rel * span or abs(self.max - self.value) <= rel * span)
+        gap = min(abs(self.value - self.min), abs(self.max - self.value))
+        held = gap <= rel * span
+        if held and self.stderr is not None and math.isfinite(self.stderr) and self.stderr > 0:
+            held = gap < self.stderr
+        return self.vary and held
 
     # internal (unbounded-ish) coordinate used by the optimisers
     def to_internal(self, v: float) -> float:
@@ -93,9 +100,3 @@ def pooled_noise(datasets) -> float:
     """Noise level (the measured channel's unit: rad, or m for a closing) pooled over datasets:
     rms of each one's estimate (:func:`vcbmodel.records.signals.noise_estimate`)."""
     return float(np.sqrt(np.mean([noise_estimate(d.y) ** 2 for d in datasets])))
-
-
-def at_noise_level(cost: float, n_data: int, sigma: float) -> bool:
-    """Whether a sum of squared residuals (unit^2) is what white noise of ``sigma`` (unit) alone
-    would give (within three standard deviations of the chi^2 distribution)."""
-    return cost <= n_data * sigma**2 * (1 + 3 * math.sqrt(2.0 / n_data))

@@ -15,7 +15,6 @@ from ...experiments.simulation import simulation_backend
 from ...rig.spring_model import SpringModel
 from .covariance import Covariance, parameter_covariance
 from .dataset import AlignedModel
-from .parameters import at_noise_level
 
 if TYPE_CHECKING:
     from ..noise import NoiseModel
@@ -43,6 +42,11 @@ class FitResult:
     noise: object = None  # NoiseModel used for chi2 (None: white with sigma)
     label: str = ""
     covariance: Covariance | None = None  # of the varied parameters (:mod:`.covariance`)
+    #: (names of the varied parameters, Jacobian of the scaled residuals) at the optimum
+    jacobian: tuple = (None, None)
+    #: a cheaper fit standing in for this one while further effects are searched (a lumped
+    #: chain for an ANCF spring; the diagnosis refines the final model with this one's spring)
+    stand_in: FitResult | None = None
 
     @property
     def unit(self) -> str:
@@ -101,10 +105,6 @@ class FitResult:
     @property
     def max_error(self) -> float:
         return float(max(np.max(np.abs(r)) for r in self.residuals))
-
-    @property
-    def at_noise_level(self) -> bool:
-        return at_noise_level(float(sum(np.sum(r**2) for r in self.residuals)), self.n_data, self.sigma)
 
     @property
     def aic(self) -> float:

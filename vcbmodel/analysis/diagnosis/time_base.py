@@ -10,7 +10,7 @@ of the shaft's inertia scales only the dynamics it governs (a pendulum's period 
 root, a cam drop's duration likewise while the drive is the spring on the rigid shaft), not a
 spring's own surge, not a mains line. So:
 
-- a mains line (:mod:`.sensor_artefacts`) reads the clock directly (f / f_grid - 1, within the
+- a mains line (:mod:`.artefacts.lines`) reads the clock directly (f / f_grid - 1, within the
   grid's 0.1 %): then the clock is known and an inertia error is what is left;
 - otherwise, where the rig's inertia is fitted too (a free swing with a period mismatch, or an
   ``uncertain`` inertia), the two change the record alike: reported as not separable;
@@ -19,13 +19,13 @@ spring's own surge, not a mains line. So:
 """
 from __future__ import annotations
 
-from .fit.dataset import TIME_SCALE_SPAN, time_scale_name
-from .fit.parameters import Parameter
+from ..fit.dataset import TIME_SCALE_SPAN, time_scale_name
+from ..fit.parameters import Parameter
 
-#: Smallest clock error the time-base nuisance is kept for (relative): a crystal clock is good to
-#: about 1e-4, so a fitted scale closer to 1 than this is the refit finding better values of the
-#: physics, not a clock (the air-drag demo's refit gave 3e-5 and would have passed it for one).
-MIN_CLOCK_ERROR = 2e-4
+#: The smallest clock error the time-base nuisance is kept for is the options' ``min_clock_error``
+#: (:class:`.options.DiagnosisOptions`): a crystal clock is good to about 1e-4, so a fitted scale
+#: closer to 1 is the refit finding better values of the physics, not a clock (the air-drag demo's
+#: refit gave 3e-5 and would have passed it for one).
 #: A mains grid holds its frequency to about this fraction (continental grids: +-0.2 Hz at worst,
 #: usually within 0.05 Hz of 50 Hz): the uncertainty of a clock read off a mains line.
 GRID_TOLERANCE = 0.001
@@ -41,9 +41,10 @@ def time_scale_parameter(prior_sd: float | None = None, value: float = 1.0, fixe
                      prior=(value, prior_sd) if prior_sd else None)
 
 
-def clock_from_lines(lines: list) -> tuple[float, float] | None:
-    """(time scale, its relative sd) read off the strongest mains line, or None."""
-    mains = [line for line in lines if line.clock_offset is not None]
+def clock_from_lines(lines: list | None) -> tuple[float, float] | None:
+    """(time scale, its relative sd) read off the strongest mains line among ``lines``
+    (:class:`.artefacts.lines.Line`), or None."""
+    mains = [line for line in lines or () if line.clock_offset is not None]
     if not mains:
         return None
     best = max(mains, key=lambda line: line.power_ratio)

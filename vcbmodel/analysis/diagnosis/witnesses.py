@@ -1,6 +1,6 @@
 """Witnesses of the sensor's noise that the fit did not shape, and whether a residual stands within them.
 
-The diagnosis' noise model (:mod:`.noise`) is an autoregressive process fitted to the residual it
+The diagnosis' noise model (:mod:`..noise`) is an autoregressive process fitted to the residual it
 judges. A slow model error fitted that way passes for correlated noise: a camera record whose clock
 ran 0.4 % fast was called "explained" at 1.95x its true noise (issue 20). So the verdict must also
 hold against evidence of the noise level that no fit touched:
@@ -14,14 +14,14 @@ hold against evidence of the noise level that no fit touched:
 ``high_frequency``  the record's third differences (:func:`vcbmodel.records.signals.noise_estimate`):
                     model-free, but they see only the noise's high frequencies. Correlated noise
                     holds more than that level, so this witness bounds the level only loosely:
-                    a residual up to :data:`HIGH_FREQUENCY_FACTOR` times it is what a sensor with
+                    a residual up to ``high_frequency_factor`` (:class:`.options.DiagnosisOptions`) times it is what a sensor with
                     lag-1 correlation up to 0.65 leaves; above, only a level witness can decide.
 
 The rule (:func:`judge_against_witnesses`): with a level witness of standard deviation ``s_w`` and
 ``nu_w`` effective degrees of freedom, the residual after the release (``n`` samples, ``nu_r``
 effective degrees of freedom) must satisfy
 
-    mean(r^2) / s_w^2  <=  LEVEL_FACTOR^2 * F(0.99; nu_r, nu_w)
+    mean(r^2) / s_w^2  <=  level_factor^2 * F(1 - witness_alpha; nu_r, nu_w)
 
 (``F`` the 99 % point of the F distribution: the ratio of two variance estimates of the same noise;
 a stated level counts as nu_w = infinity). A short pre-trigger is a weak witness: 36 camera samples
@@ -38,17 +38,13 @@ from dataclasses import dataclass
 import numpy as np
 from scipy.stats import chi2, f as f_dist
 
-#: A residual may hold up to this factor times a level witness's standard deviation (before its
-#: sampling spread): the verdict already tolerates structure up to 10 % of the noise variance
-#: (:data:`.noise.STRUCTURE_TOLERANCE`), and a stated sensor noise is rarely better than +-10 %.
-LEVEL_FACTOR = 1.15
-#: One-sided significance level of the variance-ratio test against a level witness.
-ALPHA = 0.01
-#: A residual up to this factor times the record's high-frequency (third-difference) level is what
-#: correlated sensor noise alone can leave: an AR(1) noise of lag-1 correlation phi has a
-#: third-difference level of sqrt((20 - 30 phi + 12 phi^2 - 2 phi^3) / 20) of its own, which is
-#: 1/2.0 at phi = 0.65. Above it, the high-frequency witness cannot tell noise from model error.
-HIGH_FREQUENCY_FACTOR = 2.0
+from .options import DEFAULT_OPTIONS, DiagnosisOptions
+
+#: The thresholds of the witness tests (``level_factor``, ``witness_alpha``,
+#: ``high_frequency_factor``) are the diagnosis's options (:class:`.options.DiagnosisOptions`). An
+#: AR(1) noise of lag-1 correlation phi has a third-difference level of
+#: sqrt((20 - 30 phi + 12 phi^2 - 2 phi^3) / 20) of its own, which is 1/2.0 at phi = 0.65: the
+#: default ``high_frequency_factor``.
 #: Samples of a pre-trigger left out next to the release (its estimate may be a few samples late).
 GUARD_SAMPLES = 3
 #: Fewest pre-trigger samples that make a witness.
@@ -143,7 +139,8 @@ def _after_release(t: np.ndarray | None, r: np.ndarray, release: float | None) -
     return r[np.asarray(t) >= release]
 
 
-def check_witness(witness: Witness, residual: np.ndarray, lag1: float) -> dict:
+def check_witness(witness: Witness, residual: np.ndarray, lag1: float,
+                  options: DiagnosisOptions = DEFAULT_OPTIONS) -> dict:
     """One witness against a residual (its samples after the release; ``lag1``: the noise's lag-1
     correlation, for the residual's degrees of freedom). Returns a dict with ``holds`` (True,
     False, or None: this witness cannot decide), the variance ratio and its limit."""
@@ -152,28 +149,29 @@ def check_witness(witness: Witness, residual: np.ndarray, lag1: float) -> dict:
     ratio = float(np.mean(r**2)) / witness.sigma**2 if witness.sigma > 0 else math.inf
     out = {**witness.to_json(), "samples": int(n), "rms_ratio": math.sqrt(ratio)}
     if not witness.level:
-        out["limit_rms_ratio"] = HIGH_FREQUENCY_FACTOR
-        out["holds"] = True if math.sqrt(ratio) <= HIGH_FREQUENCY_FACTOR else None
+        out["limit_rms_ratio"] = options.high_frequency_factor
+        out["holds"] = True if math.sqrt(ratio) <= options.high_frequency_factor else None
         return out
     nu_r = variance_dof(n, witness.lag1 if witness.lag1 is not None else lag1)
     if math.isfinite(witness.dof):
-        spread = float(f_dist.ppf(1.0 - ALPHA, nu_r, witness.dof))
+        spread = float(f_dist.ppf(1.0 - options.witness_alpha, nu_r, witness.dof))
     else:
-        spread = float(chi2.ppf(1.0 - ALPHA, nu_r) / nu_r)
-    limit = LEVEL_FACTOR**2 * spread
+        spread = float(chi2.ppf(1.0 - options.witness_alpha, nu_r) / nu_r)
+    limit = options.level_factor**2 * spread
     out.update(variance_ratio=ratio, limit_variance_ratio=limit, holds=bool(ratio <= limit))
     return out
 
 
 def judge_against_witnesses(residual: np.ndarray, witnesses: list[Witness], lag1: float = 0.0,
-                            t: np.ndarray | None = None, release: float | None = None) -> dict:
+                            t: np.ndarray | None = None, release: float | None = None,
+                            options: DiagnosisOptions = DEFAULT_OPTIONS) -> dict:
     """Does the residual stand within the noise every independent witness shows? ``holds``:
     False if any level witness is exceeded; True if a level witness holds, or only the
     high-frequency one is there and the residual is within its factor; None when no witness can
     decide (only the high-frequency level, exceeded: explained only if the sensor's noise is that
     correlated). ``decided_by`` names the witnesses that decided."""
     r = _after_release(t, np.asarray(residual, float), release)
-    checks = [check_witness(w, r, lag1) for w in witnesses if w is not None and w.sigma > 0]
+    checks = [check_witness(w, r, lag1, options) for w in witnesses if w is not None and w.sigma > 0]
     failed = [c["witness"] for c in checks if c["holds"] is False]
     level_ok = [c["witness"] for c in checks if c["holds"] is True and c["bounds_whole_level"]]
     if failed:

@@ -1,4 +1,4 @@
-"""What the sensor adds to a record besides noise: narrow spectral lines and rounding.
+"""A sensor artefact (:mod:`.`): narrow spectral lines, mains pickup above all.
 
 A narrow line far above the mechanism's own frequencies is the sensor's, not the model's: mains
 pickup on a potentiometer's leads (50 or 60 Hz and harmonics), a logger's clock. Left in the
@@ -18,16 +18,6 @@ residual is not (a swing dies out). A line within 1 % of a whole multiple (1..10
 named mains pickup, and its frequency is a clock witness: a record whose clock runs fast by c
 shows the grid's line at f (1 + c) (grids hold their frequency to about 0.1 %).
 
-:func:`timing_jitter` finds a clock that stamps each sample a little off (a camera's frame timing):
-noise whose variance grows with the square of the reading's rate of change, ``j^2 v^2`` for a
-jitter of ``j`` s. It is read from the residual's first differences (white jitter noise passes them
-with gain 2; a smooth model error sampled densely hardly does), regressed on the model's squared
-slope: a model error that grows with speed does not pass for jitter. :func:`jitter_weights` rescales the
-residual to the noise level at rest, so the physics is judged on what the jitter does not explain.
-
-:func:`quantisation_nuisance` describes a sensor's rounding (readings on a grid of step q: an
-encoder's count, a logger's ADC step) for the report: its noise q / sqrt(12).
-
 Units: s, Hz, the record's unit (rad or m) for amplitudes.
 """
 from __future__ import annotations
@@ -37,6 +27,8 @@ from dataclasses import dataclass
 
 import numpy as np
 from scipy.optimize import minimize_scalar
+
+from .protocol import ResidualView, register
 
 #: Family-wise false-alarm probability of the line test over all frequencies tested.
 ALPHA = 1e-4
@@ -182,55 +174,30 @@ def remove_lines(t: np.ndarray, residual: np.ndarray, lines: list[Line]) -> np.n
     return r
 
 
-#: A jitter is named when its share of the first differences' variance is significant at this many
-#: standard errors and holds at least :data:`JITTER_SHARE` of the residual's noise variance.
-JITTER_Z = 4.0
-JITTER_SHARE = 0.1
+class SensorLines:
+    """The artefact (:mod:`.protocol`): steady lines above the mechanism's band, fitted and removed
+    (none where the experiment has no band: a 35 ms cam drop holds under two cycles of mains)."""
+
+    name = "sensor_lines"
+    order = 10
+
+    def fit(self, view: ResidualView) -> list[Line] | None:
+        if not view.band_hz:
+            return None
+        return find_lines(view.t, view.residual, view.band_hz) or None
+
+    def remove(self, view: ResidualView, found: list[Line]) -> np.ndarray:
+        return remove_lines(view.t, view.residual, found)
+
+    def report(self, found: list[Line], unit: str) -> tuple[list, str]:
+        data = [{**line.to_json(), "reading": line.describe(unit)} for line in found]
+        text = (" The residual holds " + "; ".join(line.describe(unit) for line in found)
+                + ": the sensor's, set aside (the physics is judged on what remains).")
+        clock = [line for line in found if line.clock_offset is not None and abs(line.clock_offset) > 1e-3]
+        if clock:
+            text += (f" The mains line reads the record's clock {100 * clock[0].clock_offset:+.2f} % off "
+                     "(if the grid ran at its nominal frequency, within about 0.1 %).")
+        return data, text
 
 
-def timing_jitter(t: np.ndarray, residual: np.ndarray, model: np.ndarray) -> dict | None:
-    """Timing jitter of the record's samples (module docstring): {"jitter_s", "stderr_s",
-    "noise_at_rest", "share"} (s, s, the record's unit, fraction of the residual's variance the
-    jitter makes), or None when none is found. ``model``: the model's reading at the same times."""
-    t, r, m = (np.asarray(a, float) for a in (t, residual, model))
-    if r.size < 50 or m.size != r.size:
-        return None
-    v = np.gradient(m, t)
-    d1 = np.diff(r)
-    X = np.column_stack([np.full(d1.size, 2.0), 2.0 * (0.5 * (v[1:] + v[:-1])) ** 2])
-    coef, *_ = np.linalg.lstsq(X, d1**2, rcond=None)
-    if coef[0] <= 0 or coef[1] <= 0:
-        return None
-    # weighted once with the fitted variance (d1^2 is chi^2(1)-like: its variance 2 fitted^2;
-    # neighbouring differences share a sample: 1.5 times as many as independent ones)
-    A = X / (X @ coef)[:, None]
-    coef, *_ = np.linalg.lstsq(A, d1**2 / (X @ coef), rcond=None)
-    cov = np.linalg.pinv(A.T @ A) * 2.0 * 1.5
-    se = math.sqrt(max(cov[1, 1], 0.0))
-    if coef[0] <= 0 or coef[1] <= 0 or coef[1] < JITTER_Z * se:
-        return None
-    share = float(coef[1] * np.mean(v**2) / (coef[0] + coef[1] * np.mean(v**2)))
-    if share < JITTER_SHARE:
-        return None
-    j = math.sqrt(coef[1])
-    return {"jitter_s": j, "stderr_s": 0.5 * se / j, "noise_at_rest": math.sqrt(coef[0]),
-            "share": share, "coefficients": [float(coef[0]), float(coef[1])]}
-
-
-def jitter_weights(t: np.ndarray, model: np.ndarray, jitter: dict) -> np.ndarray:
-    """Factors that bring a residual with timing jitter to the noise level at rest: sqrt(s0^2 /
-    (s0^2 + j^2 v^2)), v the model's slope."""
-    v = np.gradient(np.asarray(model, float), np.asarray(t, float))
-    c0, c1 = jitter["coefficients"]
-    return np.sqrt(c0 / (c0 + c1 * v**2))
-
-
-def quantisation_nuisance(step: float, sigma_hf: float) -> dict | None:
-    """A quantised sensor's rounding as a nuisance for the report (None when the record is not
-    on a grid): the step, its rounding noise q / sqrt(12) (the record's unit), and whether the
-    rounding rules the noise (at least half the record's high-frequency level)."""
-    if not step:
-        return None
-    rounding = step / math.sqrt(12.0)
-    return {"step": float(step), "rounding_noise": rounding, "rounding_dominates": bool(rounding >= 0.5 * sigma_hf),
-            "reading": "readings on a grid: an encoder's count or a data logger's step"}
+register(SensorLines())
