@@ -7,7 +7,11 @@ from __future__ import annotations
 
 
 from typing import TYPE_CHECKING
+
+import numpy as np
+
 from .. import parameters as P
+from ..errors import InputError
 from ..builders.breaker import build_vcb_closing
 from ..compiled import OdeModel
 from ..reference.solve import reference_closing
@@ -30,6 +34,26 @@ if TYPE_CHECKING:
 def build(rig: Rig, spec: ModelSpec, law: FrictionLaw, chain: LumpedChain | None, user_function: str,
           ancf_elements: AncfOptions | int | None) -> ExudynModel:
     return build_vcb_closing(rig, spec, law, chain, user_function, ancf_elements)
+
+
+def reference(rig: Rig, spec: ModelSpec, law: FrictionLaw, chain: LumpedChain | None, t_end: float,
+              method: str = "DOP853", step: float | None = None) -> tuple[dict[str, np.ndarray], dict]:
+    """The reference solve of a closing (:func:`vcbmodel.reference.solve.reference_closing`) where it
+    covers the rig: an InputError naming what it does not cover (an elastic main shaft; the contact
+    damping and the holding latch need ``method='rk4'``), never a solve of another model. Its fixed
+    step defaults to the experiment's."""
+    uncovered = []
+    if rig.breaker.main_shaft is not None:
+        uncovered.append("breaker.main_shaft (the reference solve has a rigid main shaft only: leave the section out "
+                         "for a rigid shaft, or use backend='exudyn' or 'compiled')")
+    if method != "rk4" and spec.restitution < 1.0:
+        uncovered.append("breaker.contact.restitution (the contacts' damping needs method='rk4')")
+    if method != "rk4" and rig.breaker.hold_latch is not None:
+        uncovered.append("breaker.hold_latch (its engagement needs method='rk4')")
+    if uncovered:
+        raise InputError(rig.path, uncovered[0].split(" ")[0], "backend='reference' does not cover "
+                         + "; nor ".join(uncovered))
+    return reference_closing(rig, spec, law, chain, t_end, method, step if step is not None else default_step(rig))
 
 
 def default_step(rig: Rig) -> float:
@@ -71,5 +95,5 @@ VCB_CLOSING = Experiment(
     missing_means=(("closing_time_s", "not_closed"),), summary=closing_summary,
     record_channels=closing_record_channels, fit_step=fit_step, scan_step=CLOSING_SCAN_STEP,
     fit_user_function="python", release_from_model=True,
-    ode_model=OdeModel("vcb_closing", prepare_closing, closing_equations, closing_prestep), reference=reference_closing,
+    ode_model=OdeModel("vcb_closing", prepare_closing, closing_equations, closing_prestep), reference=reference,
     sensor="camera")

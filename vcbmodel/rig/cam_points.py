@@ -94,6 +94,21 @@ POINTS_COLUMN = re.compile(r"(?P<what>angle|lift|radius)\s*(?:_|\[|\(|/)?\s*(?P<
 TO_SI = {"deg": math.pi / 180.0, "rad": 1.0, "mm": 1e-3, "m": 1.0}
 
 
+def points_path(rig_path: str, name: str) -> str:
+    """Where a rig's ``points_file`` is: ``name`` relative to the rig file's folder."""
+    return os.path.join(os.path.dirname(os.path.abspath(rig_path)), name)
+
+
+def files_read(rig_path: str, data: object) -> tuple[str, ...]:
+    """The files a rig (its JSON object ``data``, read from ``rig_path``) reads besides itself: its
+    cam's ``points_file``. Never raises: a malformed rig has none (its loader says why)."""
+    try:
+        name = data["breaker"]["cam_profile"]["points_file"]
+    except (KeyError, TypeError):
+        return ()
+    return (points_path(rig_path, name),) if isinstance(name, str) and name else ()
+
+
 def read_points_file(rd: Reader, cp: dict, prefix: str) -> tuple[str, list[list[float]]]:
     """``points_file`` (a CSV beside the rig, as CAD or a CMM exports it): two columns, the cam angle
     and the lift (or pitch radius), each naming its unit in the header (``angle_deg,lift_mm``,
@@ -103,7 +118,7 @@ def read_points_file(rd: Reader, cp: dict, prefix: str) -> tuple[str, list[list[
     name = cp["points_file"]
     if not isinstance(name, str) or not name:
         rd.fail(prefix + "points_file", "must be a file name (a CSV beside the rig file)")
-    path = os.path.join(os.path.dirname(os.path.abspath(rd.path)), name)
+    path = points_path(rd.path, name)
     if not os.path.exists(path):
         rd.fail(prefix + "points_file", f"{name}: no such file (a path relative to the rig file's folder)")
     lines = [(i, line.strip()) for i, line in enumerate(text_bytes(path, read_bytes(path)).splitlines(), start=1)]

@@ -53,7 +53,8 @@ from ..progress import Progress, progress
 from .design import DEFAULT_SEED, DIGITS, DISTRIBUTIONS, MAX_RUNS, SAMPLING, Vary, design, parse_vary, parse_varies
 from .executors import _dask, _local_pool, _serial, connect, default_workers
 from .runs import check_datasheet_used, check_paths, check_used, figures_of_merit, one_line, run_one
-from .table import cell_text, read_finished, rewrite_in_order, table_lock, typed_row, value_text
+from .table import (cell_text, fingerprint_line, read_finished, rewrite_in_order, rig_fingerprint, table_lock, typed_row,
+                    value_text)
 
 __all__ = ["sweep", "design", "parse_vary", "parse_varies", "Vary", "figures_of_merit", "run_one", "connect",
            "default_workers", "check_paths", "check_used", "one_line", "DEFAULT_SEED", "DIGITS", "DISTRIBUTIONS",
@@ -206,7 +207,7 @@ def sweep(rig: str | Path | dict | Rig, vary: Iterable[str | tuple[str, str] | V
         raise InputError(output, "output", "exists already: give --force to replace it (or --resume to continue it)")
     with table_lock(output):
         has_rows = resume and output and os.path.exists(output) and os.path.getsize(output) > 0
-        finished = read_finished(output, p.header, p.table) if has_rows else {}
+        finished = read_finished(output, p.header, p.table, rig_fingerprint(p.data, p.rig_path)) if has_rows else {}
         client, own_client = (connect(scheduler) if scheduler is not None else (None, False))
         try:
             return _execute(p, finished, client, workers, output, stream, evaluate, t_end, verbose, seed, sampling)
@@ -228,6 +229,7 @@ def _open_outputs(p, finished, output, stream):
     sinks = []
     if f:
         if not finished:
+            f.write(fingerprint_line(rig_fingerprint(p.data, p.rig_path)))
             csv.writer(f, lineterminator="\n").writerow(p.header)
             f.flush()
         sinks.append((csv.writer(f, lineterminator="\n"), f))

@@ -1,0 +1,56 @@
+"""A record cut to start at its release: what ``identify`` fits, whose model starts at the rig's
+initial angle at t = 0.
+
+The release is found as the diagnosis finds it (:func:`vcbmodel.analysis.nuisance.record_setup`:
+a pre-trigger at rest, a logger's clock offset, a hand that brings the pendulum to its angle), so a
+record with a pre-trigger, shifted or not, is fitted from its release instead of as another swing.
+"""
+from __future__ import annotations
+
+import logging
+from dataclasses import replace
+from typing import TYPE_CHECKING
+
+import numpy as np
+
+from ..errors import InputError
+from ..records.signals import noise_estimate_floored
+from .nuisance import record_setup
+
+if TYPE_CHECKING:
+    from ..records.measurement import Measurement
+    from ..rig.data import Rig
+
+log = logging.getLogger("vcbmodel")
+
+#: The shortest rest before the release (s) taken as a pre-trigger and cut off: the release estimate
+#: from the record alone (its first departure from rest, noise-limited) scatters by about 10 ms on the
+#: shipped 1 kHz swings, which start at their release; a shorter "rest" is that scatter, not a
+#: pre-trigger, and the record is fitted from its first sample.
+MIN_PRE_TRIGGER = 0.05
+
+
+def from_release(rig: Rig, meas: Measurement) -> Measurement:
+    """``meas`` from its release on, the release at t = 0 (the sample nearest it): unchanged when it
+    starts at the release already (within a sample, at t = 0). InputError when the release leaves
+    too little of the record to fit (a record that never moves, or is cut short)."""
+    channel = "pendulum_angle" if rig.experiment == "pendulum" else None
+    if channel is None or channel not in meas.channels:
+        return meas
+    t = np.asarray(meas.t, float)
+    dt = float(np.median(np.diff(t)))
+    setup = record_setup(rig, meas, noise_estimate_floored(meas.channel(channel)))
+    start = max(float(setup.release), float(setup.window[0]))
+    if start - t[0] < MIN_PRE_TRIGGER:
+        start = float(t[0])
+    if abs(t[0]) <= dt and start == t[0]:
+        return meas
+    k = int(np.argmin(np.abs(t - start)))
+    if t.size - k < 20:
+        raise InputError(meas.path, "column 't'", f"the release found at {start:g} s leaves {t.size - k} samples: "
+                         "too few to fit (does the record show the swing?)")
+    log.info("identify: %s: released at %.4g s%s; fitted from there, the release at t = 0", meas.path, start,
+             f" ({'; '.join(setup.notes)})" if setup.notes else "")
+    shifted = replace(meas, t=t[k:] - t[k], channels={name: v[k:] for name, v in meas.channels.items()},
+                      comments=meas.comments + (f"vcbmodel: released at {start:.6g} s, shifted to t = 0",))
+    return shifted
