@@ -394,8 +394,8 @@ POSITION_TORQUE_WAVENUMBER = (20, 40)
 #:   0.01-0.5 (0.08), a pole lever 0.001-0.05 (0.010), the paper's pendulum 2.74. 1e6 times these is
 #:   kg mm^2 read as kg m^2: refused above 100 (cam, follower, lever) and 10000 (pendulum).
 #: - stiffnesses (N/m): closing and opening springs 1e3-1e6 (the reference 24230 and 60000); a
-#:   value below 10 N/m cannot charge a breaker (a rate in N/mm typed where N/m is asked is 1000
-#:   times too small): refused; wipe springs
+#:   value below 200 N/m cannot charge a breaker (20 N over 0.1 m of stretch; a rate in N/mm typed
+#:   where N/m is asked is 1000 times too small): refused; wipe springs
 #:   1e4-1e7 (2.5e5); rods, stops and latches 1e5-1e10 (2e6-5e7). Their upper limit is the
 #:   integration step's stability (STABLE_STEP_PRODUCT), checked with the step.
 #: - dampers (N s/m; N m s/rad for the shaft): rods 1e1-1e5 (500), stops and latches up to 1e6
@@ -421,7 +421,7 @@ PLAUSIBLE = {
     "cam.arm_length": (None, 0.005, 0.5, 10.0, "m", "", "millimetres typed as m?"),
     "cam.pivot": (None, None, 2.0, 10.0, "m", "", "millimetres typed as m?"),
     "cam.initial_velocity": (None, None, 100.0, None, "rad/s", "", ""),
-    "closing_spring.stiffness": (10.0, 1e3, 1e6, 1e8, "N/m", "a spring this soft cannot charge a mechanism: "
+    "closing_spring.stiffness": (200.0, 1e3, 1e6, 1e8, "N/m", "a spring this soft cannot charge a mechanism: "
                                  "N/mm typed where N/m is asked?", "no coil spring is this stiff"),
     "closing_spring.mass": (None, 0.01, 10.0, 100.0, "kg", "", "grams typed as kg?"),
     "closing_spring.free_length": (None, 0.01, 2.0, 10.0, "m", "", "millimetres typed as m?"),
@@ -443,11 +443,11 @@ PLAUSIBLE = {
                                   "were meant, or mm typed twice?", "millimetres typed as m?"),
     "breaker.poles.push_rod_length": (None, 0.01, 2.0, 10.0, "m", "", "millimetres typed as m?"),
     "breaker.poles.wipe_preload": (None, None, 5e4, None, "N", "", ""),
-    "breaker.poles.wipe_rate": (10.0, 1e4, 1e7, None, "N/m", "N/mm typed where N/m is asked?", ""),
+    "breaker.poles.wipe_rate": (1e3, 1e4, 1e7, None, "N/m", "N/mm typed where N/m is asked?", ""),
     "breaker.poles.rod_stiffness": (1e3, 1e5, 1e10, None, "N/m", "N/mm typed where N/m is asked?", ""),
     "breaker.poles.rod_damping": (None, None, 1e5, None, "N s/m", "", ""),
     "breaker.poles.bellows_force": (None, None, 5e3, None, "N", "", ""),
-    "breaker.opening_spring.stiffness": (10.0, 1e3, 1e6, 1e8, "N/m", "N/mm typed where N/m is asked?", "no coil spring is this stiff"),
+    "breaker.opening_spring.stiffness": (200.0, 1e3, 1e6, 1e8, "N/m", "N/mm typed where N/m is asked?", "no coil spring is this stiff"),
     "breaker.opening_spring.preload": (None, None, 5e4, None, "N", "", ""),
     "breaker.opening_spring.length": (None, 0.01, 2.0, 10.0, "m", "", "millimetres typed as m?"),
     "breaker.contact.roller_width": (None, 0.002, 0.2, 1.0, "m", "", "millimetres typed as m?"),
@@ -456,10 +456,10 @@ PLAUSIBLE = {
     "breaker.latch.release_time": (None, None, 0.02, 1.0, "s", "", "milliseconds typed as s?"),
     "breaker.latch.arm": (None, None, 1.0, 10.0, "m", "", "millimetres typed as m?"),
     "breaker.end_stop.arm": (None, 0.005, 1.0, 10.0, "m", "", "millimetres typed as m?"),
-    "breaker.end_stop.stiffness": (10.0, 1e5, 1e10, None, "N/m", "N/mm typed where N/m is asked?", ""),
+    "breaker.end_stop.stiffness": (1e3, 1e5, 1e10, None, "N/m", "N/mm typed where N/m is asked?", ""),
     "breaker.end_stop.damping": (None, None, 1e6, None, "N s/m", "", ""),
     "breaker.hold_latch.arm": (None, 0.005, 1.0, 10.0, "m", "", "millimetres typed as m?"),
-    "breaker.hold_latch.stiffness": (10.0, 1e5, 1e10, None, "N/m", "N/mm typed where N/m is asked?", ""),
+    "breaker.hold_latch.stiffness": (1e3, 1e5, 1e10, None, "N/m", "N/mm typed where N/m is asked?", ""),
     "breaker.hold_latch.damping": (None, None, 1e6, None, "N s/m", "", ""),
     "breaker.main_shaft.diameter": (1e-3, 0.01, 0.2, 1.0, "m", "", "millimetres typed as m?"),
     "breaker.main_shaft.bore": (None, None, 0.2, 1.0, "m", "", "millimetres typed as m?"),

@@ -96,15 +96,20 @@ def audit_energy(result: SimulationResult, rig: Rig) -> float | None:
 
 def require_motion(result: SimulationResult, rig: Rig) -> None:
     """Raise SimulationError, said plainly, when the shaft (cam or pendulum) turned less than
-    ``CAM_DID_NOT_MOVE`` over the whole run: nothing in it is a closing, a drop or a swing."""
+    ``CAM_DID_NOT_MOVE`` over the whole run and never left the friction's stick band (at rest: a run
+    too short to show motion yet is not judged), after the latch's release: nothing in it is a
+    closing, a drop or a swing."""
     channel = "pendulum_angle" if result.experiment == "pendulum" else "cam_angle"
     angle = result.channels[channel]
     turned = float(np.max(np.abs(angle - angle[0])))
-    if turned >= P.CAM_DID_NOT_MOVE:
+    fastest = float(np.max(np.abs(result.channels["shaft_velocity"])))
+    at_rest = max(getattr(result.spec, "stick_velocity", 0.0) or 0.0, 1e-6)  # the friction's stick band: at rest
+    release = rig.breaker.latch_release_time if rig.breaker is not None else 0.0
+    if turned >= P.CAM_DID_NOT_MOVE or fastest > at_rest or result.t[-1] <= release:
         return
     what = "pendulum did not swing" if result.experiment == "pendulum" else "cam did not move"
     held = ("static friction holds it at its initial angle" if result.experiment == "pendulum" else
             "what holds it (the latch, friction, the opening spring, the poles' weight and loads) outweighs the closing "
             "springs' torque")
     raise SimulationError(f"the {what}: it turned {math.degrees(turned):.3g} deg in {1e3 * result.t[-1]:.4g} ms; {held}. "
-                          f"Check the rig's masses and springs (vcbmodel check {rig.path}); a longer --t-end will not help")
+                          f"Check the rig's values (vcbmodel check {rig.path}); a longer --t-end will not help")

@@ -43,6 +43,12 @@ def check_paths(data: dict, paths: Iterable[str], rig_path: str, experiment: str
                     hint = str(e).split("unknown field", 1)[1].split(";")[0]
                     at = f" (at {e.field})" if e.field != path else ""
                     raise InputError(rig_path, path, f"unknown field of a {experiment} rig{hint}{at}") from None
+                message = str(e).split(": ", 2)[-1]
+                if e.field != path and message.startswith("missing"):  # name what the user varied, not the gap
+                    section = path.rsplit(".", 1)[0]
+                    raise InputError(rig_path, path, f"this rig has no {section}, and this value alone does not make "
+                                     f"one ({e.field} is {message.split(':')[0]}): give the whole {section} section in "
+                                     "the rig to vary it") from None
             continue
         if isinstance(value, bool) or not isinstance(value, (int, float)):
             raise InputError(rig_path, path, f"is not a number ({type(value).__name__}): only numeric fields can be varied")
