@@ -328,6 +328,10 @@ BREAKER_T_END = 0.055
 #: few centimetres across (the reference cam: 45 mm base circle, 9.4 mm lift); a value above half a
 #: metre is a table in millimetres read as metres, refused with that hint.
 CAM_POINT_LARGEST = 0.5
+#: The widest stretch of the turn (rad) a cam given by points may leave without a point: 60 deg. Its
+#: periodic spline runs round the whole cam, so the points must too; a CMM's coarse 10-deg grid is
+#: within it, radians written under a degree header (the whole turn in 6.3 "deg") are far beyond.
+CAM_POINT_LARGEST_GAP = 3.141592653589793 / 3.0
 #: How closely (m) a cam export's last point, one turn after its first (0 and 360 deg), must repeat
 #: the first's value to be dropped as the same point: 1 um, a CMM's resolution.
 CAM_POINT_CLOSURE = 1e-6
@@ -407,6 +411,8 @@ POSITION_TORQUE_WAVENUMBER = (20, 40)
 #:   above 10 m is millimetres. A contact gap is 4-25 mm (12-40.5 kV); above 0.2 m is mm, below
 #:   0.1 mm no vacuum gap holds any voltage. A cam lift of 1-50 mm (9.4); below 0.1 mm is metres
 #:   under a millimetre header (points files), refused.
+#: - counts: a breaker has 1-4 poles (refused above 12), a mechanism up to 8 closing springs side by side.
+#: - forces: a wipe spring's preload 0.5-5 kN, an opening spring's 0.2-5 kN; below 50 N is kN typed as N.
 #: - friction: mu 0.02-0.5 for lubricated to dry steel; above 5 is percent. Gravity 9.78-9.83 on
 #:   Earth (0 switches it off); 981 is cm/s^2. The latch's release 0.5-20 ms; above 1 s is ms.
 PLAUSIBLE = {
@@ -423,6 +429,7 @@ PLAUSIBLE = {
     "cam.initial_velocity": (None, None, 100.0, None, "rad/s", "", ""),
     "closing_spring.stiffness": (200.0, 1e3, 1e6, 1e8, "N/m", "a spring this soft cannot charge a mechanism: "
                                  "N/mm typed where N/m is asked?", "no coil spring is this stiff"),
+    "closing_spring.count": (None, None, 8.0, 100.0, "springs", "", "a count of springs, not a length?"),
     "closing_spring.mass": (None, 0.01, 10.0, 100.0, "kg", "", "grams typed as kg?"),
     "closing_spring.free_length": (None, 0.01, 2.0, 10.0, "m", "", "millimetres typed as m?"),
     "closing_spring.anchor": (None, None, 2.0, 10.0, "m", "", "millimetres typed as m?"),
@@ -442,13 +449,15 @@ PLAUSIBLE = {
     "breaker.poles.contact_gap": (1e-4, 0.002, 0.05, 0.2, "m", "no vacuum gap is this small: metres where mm "
                                   "were meant, or mm typed twice?", "millimetres typed as m?"),
     "breaker.poles.push_rod_length": (None, 0.01, 2.0, 10.0, "m", "", "millimetres typed as m?"),
-    "breaker.poles.wipe_preload": (None, None, 5e4, None, "N", "", ""),
+    "breaker.poles.count": (None, None, 4.0, 12.0, "poles", "", "a breaker has 1 to 4 poles"),
+    "breaker.speed_zone": (None, None, 0.05, 0.2, "m", "", "millimetres typed as m?"),
+    "breaker.poles.wipe_preload": (None, 50.0, 5e4, None, "N", "", ""),
     "breaker.poles.wipe_rate": (1e3, 1e4, 1e7, None, "N/m", "N/mm typed where N/m is asked?", ""),
     "breaker.poles.rod_stiffness": (1e3, 1e5, 1e10, None, "N/m", "N/mm typed where N/m is asked?", ""),
     "breaker.poles.rod_damping": (None, None, 1e5, None, "N s/m", "", ""),
     "breaker.poles.bellows_force": (None, None, 5e3, None, "N", "", ""),
     "breaker.opening_spring.stiffness": (200.0, 1e3, 1e6, 1e8, "N/m", "N/mm typed where N/m is asked?", "no coil spring is this stiff"),
-    "breaker.opening_spring.preload": (None, None, 5e4, None, "N", "", ""),
+    "breaker.opening_spring.preload": (None, 50.0, 5e4, None, "N", "", ""),
     "breaker.opening_spring.length": (None, 0.01, 2.0, 10.0, "m", "", "millimetres typed as m?"),
     "breaker.contact.roller_width": (None, 0.002, 0.2, 1.0, "m", "", "millimetres typed as m?"),
     "breaker.contact.cam_roller_stiffness": (None, 1e8, 1e13, None, "N/m^exponent", "", ""),

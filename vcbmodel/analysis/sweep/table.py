@@ -37,13 +37,41 @@ def table_lock(output: str | None) -> Iterator[None]:
     lock_path = real.with_name(f".{real.name}.lock")
     fd = _locked(lock_path, output)
     try:
+        table = _table_locked(real, output)  # a hard link elsewhere names another lock file: the table's own inode
+    except InputError:
+        _release(lock_path, fd, None)
+        raise
+    try:
         yield
     finally:
-        try:
-            os.unlink(lock_path)
-        except OSError:
-            pass
+        _release(lock_path, fd, table)
+
+
+def _release(lock_path: Path, fd: int, table: int | None) -> None:
+    """Remove the lock file and let go of both locks."""
+    try:
+        os.unlink(lock_path)
+    except OSError:
+        pass
+    os.close(fd)
+    if table is not None:
+        os.close(table)
+
+
+def _table_locked(real: Path, output: str) -> int | None:
+    """An flock-ed descriptor of an existing table itself (None when there is none yet: no other path
+    can name it then), so that a sweep through a hard link in another folder is refused too."""
+    try:
+        fd = os.open(real, os.O_RDONLY)
+    except OSError:
+        return None
+    try:
+        fcntl.flock(fd, fcntl.LOCK_EX | fcntl.LOCK_NB)
+    except BlockingIOError:
         os.close(fd)
+        raise InputError(output, "output", "another vcbmodel sweep is writing this table now (through another "
+                         "name for it, a hard link): wait for it, or give another -o") from None
+    return fd
 
 
 def _locked(lock_path: Path, output: str) -> int:
