@@ -140,8 +140,7 @@ _FLUSH_LOG = {}
 
 def evaluate_and_look_at_the_file(rig, t_end):
     """An evaluation that records how many rows the output file holds when each run starts."""
-    with open(_FLUSH_LOG["path"], newline="") as f:
-        _FLUSH_LOG.setdefault("rows_seen", []).append(len(read_rows(_FLUSH_LOG["path"])) - 1)
+    _FLUSH_LOG.setdefault("rows_seen", []).append(len(read_rows(_FLUSH_LOG["path"])) - 1)
     return {"mass": rig.pendulum.mass}
 
 
