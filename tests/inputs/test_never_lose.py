@@ -241,3 +241,94 @@ def test_identify_finds_the_release_of_a_shifted_or_pre_triggered_record(tmp_pat
         found = _mu_k(capsys, _record(tmp_path, name, tt, yy))
         assert found["mu_k"] == pytest.approx(plain, rel=0.03), name
         assert found["residual_to_noise"] < 3.0, name
+
+
+def test_another_tests_record_is_never_replaced(tmp_path, capsys):
+    """A record beside its rig (data) is refused as an output of any command; a table or a simulation
+    vcbmodel wrote there may be replaced with --force."""
+    for name in ("p.csv", "p.rig.json"):
+        shutil.copy(SYNTHETIC / name.replace("p.", "pendulum_10deg."), tmp_path / name)
+    rig = tmp_path / "c.rig.json"
+    rig.write_text(json.dumps(CLOSING))
+    before = (tmp_path / "p.csv").read_bytes()
+    refused(capsys, ["simulate", str(rig), "-o", str(tmp_path / "p.csv"), "--force"], "a test's record", "never replaced")
+    refused(capsys, ["sweep", str(rig), "--vary", "friction.mu_k=0.1:0.2:2", "-o", str(tmp_path / "p.csv"), "--force"],
+            "a test's record")
+    with pytest.raises(InputError, match="a test's record"):
+        sweep(CLOSING, ["friction.mu_k=0.1:0.2:2"], output=str(tmp_path / "p.csv"), force=True, workers=1, verbose=False)
+    assert (tmp_path / "p.csv").read_bytes() == before
+
+
+@pytest.mark.parametrize("given", ["path", "dict", "rig"])
+def test_the_sweep_api_never_replaces_its_rig(tmp_path, given):
+    rig = tmp_path / "c.rig.json"
+    rig.write_text(json.dumps(CLOSING))
+    before = rig.read_bytes()
+    source = {"path": str(rig), "dict": copy.deepcopy(CLOSING), "rig": load_rig(rig)}[given]
+    with pytest.raises(InputError, match="is an input of this sweep|named as a rig file"):
+        sweep(source, ["friction.mu_k=0.1:0.2:2"], output=str(rig), force=True, workers=1, verbose=False)
+    with pytest.raises(InputError, match="is a folder"):
+        sweep(source, ["friction.mu_k=0.1:0.2:2"], output=str(tmp_path), force=True, workers=1, verbose=False)
+    assert rig.read_bytes() == before
+
+
+@pytest.mark.parametrize("kwargs, argument", [
+    ({"backend": "bogus"}, "backend"), ({"t_end": -1.0}, "t_end"), ({"t_end": 0.0}, "t_end"),
+    ({"step": -1e-5}, "step"), ({"effects": ("coulomb",)}, "effects"), ({"values": {"mu_q": 0.1}}, "values.mu_q"),
+    ({"values": {"mu_k": -0.1}}, "values.mu_k"), ({"values": {"mu_k": "0.1"}}, "values.mu_k"),
+    ({"sample_times": [0.01, 0.0]}, "sample_times"),
+])
+def test_the_python_api_refuses_what_it_cannot_run_naming_the_argument(kwargs, argument):
+    rig = load_rig(SYNTHETIC / "cam_drop_m0_0.336kg.rig.json")
+    with pytest.raises(InputError, match=f"simulate: {argument}:"):
+        simulate(rig, **kwargs)
+
+
+def test_identify_refuses_no_records_or_a_closing_record():
+    from vcbmodel.analysis.identify import identify
+    from vcbmodel.experiments.loading import load_pair
+
+    with pytest.raises(InputError, match="no records given"):
+        identify([])
+    with pytest.raises(InputError, match="pendulum records; this is a vcb_closing record"):
+        identify([load_pair(SYNTHETIC / "vcb_closing.csv")])
+
+
+def _points_rig(tmp_path, name, text, mode="w"):
+    (tmp_path / name).write_bytes(text) if isinstance(text, bytes) else (tmp_path / name).write_text(text)
+    data = copy.deepcopy(CLOSING)
+    data["breaker"]["cam_profile"] = {"base_radius": 0.045, "points_file": name}
+    f = tmp_path / "pts.rig.json"
+    f.write_text(json.dumps(data))
+    return f
+
+
+def _example_pairs():
+    rows = [r for r in POINTS.read_text().splitlines() if r and not r.startswith("#")][1:]
+    return [r.split(",") for r in rows]
+
+
+@pytest.mark.parametrize("style", ["excel", "unit_row", "trailing_cells", "brackets", "tabs"])
+def test_a_points_file_as_spreadsheets_write_it_gives_the_same_cam(tmp_path, capsys, style):
+    pairs = _example_pairs()
+    text = {"excel": b"\xef\xbb\xbf" + ("angle_deg;lift_mm\r\n" + "".join(f"{a};{v.replace('.', ',')}\r\n"
+                                                                          for a, v in pairs)).encode(),
+            "unit_row": "angle,lift\ndeg,mm\n" + "".join(f"{a},{v}\n" for a, v in pairs),
+            "trailing_cells": "angle_deg;lift_mm;;\n" + "".join(f"{a};{v.replace('.', ',')};;\n" for a, v in pairs),
+            "brackets": '"Angle [deg]","Lift [mm]"\n' + "".join(f'"{a}","{v}"\n' for a, v in pairs),
+            "tabs": "angle_deg\tlift_mm\n" + "".join(f"{a}\t{v}\n" for a, v in pairs)}[style]
+    rig = load_rig(_points_rig(tmp_path, f"{style}.csv", text))
+    shutil.copy(POINTS, tmp_path / "plain.csv")
+    reference = load_rig(_points_rig(tmp_path, "plain.csv", POINTS.read_text()))
+    assert rig.breaker.profile.table == reference.breaker.profile.table
+
+
+@pytest.mark.parametrize("angles", ["radians_under_deg", "rise_only"])
+def test_points_that_do_not_go_round_the_cam_are_refused(tmp_path, capsys, angles):
+    pairs = _example_pairs()
+    if angles == "radians_under_deg":
+        text = "angle_deg,lift_mm\n" + "".join(f"{np.radians(float(a)):.6g},{v}\n" for a, v in pairs)
+    else:
+        text = "angle_deg,lift_mm\n" + "".join(f"{a},{v}\n" for a, v in pairs if float(a) <= 200)
+    f = _points_rig(tmp_path, "p.csv", text)
+    refused(capsys, ["check", str(f)], "breaker.cam_profile.points_file", "without a point", "radians under a degree")

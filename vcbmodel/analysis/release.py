@@ -18,6 +18,8 @@ from ..records.signals import noise_estimate_floored
 from .nuisance import record_setup
 
 if TYPE_CHECKING:
+    from collections.abc import Sequence
+
     from ..records.measurement import Measurement
     from ..rig.data import Rig
 
@@ -34,9 +36,7 @@ def from_release(rig: Rig, meas: Measurement) -> Measurement:
     """``meas`` from its release on, the release at t = 0 (the sample nearest it): unchanged when it
     starts at the release already (within a sample, at t = 0). InputError when the release leaves
     too little of the record to fit (a record that never moves, or is cut short)."""
-    channel = "pendulum_angle" if rig.experiment == "pendulum" else None
-    if channel is None or channel not in meas.channels:
-        return meas
+    channel = "pendulum_angle"
     t = np.asarray(meas.t, float)
     dt = float(np.median(np.diff(t)))
     setup = record_setup(rig, meas, noise_estimate_floored(meas.channel(channel)))
@@ -54,3 +54,16 @@ def from_release(rig: Rig, meas: Measurement) -> Measurement:
     shifted = replace(meas, t=t[k:] - t[k], channels={name: v[k:] for name, v in meas.channels.items()},
                       comments=meas.comments + (f"vcbmodel: released at {start:.6g} s, shifted to t = 0",))
     return shifted
+
+
+def released_pairs(pairs: Sequence[tuple[Rig, Measurement]]) -> list[tuple[Rig, Measurement]]:
+    """Each (rig, measurement) pair of pendulum records with the record from its release
+    (:func:`from_release`); InputError for no pairs, or a pair that is not a pendulum test."""
+    pairs = list(pairs)
+    if not pairs:
+        raise InputError("identify", "measurements", "no records given: identify needs one pendulum record or more")
+    for rig, meas in pairs:
+        if rig.experiment != "pendulum" or "pendulum_angle" not in meas.channels:
+            raise InputError(meas.path, "experiment", f"identify fits the shaft friction to pendulum records; this is a "
+                             f"{rig.experiment} record ({rig.path})")
+    return [(rig, from_release(rig, meas)) for rig, meas in pairs]

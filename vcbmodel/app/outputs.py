@@ -20,55 +20,21 @@ import tempfile
 from collections.abc import Iterable
 
 from ..errors import InputError
-from ..rig.cam_points import files_read
-from ..rig.reader import read_json
-
-
-def _same_file(a, b):
-    try:
-        return os.path.samefile(a, b)
-    except OSError:
-        return os.path.realpath(a) == os.path.realpath(b)
-
-
-#: The first line ``vcbmodel simulate`` writes into its CSV: such a file beside a rig is a former
-#: output (replaceable with ``--force``); any other record beside it is data, never replaced.
-SIMULATED_MARK = "# vcbmodel "
-
-
-def _written_by_simulate(path: str) -> bool:
-    try:
-        with open(path, "rb") as f:
-            first = f.readline(400).decode("utf-8", errors="replace")
-    except OSError:
-        return False
-    return first.startswith(SIMULATED_MARK) and " simulate: " in first
+from ..rig.files import is_record, rig_inputs, same_file
 
 
 def protected_inputs(rig_path: str | os.PathLike | None, data: object = None, others: Iterable[str | os.PathLike] = ()) -> tuple[str, ...]:
     """Every file a command reads through its rig, which its outputs may never replace (``--force`` or
-    not): the rig itself, the files the rig reads (a cam's ``points_file``), its record ``NAME.csv``
-    beside it unless ``vcbmodel simulate`` wrote that file, and ``others`` (a measurement). ``data``:
-    the rig's JSON object when already read (read here otherwise; a malformed rig protects itself
-    only: its loader refuses it)."""
-    if rig_path is None:
-        return tuple(str(o) for o in others)
-    rig_path = str(rig_path)
-    if data is None:
-        try:
-            data = read_json(rig_path)
-        except InputError:
-            data = None
-    record = rig_path[:-len(".rig.json")] + ".csv" if rig_path.endswith(".rig.json") else None
-    kept = (record,) if record and os.path.isfile(record) and not _written_by_simulate(record) else ()
-    return (rig_path, *files_read(rig_path, data), *kept, *(str(o) for o in others))
+    not): :func:`vcbmodel.rig.files.rig_inputs` (the rig, the files it reads, its record beside it
+    unless ``vcbmodel simulate`` wrote it) and ``others`` (a measurement)."""
+    return (*rig_inputs(rig_path, data), *(str(o) for o in others))
 
 
 def check_distinct(path: str | os.PathLike | None, other: str | os.PathLike | None, argname: str, other_name: str) -> None:
     """Refuse two outputs of one command that are the same file (however spelt: a symlink, ``./``)."""
     if path is None or other is None:
         return
-    same = (os.path.exists(path) and os.path.exists(other) and _same_file(path, other)) or \
+    same = (os.path.exists(path) and os.path.exists(other) and same_file(path, other)) or \
         os.path.realpath(path) == os.path.realpath(other)
     if same:
         raise InputError(path, argname, f"is also the {other_name} file (one would replace the other): give it another name")
@@ -98,12 +64,20 @@ def check_output(path: str | os.PathLike | None, argname: str, *, inputs: Iterab
     """
     if path is None:
         return
+    inputs = list(inputs)
     for source in inputs:
-        if source is not None and os.path.exists(path) and _same_file(path, source):
+        if source is not None and os.path.exists(path) and same_file(path, source):
             raise InputError(path, argname, f"is an input of this command ({source}): an input is never replaced, "
                              "--force or not; give another output file")
     if os.path.isdir(path):
         raise InputError(path, argname, "is a folder: give a file name")
+    if is_record(path):
+        raise InputError(path, argname, "is a test's record (beside its rig file, not written by vcbmodel): data is "
+                         "never replaced, --force or not; give another output file")
+    inputs = [source for source in inputs if source is not None]
+    if inputs and str(path).endswith(".rig.json") and is_regular_or_absent(path):  # a command reading a rig writes none
+        raise InputError(path, argname, "is named as a rig file (NAME.rig.json): an output is never a rig; give "
+                         "another name")
     folder = os.path.dirname(os.path.abspath(path))
     if not os.path.isdir(folder):
         raise InputError(path, argname, "the folder does not exist")

@@ -1,4 +1,6 @@
-"""Checks of a finished run: it must not create energy, and its cam (or pendulum) must have moved.
+"""Checks of a run: what it is asked to do (:func:`check_call`: the Python API's arguments, each fault an
+InputError naming it), and what it did: it must not create energy, and its cam (or pendulum) must have
+moved.
 
 :func:`audit_energy` balances every kinetic, potential and dissipated term of a run against what it
 started with; a run that ends with more than :data:`vcbmodel.parameters.ENERGY_CREATED_FRACTION` of
@@ -16,13 +18,45 @@ import numpy as np
 from scipy.integrate import cumulative_trapezoid
 
 from .. import parameters as P
-from ..errors import SimulationError
+from ..errors import InputError, SimulationError
+from ..model.effects import EFFECTS, MACHINERY, parameter_specs
 from ..laws.springs import chain_for
 from .closing_evaluation import _spring_parts, energy_balance
 
 if TYPE_CHECKING:
     from ..model.result import SimulationResult
     from ..rig.data import Rig
+
+
+BACKENDS = ("exudyn", "compiled", "fast", "reference")
+
+
+def check_call(effects: object, values: object, t_end: object, step: object, sample_times: object, backend: object) -> None:
+    """Refuse, naming the argument, what :func:`vcbmodel.experiments.simulation.simulate` cannot run
+    faithfully: an unknown backend or effect, a value no effect has (a typo such as ``mu_q`` would
+    otherwise be ignored), a negative or non-finite value, a duration or step that is not a positive
+    number, sample times that do not increase."""
+    if backend not in BACKENDS:
+        raise InputError("simulate", "backend", f"must be one of {', '.join(BACKENDS)}, got {backend!r}")
+    known = set(EFFECTS) | set(MACHINERY)
+    for name in effects or ():
+        if name not in known:
+            raise InputError("simulate", "effects", f"unknown effect {name!r} (known: {', '.join(known)})")
+    names = {p.name for p in parameter_specs(EFFECTS)}
+    for name, value in (values or {}).items():
+        if any(str(name).startswith(m.prefix) for m in MACHINERY.values()):
+            continue
+        if name not in names:
+            raise InputError("simulate", f"values.{name}", f"no effect has this value (known: {', '.join(sorted(names))})")
+        if isinstance(value, bool) or not isinstance(value, (int, float, np.floating)) or not math.isfinite(value) or value < 0:
+            raise InputError("simulate", f"values.{name}", f"must be a finite number, not negative, got {value!r}")
+    for name, value in (("t_end", t_end), ("step", step)):
+        if value is not None and not (isinstance(value, (int, float, np.floating)) and math.isfinite(value) and value > 0):
+            raise InputError("simulate", name, f"must be a positive number of seconds, got {value!r}")
+    if sample_times is not None:
+        times = np.asarray(sample_times, dtype=float)
+        if times.ndim != 1 or times.size < 2 or not np.all(np.isfinite(times)) or times[0] < 0 or np.any(np.diff(times) <= 0):
+            raise InputError("simulate", "sample_times", "must be at least two finite times from 0 on, increasing (s)")
 
 
 def _friction_dissipated(result: SimulationResult) -> np.ndarray:

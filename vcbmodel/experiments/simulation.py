@@ -19,7 +19,7 @@ from ..model.values import model_values
 from ..rig.data import Rig
 from ..rig.plausibility import step_limits
 from .base import experiment_of
-from .run_checks import audit_energy
+from .run_checks import audit_energy, check_call
 
 if TYPE_CHECKING:
     from ..rig.spring_model import SpringModel
@@ -110,10 +110,14 @@ def simulate(rig: Rig, effects: Sequence[str] | None = None, values: dict[str, f
     Raises
     ------
     InputError
-        A spring or damper too stiff for the fixed step (exudyn and compiled backends), naming it.
+        An argument it cannot run faithfully (:func:`.run_checks.check_call`: an unknown backend,
+        effect or value name, a negative value, a duration, step or sample times that are not
+        positive and increasing); a spring or damper too stiff for the fixed step (exudyn and
+        compiled backends), naming it.
     SimulationError
         A run recorded at every step that created energy (:func:`.run_checks.audit_energy`).
     """
+    check_call(effects, values, t_end, step, sample_times, backend)
     record = experiment_of(rig.experiment)
     spec = model_spec(rig, effects, values, spring_model)
     if sticking is not None:

@@ -105,16 +105,6 @@ def points_path(rig_path: str, name: str) -> str:
     return os.path.join(os.path.dirname(os.path.abspath(rig_path)), name)
 
 
-def files_read(rig_path: str, data: object) -> tuple[str, ...]:
-    """The files a rig (its JSON object ``data``, read from ``rig_path``) reads besides itself: its
-    cam's ``points_file``. Never raises: a malformed rig has none (its loader says why)."""
-    try:
-        name = data["breaker"]["cam_profile"]["points_file"]
-    except (KeyError, TypeError):
-        return ()
-    return (points_path(rig_path, name),) if isinstance(name, str) and name else ()
-
-
 def _cells(row: str, sep: str) -> list[str]:
     """A line's cells: quotes and blanks stripped, decimal commas read after ``;``, and the empty cells
     a spreadsheet leaves after the last column dropped."""

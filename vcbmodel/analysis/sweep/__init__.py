@@ -53,7 +53,7 @@ from ..progress import Progress, progress
 from .design import DEFAULT_SEED, DIGITS, DISTRIBUTIONS, MAX_RUNS, SAMPLING, Vary, design, parse_vary, parse_varies
 from .executors import _dask, _local_pool, _serial, connect, default_workers
 from .runs import check_datasheet_used, check_paths, check_used, figures_of_merit, one_line, run_one
-from .table import (cell_text, fingerprint_line, read_finished, rewrite_in_order, rig_fingerprint, table_lock, typed_row,
+from .table import (cell_text, check_table_path, fingerprint_line, read_finished, rewrite_in_order, rig_fingerprint, table_lock, typed_row,
                     value_text)
 
 __all__ = ["sweep", "design", "parse_vary", "parse_varies", "Vary", "figures_of_merit", "run_one", "connect",
@@ -203,6 +203,7 @@ def sweep(rig: str | Path | dict | Rig, vary: Iterable[str | tuple[str, str] | V
              columns=columns, label=label, backend=backend)
     if workers is not None and (isinstance(workers, bool) or int(workers) != workers or workers < 1):
         raise InputError("--workers", "workers", f"must be a whole number >= 1, got {workers}")
+    check_table_path(output, p.rig_path, p.data)
     if output and not (resume or force) and os.path.isfile(output) and os.path.getsize(output) > 0:
         raise InputError(output, "output", "exists already: give --force to replace it (or --resume to continue it)")
     with table_lock(output):

@@ -18,7 +18,7 @@ from typing import TYPE_CHECKING, Any
 import numpy as np
 
 from ...errors import InputError
-from ...rig.cam_points import files_read
+from ...rig.files import files_read, is_record, rig_inputs, same_file
 
 if TYPE_CHECKING:
     import pandas as pd
@@ -94,6 +94,24 @@ def _locked(lock_path: Path, output: str) -> int:
             return fd
         os.close(fd)
     raise InputError(output, "output", "cannot take the table's lock (other sweeps keep replacing it)")
+
+
+def check_table_path(output: str | None, rig_path: str, data: dict) -> None:
+    """Refuse, before anything runs, a table that would replace an input (the rig, a file it reads, its
+    record beside it; through any spelling of the path, ``force`` or not) or that names a folder."""
+    if not output:
+        return
+    if os.path.isdir(output):
+        raise InputError(output, "output", "is a folder: give a file name")
+    if is_record(output):
+        raise InputError(output, "output", "is a test's record (beside its rig file, not written by vcbmodel): data "
+                         "is never replaced, force or not; give another output file")
+    if str(output).endswith(".rig.json"):
+        raise InputError(output, "output", "is named as a rig file: a sweep's table is a CSV (give it a .csv name)")
+    for source in rig_inputs(rig_path, data) if os.path.exists(rig_path) else files_read(rig_path, data):
+        if os.path.exists(output) and os.path.exists(source) and same_file(output, source):
+            raise InputError(output, "output", f"is an input of this sweep ({source}): an input is never replaced, "
+                             "force or not; give another output file")
 
 
 #: The comment line a sweep's table starts with: the fingerprint of the rig it ran
