@@ -245,3 +245,13 @@ def test_a_template_is_commented_in_every_section_and_within_its_allowables(tmp_
     if kind != "pendulum":
         assert "within 0.45 S_ut" in out
     assert main(["simulate", str(f), "-o", str(tmp_path / "o.csv"), "-q"]) == 0
+
+
+def test_rig_format_lists_every_plausibility_range_as_parameters_holds_it():
+    page = (ROOT / "docs" / "rig-format.md").read_text()
+
+    def cell(v):
+        return "" if v is None else f"{v:g}"
+
+    for path, (no_low, low, high, no_high, unit, _, _) in P.PLAUSIBLE.items():
+        assert f"| `{path}` | {unit} | {cell(no_low)} | {cell(low)} | {cell(high)} | {cell(no_high)} |" in page, path
