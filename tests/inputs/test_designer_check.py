@@ -255,3 +255,21 @@ def test_rig_format_lists_every_plausibility_range_as_parameters_holds_it():
 
     for path, (no_low, low, high, no_high, unit, _, _) in P.PLAUSIBLE.items():
         assert f"| `{path}` | {unit} | {cell(no_low)} | {cell(low)} | {cell(high)} | {cell(no_high)} |" in page, path
+
+
+@pytest.mark.parametrize("changes, field", [
+    ({"breaker.main_shaft.diameter": 0.005}, "breaker.main_shaft.diameter"),
+    ({"breaker.main_shaft.diameter": 0.012}, "breaker.main_shaft.diameter"),
+    ({"breaker.main_shaft.shear_modulus": 2e8}, "breaker.main_shaft.shear_modulus"),
+])
+def test_a_main_shaft_too_soft_to_hold_its_levers_is_refused(tmp_path, capsys, changes, field):
+    """A 5 mm shaft was a math domain error from the levers' rest position; a 0.2 GPa one twisted 57 deg."""
+    f = edited(tmp_path, CLOSING, changes)
+    line = one_line(capsys, ["simulate", str(f), "-o", str(tmp_path / "o.csv")], 2)
+    assert f"{field}: a " in line and "no pole lever could hold its rod" in line
+
+
+def test_a_soft_main_shaft_is_warned_of(tmp_path, capsys):
+    f = edited(tmp_path, CLOSING, {"breaker.main_shaft.diameter": 0.02})
+    assert main(["check", str(f)]) == 0
+    assert "breaker.main_shaft.diameter: a 20 mm shaft of 79.3 GPa" in capsys.readouterr().out

@@ -167,13 +167,43 @@ def step_limits(rig: Rig, spring_model: SpringModel, step: float) -> None:
         raise InputError(rig.path, field, _limit_line(field, value, unit, what, rate, step, spring))
 
 
+def shaft_twist(b: Breaker) -> float:
+    """The main shaft's twist (rad) between the drive and the far levers under the wipe springs'
+    preload on every other pole (``wipe_preload`` at ``output_arm``): the segment next to the drive
+    carries them all, the others less (an upper estimate, statics only)."""
+    shaft, poles = b.main_shaft, b.poles
+    torque = poles.wipe_preload * b.follower.output_arm
+    far = max(shaft.drive_pole - 1, poles.count - shaft.drive_pole)
+    return sum(torque * (far - j) for j in range(far)) / segment_stiffness(shaft)
+
+
+def check_shaft(rd: Reader, b: Breaker) -> tuple[str, ...]:
+    """Refuse a main shaft that would twist more than ``SHAFT_TWIST_LIMITS[1]`` under the poles' wipe
+    preload (a diameter in the wrong unit, a modulus in GPa that passed as a soft material: no pole
+    lever could hold its rod); warn above ``SHAFT_TWIST_LIMITS[0]``."""
+    if b.main_shaft is None or b.poles.count < 2:
+        return ()
+    twist = shaft_twist(b)
+    unusual, refused = P.SHAFT_TWIST_LIMITS
+    shaft = b.main_shaft
+    field = ("breaker.main_shaft.shear_modulus" if shaft.shear_modulus < P.PLAUSIBLE["breaker.main_shaft.shear_modulus"][1]
+             else "breaker.main_shaft.diameter")
+    what = (f"a {1e3 * shaft.diameter:g} mm shaft of {shaft.shear_modulus / 1e9:.3g} GPa, levers {1e3 * shaft.pole_pitch:g} "
+            f"mm apart, twists about {math.degrees(twist):.3g} deg under the poles' wipe preload")
+    if twist > refused:
+        rd.fail(field, f"{what}: no pole lever could hold its rod (at most {math.degrees(refused):.0f} deg); is the "
+                "diameter in mm or the modulus in GPa?")
+    return (f"{field}: {what} (usual below {math.degrees(unusual):.0f} deg)",) if twist > unusual else ()
+
+
 def check_rig(rd: Reader, data: dict, sections: dict) -> tuple[str, ...]:
     """The checks a loaded rig's sections need beyond their readers': a closing whose cam cannot
-    close its poles is refused (:func:`check_reachable`). Returns nothing to warn of (a tuple, for
-    the loader to add to :func:`plausibility`'s)."""
+    close its poles is refused (:func:`check_reachable`), a main shaft too soft to hold its levers
+    (:func:`check_shaft`). Returns the warnings, for the loader to add to :func:`plausibility`'s."""
     b = sections.get("breaker")
-    if b is not None:
-        cp = data["breaker"]["cam_profile"]
-        key = next((k for k in ("points_file", "points", "radius_points") if k in cp), "lift")
-        check_reachable(rd, b, sections["cam"], f"breaker.cam_profile.{key}")
-    return ()
+    if b is None:
+        return ()
+    cp = data["breaker"]["cam_profile"]
+    key = next((k for k in ("points_file", "points", "radius_points") if k in cp), "lift")
+    check_reachable(rd, b, sections["cam"], f"breaker.cam_profile.{key}")
+    return check_shaft(rd, b)
