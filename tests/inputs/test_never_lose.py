@@ -332,3 +332,13 @@ def test_points_that_do_not_go_round_the_cam_are_refused(tmp_path, capsys, angle
         text = "angle_deg,lift_mm\n" + "".join(f"{a},{v}\n" for a, v in pairs if float(a) <= 200)
     f = _points_rig(tmp_path, "p.csv", text)
     refused(capsys, ["check", str(f)], "breaker.cam_profile.points_file", "without a point", "radians under a degree")
+
+
+def test_a_failed_sweep_run_names_the_varied_values_behind_another_field(tmp_path):
+    rig = tmp_path / "c.rig.json"
+    rig.write_text(json.dumps(CLOSING))
+    df = sweep(str(rig), ["breaker.poles.gap_offsets.2=-0.003:0:2", "breaker.poles.contact_gap=0.002:0.011:2"],
+               workers=1, verbose=False)
+    assert df.status[0] == ("failed: with breaker.poles.gap_offsets.2 = -0.003, breaker.poles.contact_gap = 0.002: "
+                            "breaker.poles.gap_offsets: make a pole's gap zero or negative")
+    assert (df.status[1:] == "ok").all()

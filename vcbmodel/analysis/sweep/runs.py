@@ -117,7 +117,9 @@ def run_one(data: dict, overrides: dict[str, float], rig_path: str, evaluate: Ca
             values = evaluate(rig, t_end) if evaluate is not None else figures_of_merit(rig, t_end, backend)
             status = experiment_of(rig.experiment).run_status(values) if evaluate is None else "ok"
         except InputError as e:
-            values, status = {}, f"failed: {e.field}: {one_line(str(e).split(': ', 2)[-1])}"
+            # a field the run did not vary is named with the varied values that made it fail
+            cause = "" if e.field in overrides else "with " + ", ".join(f"{k} = {v:g}" for k, v in overrides.items()) + ": "
+            values, status = {}, f"failed: {cause if overrides else ''}{e.field}: {one_line(str(e).split(': ', 2)[-1])}"
         except SimulationError as e:
             values, status = {}, f"failed: {one_line(e)}"
         except Exception as e:  # noqa: BLE001 -- any other fault is that run's, the sweep goes on
