@@ -422,6 +422,7 @@ PLAUSIBLE = {
     "pendulum.mass": (None, 0.1, 500.0, 1e4, "kg", "", "grams typed as kg?"),
     "pendulum.inertia": (None, 1e-3, 100.0, 1e4, "kg m^2", "", "kg mm^2 or g cm^2 typed as kg m^2?"),
     "pendulum.com_distance": (None, None, 2.0, 10.0, "m", "", "millimetres typed as m?"),
+    "pendulum.initial_velocity": (None, None, 20.0, None, "rad/s", "", ""),
     "cam.mass": (None, 0.1, 50.0, 500.0, "kg", "", "grams typed as kg?"),
     "cam.inertia_com": (None, None, 1.0, 100.0, "kg m^2", "", "kg mm^2 typed as kg m^2?"),
     "cam.com_distance": (None, None, 0.5, 10.0, "m", "", "millimetres typed as m?"),

@@ -134,6 +134,8 @@ def require_motion(result: SimulationResult, rig: Rig) -> None:
     too short to show motion yet is not judged), after the latch's release: nothing in it is a
     closing, a drop or a swing."""
     channel = "pendulum_angle" if result.experiment == "pendulum" else "cam_angle"
+    if channel not in result.channels or "shaft_velocity" not in result.channels:
+        return  # an experiment without a shaft (a registered oscillator): nothing to judge
     angle = result.channels[channel]
     turned = float(np.max(np.abs(angle - angle[0])))
     fastest = float(np.max(np.abs(result.channels["shaft_velocity"])))
