@@ -35,7 +35,7 @@ def check_call(effects: object, values: object, t_end: object, step: object, sam
     """Refuse, naming the argument, what :func:`vcbmodel.experiments.simulation.simulate` cannot run
     faithfully: an unknown backend or effect, a value no effect has (a typo such as ``mu_q`` would
     otherwise be ignored), a negative or non-finite value, a duration or step that is not a positive
-    number, sample times that do not increase."""
+    number, sample times out of order."""
     if backend not in BACKENDS:
         raise InputError("simulate", "backend", f"must be one of {', '.join(BACKENDS)}, got {backend!r}")
     known = set(EFFECTS) | set(MACHINERY)
@@ -55,8 +55,9 @@ def check_call(effects: object, values: object, t_end: object, step: object, sam
             raise InputError("simulate", name, f"must be a positive number of seconds, got {value!r}")
     if sample_times is not None:
         times = np.asarray(sample_times, dtype=float)
-        if times.ndim != 1 or times.size < 2 or not np.all(np.isfinite(times)) or times[0] < 0 or np.any(np.diff(times) <= 0):
-            raise InputError("simulate", "sample_times", "must be at least two finite times from 0 on, increasing (s)")
+        if (times.ndim != 1 or times.size < 2 or not np.all(np.isfinite(times)) or times[0] < 0 or times[-1] <= 0
+                or np.any(np.diff(times) < 0)):
+            raise InputError("simulate", "sample_times", "must be finite times from 0 on, in order, ending after 0 (s)")
 
 
 def _friction_dissipated(result: SimulationResult) -> np.ndarray:
