@@ -342,3 +342,25 @@ def test_a_failed_sweep_run_names_the_varied_values_behind_another_field(tmp_pat
     assert df.status[0] == ("failed: with breaker.poles.gap_offsets.2 = -0.003, breaker.poles.contact_gap = 0.002: "
                             "breaker.poles.gap_offsets: make a pole's gap zero or negative")
     assert (df.status[1:] == "ok").all()
+
+
+def test_a_second_sweep_through_a_hard_link_elsewhere_is_refused(tmp_path):
+    (tmp_path / "a").mkdir()
+    (tmp_path / "b").mkdir()
+    out = tmp_path / "a" / "t.csv"
+    out.write_text("")
+    os.link(out, tmp_path / "b" / "same.csv")
+    with table_lock(str(out)):
+        with pytest.raises(InputError, match="another vcbmodel sweep is writing this table"):
+            sweep(copy.deepcopy(CLOSING), ["friction.mu_k=0.1:0.2:2"], output=str(tmp_path / "b" / "same.csv"), force=True,
+                  workers=1, verbose=False)
+    assert out.read_text() == "" and not (tmp_path / "b" / ".same.csv.lock").exists()
+
+
+@pytest.mark.parametrize("lift", [9.4e-6, 1e-4])
+def test_a_lift_too_small_to_close_the_poles_is_refused(tmp_path, capsys, lift):
+    data = copy.deepcopy(CLOSING)
+    data["breaker"]["cam_profile"]["lift"] = lift
+    f = tmp_path / "l.rig.json"
+    f.write_text(json.dumps(data))
+    refused(capsys, ["check", str(f)], "breaker.cam_profile.lift")
