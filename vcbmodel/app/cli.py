@@ -276,7 +276,9 @@ def cmd_diagnose(args: argparse.Namespace) -> int:
 def cmd_sweep(args: argparse.Namespace) -> int:
     if args.resume and not args.output:
         raise InputError("--resume", "output", "needs -o OUT.csv (the file to resume)")
-    check_output(args.output, "-o", inputs=protected_inputs(args.rig), force=args.force, keep=args.resume, resumable=True)
+    rig = load_rig(args.rig)  # a fault first, and the rig's unusual values said once (not by every run)
+    check_output(args.output, "-o", inputs=protected_inputs(args.rig, rig.data), force=args.force, keep=args.resume,
+                 resumable=True)
     table = sweep(args.rig, args.vary, samples=args.samples, seed=args.seed, workers=args.workers,
                   scheduler=args.scheduler, output=args.output, stream=None if args.output else sys.stdout,
                   resume=args.resume, force=args.force, backend=args.backend)
