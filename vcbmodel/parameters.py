@@ -502,10 +502,10 @@ ENERGY_CREATED_FRACTION = 0.02
 USUAL_PRESSURE_ANGLE = 30.0
 #: The closing spring of ``vcbmodel init``'s templates (cam_drop, vcb_closing): the reference breaker's
 #: rate (24230 N/m) and pulls (3000 N charged, on the breaker's cam), given by its datasheet so that k0 and
-#: m0 follow from the coil, and sized to pass every strength check ``check`` makes of an extension spring
-#: with standard hooks (Shigley Tables 10-7/10-8, fatigue over IEC M2's 10 000 operations): 11.2 mm Cr-Si
-#: wire on a 67 mm mean diameter (index 6), 21.4 active coils; k0 24233 N/m, m0 3.52 kg. A template is a
-#: spring one could buy: the reference's 0.83 kg at 0.92 GPa is not (its body is above 0.45 S_ut).
+#: m0 follow from the coil, and sized at index 6 to keep the body within 0.45 S_ut (0.46 GPa against 0.70
+#: GPa of Cr-Si wire, Shigley Table 10-7) and a standard hook's bending and torsion within 0.75 and 0.40
+#: S_ut: 11.2 mm wire on a 67 mm mean diameter, 21.4 active coils; k0 24234 N/m, m0 3.48 kg. A template is
+#: a spring one could wind: the reference's 0.83 kg at 0.92 GPa is not (its body is above 0.45 S_ut).
 TEMPLATE_CLOSING_SPRING = {"count": 2, "free_length": 0.30, "anchor": [0.0, 0.0], "wire_diameter": 0.0112,
                            "coil_diameter": 0.067, "active_coils": 21.4, "shear_modulus": 79.3e9}
 #: A cam that turns less than this (rad, 0.5 deg) over a whole run did not move: said plainly.
