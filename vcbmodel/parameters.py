@@ -267,7 +267,7 @@ MAIN_SHAFT_FIRST_ESTIMATE_DIAMETER = 0.04
 #:   initial tension (397 N). Read as a compression spring its body passes (0.65 S_ut = 1.04 GPa, set
 #:   removed) but it buckles unguided (free length 275 mm, 124 mm of deflection, y/L0 0.45; pivoted
 #:   ends buckle at 24 mm), and a guide holds the lateral motion the spring study is about. A spring
-#:   of the same rate and pulls that passes every check at index 6: 11.2 mm wire on 67 mm, 21.4 active
+#:   of the same rate and pulls that passes every check at index 6: 11.23 mm wire on 67.4 mm, 21.5 active
 #:   coils, 3.52 kg with standard hooks; 9.6 mm on 58 mm, 18.3 coils, 1.89 kg with screwed-in plug
 #:   ends (no hook stress). No steel spring of this rate and pull has the paper's mass: the active mass
 #:   of a spring is set by its energy over its allowable stress, so the paper's k0, m0 and forces cannot
@@ -511,6 +511,10 @@ SPEED_ZONE = (0.004, 0.0)
 #: few centimetres across (the reference cam: 45 mm base circle, 9.4 mm lift); a value above half a
 #: metre is a table in millimetres read as metres, refused with that hint.
 CAM_POINT_LARGEST = 0.5
+#: The widest stretch of the turn (rad) a cam given by points may leave without a point: 60 deg. Its
+#: periodic spline runs round the whole cam, so the points must too; a CMM's coarse 10-deg grid is
+#: within it, radians written under a degree header (the whole turn in 6.3 "deg") are far beyond.
+CAM_POINT_LARGEST_GAP = 3.141592653589793 / 3.0
 #: How closely (m) a cam export's last point, one turn after its first (0 and 360 deg), must repeat
 #: the first's value to be dropped as the same point: 1 um, a CMM's resolution.
 CAM_POINT_CLOSURE = 1e-6
@@ -596,3 +600,134 @@ DAHL_SIGMA0 = 3e4
 #: between bumps, one to two bumps per swing of a 10-15 deg pendulum.
 POSITION_TORQUE_FRACTION = (0.2, 0.4)
 POSITION_TORQUE_WAVENUMBER = (20, 40)
+
+# --- plausibility of a rig's values (vcbmodel/rig/plausibility.py, docs/rig-format.md 3.10) ---------
+#: Each field: (refused below, warned below, warned above, refused above, unit, what a value too small
+#: most likely is, what a value too large most likely is); None: no limit that side. A value is
+#: REFUSED where no breaker mechanism or test rig can have it and a unit slip (grams for kg, mm for m,
+#: GPa for Pa, kg mm^2 for kg m^2, N/mm for N/m, ms for s) gives it; it is WARNED where it is merely
+#: unusual (a heavy generator breaker, a light test rig). Reasons, by kind:
+#: - masses (kg): a VCB's moving contact with stem, terminal and push rod share weighs 0.3-5 kg (12-40.5
+#:   kV, up to about 10 kg for generator breakers); a closing cam 1-20 kg; a closing spring's coil
+#:   0.05-5 kg; the paper's pendulum 60 kg. A thousand times these (grams typed as kg) is refused:
+#:   200 kg for a pole, 500 kg for a cam, 100 kg for a spring, 10000 kg for a pendulum.
+#: - inertias (kg m^2): a cam about its centre 0.001-0.1 (the reference 0.020), the follower assembly
+#:   0.01-0.5 (0.08), a pole lever 0.001-0.05 (0.010), the paper's pendulum 2.74. 1e6 times these is
+#:   kg mm^2 read as kg m^2: refused above 100 (cam, follower, lever) and 10000 (pendulum).
+#: - stiffnesses (N/m): closing and opening springs 1e3-1e6 (the reference 24230 and 60000); a
+#:   value below 200 N/m cannot charge a breaker (20 N over 0.1 m of stretch; a rate in N/mm typed
+#:   where N/m is asked is 1000 times too small): refused; wipe springs
+#:   1e4-1e7 (2.5e5); rods, stops and latches 1e5-1e10 (2e6-5e7). Their upper limit is the
+#:   integration step's stability (STABLE_STEP_PRODUCT), checked with the step.
+#: - dampers (N s/m; N m s/rad for the shaft): rods 1e1-1e5 (500), stops and latches up to 1e6
+#:   (5000-6000), the main shaft up to 1e3 (6.1); beyond is warned; the step's stability refuses.
+#: - the main shaft: diameter 10-200 mm (60), pole pitch 50 mm-1 m (150-275 mm for 12-40.5 kV);
+#:   a diameter above 1 m or a pitch above 10 m is millimetres; shear modulus 20-100 GPa
+#:   (aluminium 26, titanium 44, steel 79.3); below 0.1 GPa is GPa typed (80 for 80e9), refused; above
+#:   100 GPa is warned only (no unit slip gives it, and a far stiffer shaft is a way to model a rigid one).
+#: - lengths (m): every arm, radius, pivot and free length of a breaker or test rig lies within 2 m;
+#:   above 10 m is millimetres. A contact gap is 4-25 mm (12-40.5 kV); above 0.2 m is mm, below
+#:   0.1 mm no vacuum gap holds any voltage. A cam lift of 1-50 mm (9.4); below 0.1 mm is metres
+#:   under a millimetre header (points files), refused.
+#: - counts: a breaker has 1-4 poles (refused above 12), a mechanism up to 8 closing springs side by side.
+#: - forces: a wipe spring's preload 0.5-5 kN, an opening spring's 0.2-5 kN; below 50 N is kN typed as N.
+#: - friction: mu 0.02-0.5 for lubricated to dry steel; above 5 is percent. Gravity 9.78-9.83 on
+#:   Earth (0 switches it off); 981 is cm/s^2. The latch's release 0.5-20 ms; above 1 s is ms.
+PLAUSIBLE = {
+    "gravity": (None, None, 9.9, 100.0, "m/s^2", "", "cm/s^2 typed as m/s^2?"),
+    "shaft.radius": (None, None, 0.1, 1.0, "m", "", "millimetres typed as m?"),
+    "pendulum.mass": (None, 0.1, 500.0, 1e4, "kg", "", "grams typed as kg?"),
+    "pendulum.inertia": (None, 1e-3, 100.0, 1e4, "kg m^2", "", "kg mm^2 or g cm^2 typed as kg m^2?"),
+    "pendulum.com_distance": (None, None, 2.0, 10.0, "m", "", "millimetres typed as m?"),
+    "pendulum.initial_velocity": (None, None, 20.0, None, "rad/s", "", ""),
+    "cam.mass": (None, 0.1, 50.0, 500.0, "kg", "", "grams typed as kg?"),
+    "cam.inertia_com": (None, None, 1.0, 100.0, "kg m^2", "", "kg mm^2 typed as kg m^2?"),
+    "cam.com_distance": (None, None, 0.5, 10.0, "m", "", "millimetres typed as m?"),
+    "cam.arm_length": (None, 0.005, 0.5, 10.0, "m", "", "millimetres typed as m?"),
+    "cam.pivot": (None, None, 2.0, 10.0, "m", "", "millimetres typed as m?"),
+    "cam.initial_velocity": (None, None, 100.0, None, "rad/s", "", ""),
+    "closing_spring.stiffness": (200.0, 1e3, 1e6, 1e8, "N/m", "a spring this soft cannot charge a mechanism: "
+                                 "N/mm typed where N/m is asked?", "no coil spring is this stiff"),
+    "closing_spring.count": (None, None, 8.0, 100.0, "springs", "", "a count of springs, not a length?"),
+    "closing_spring.mass": (None, 0.01, 10.0, 100.0, "kg", "", "grams typed as kg?"),
+    "closing_spring.free_length": (None, 0.01, 2.0, 10.0, "m", "", "millimetres typed as m?"),
+    "closing_spring.anchor": (None, None, 2.0, 10.0, "m", "", "millimetres typed as m?"),
+    "friction.mu_k": (None, None, 0.5, 5.0, "-", "", "a percentage typed as a fraction?"),
+    "friction.mu_s": (None, None, 0.8, 5.0, "-", "", "a percentage typed as a fraction?"),
+    "friction.viscous": (None, None, 100.0, None, "N m s/rad", "", ""),
+    "breaker.roller_radius": (None, 0.002, 0.1, 1.0, "m", "", "millimetres typed as m?"),
+    "breaker.cam_profile.base_radius": (None, 0.005, 0.3, 1.0, "m", "", "millimetres typed as m?"),
+    "breaker.cam_profile.lift": (1e-4, 1e-3, 0.1, 1.0, "m", "no cam closes a breaker with that lift: metres "
+                                 "under a millimetre header, or a lift given in m where a points file has mm?",
+                                 "millimetres typed as m?"),
+    "breaker.follower.pivot": (None, None, 2.0, 10.0, "m", "", "millimetres typed as m?"),
+    "breaker.follower.inertia": (None, 1e-3, 1.0, 100.0, "kg m^2", "", "kg mm^2 typed as kg m^2?"),
+    "breaker.follower.roller_arm": (None, 0.01, 1.0, 10.0, "m", "", "millimetres typed as m?"),
+    "breaker.follower.output_arm": (None, 0.01, 1.0, 10.0, "m", "", "millimetres typed as m?"),
+    "breaker.poles.moving_mass": (None, 0.1, 20.0, 200.0, "kg", "", "grams typed as kg?"),
+    "breaker.poles.contact_gap": (1e-4, 0.002, 0.05, 0.2, "m", "no vacuum gap is this small: metres where mm "
+                                  "were meant, or mm typed twice?", "millimetres typed as m?"),
+    "breaker.poles.push_rod_length": (None, 0.01, 2.0, 10.0, "m", "", "millimetres typed as m?"),
+    "breaker.poles.count": (None, None, 4.0, 12.0, "poles", "", "a breaker has 1 to 4 poles"),
+    "breaker.speed_zone": (None, None, 0.05, 0.2, "m", "", "millimetres typed as m?"),
+    "breaker.poles.wipe_preload": (None, 50.0, 5e4, None, "N", "", ""),
+    "breaker.poles.wipe_rate": (1e3, 1e4, 1e7, None, "N/m", "N/mm typed where N/m is asked?", ""),
+    "breaker.poles.rod_stiffness": (1e3, 1e5, 1e10, None, "N/m", "N/mm typed where N/m is asked?", ""),
+    "breaker.poles.rod_damping": (None, None, 1e5, None, "N s/m", "", ""),
+    "breaker.poles.bellows_force": (None, None, 5e3, None, "N", "", ""),
+    "breaker.opening_spring.stiffness": (200.0, 1e3, 1e6, 1e8, "N/m", "N/mm typed where N/m is asked?", "no coil spring is this stiff"),
+    "breaker.opening_spring.preload": (None, 50.0, 5e4, None, "N", "", ""),
+    "breaker.opening_spring.length": (None, 0.01, 2.0, 10.0, "m", "", "millimetres typed as m?"),
+    "breaker.contact.roller_width": (None, 0.002, 0.2, 1.0, "m", "", "millimetres typed as m?"),
+    "breaker.contact.cam_roller_stiffness": (None, 1e8, 1e13, None, "N/m^exponent", "", ""),
+    "breaker.contact.pole_stiffness": (None, 1e8, 1e13, None, "N/m^exponent", "", ""),
+    "breaker.latch.release_time": (None, None, 0.02, 1.0, "s", "", "milliseconds typed as s?"),
+    "breaker.latch.arm": (None, None, 1.0, 10.0, "m", "", "millimetres typed as m?"),
+    "breaker.end_stop.arm": (None, 0.005, 1.0, 10.0, "m", "", "millimetres typed as m?"),
+    "breaker.end_stop.stiffness": (1e3, 1e5, 1e10, None, "N/m", "N/mm typed where N/m is asked?", ""),
+    "breaker.end_stop.damping": (None, None, 1e6, None, "N s/m", "", ""),
+    "breaker.hold_latch.arm": (None, 0.005, 1.0, 10.0, "m", "", "millimetres typed as m?"),
+    "breaker.hold_latch.stiffness": (1e3, 1e5, 1e10, None, "N/m", "N/mm typed where N/m is asked?", ""),
+    "breaker.hold_latch.damping": (None, None, 1e6, None, "N s/m", "", ""),
+    "breaker.main_shaft.diameter": (1e-3, 0.01, 0.2, 1.0, "m", "", "millimetres typed as m?"),
+    "breaker.main_shaft.bore": (None, None, 0.2, 1.0, "m", "", "millimetres typed as m?"),
+    "breaker.main_shaft.pole_pitch": (None, 0.05, 1.0, 10.0, "m", "", "millimetres typed as m?"),
+    "breaker.main_shaft.shear_modulus": (1e8, 20e9, 100e9, None, "Pa", "GPa typed instead of Pa? (steel 79.3e9)", ""),
+    "breaker.main_shaft.damping": (None, None, 1e3, None, "N m s/rad", "", ""),
+    "breaker.main_shaft.lever_inertia": (None, None, 1.0, 100.0, "kg m^2", "", "kg mm^2 typed as kg m^2?"),
+}
+#: The main shaft's twist (rad) under the poles' wipe preload (every other pole's preload at the output
+#: arm through the segment next to the drive; statics): the reference 60 mm steel shaft twists 0.1 deg,
+#: a 30 mm one 1.5 deg. Above 3 deg (0.05 rad) a shaft is warned of as unusually soft; above 29 deg
+#: (0.5 rad) no lever holds its rod (a 12 mm steel shaft twists 89 deg; at 5 mm the model finds no
+#: rest for the levers): refused, naming the diameter (or the modulus when it is below its usual range).
+SHAFT_TWIST_LIMITS = (0.05, 0.5)
+#: Explicit RK4 is stable on a linear mode of eigenvalue lambda while h |lambda| stays below about 2.8
+#: (2.83 on the imaginary axis, 2.79 on the negative real one): a stiffer spring or damper than the
+#: fixed step allows makes the run create energy (a cam at 1e6 rad/s), so it is refused before the run,
+#: naming the field. Checked on each linear element with the lightest body it moves.
+STABLE_STEP_PRODUCT = 2.8
+#: A run whose energy balance (every kinetic, potential and dissipated term) grows by more than this
+#: fraction of the energy the run starts with (the charged springs', with the latch's work) created
+#: energy: a failed run. On the shipped rigs the balance closes to 1e-4 of it and better, at the
+#: output's sampling (measured, tests/inputs/test_energy.py); 2 % leaves room for the trapezoid
+#: integrals of the dampers' power on a coarse record.
+ENERGY_CREATED_FRACTION = 0.02
+#: The pressure angle a cam designer keeps a roller follower's under over the working stroke (deg): 30
+#: deg for a translating follower, 35-45 for an oscillating one (Norton, Cam Design and Manufacturing
+#: Handbook, sec. 7.3); ``check`` flags a closing stroke above 30 deg, the stricter.
+USUAL_PRESSURE_ANGLE = 30.0
+#: The closing spring of ``vcbmodel init``'s templates (cam_drop, vcb_closing): the reference breaker's
+#: rate (24230 N/m) and pulls (3000 N charged, 500 N at the springs' dead centre, on the breaker's cam),
+#: given by its datasheet so that k0 and m0 follow from the coil, and sized at index 6 to pass every
+#: strength check `check` makes of an extension spring with standard hooks over 10 000 operations
+#: (laws.spring_strength: body and hooks within 0.45 / 0.75 / 0.40 S_ut, Shigley Table 10-7; their
+#: fatigue, Table 10-8 with Goodman; 11.2 mm wire left the hook's bending fatigue at 0.99): 11.4 mm wire
+#: on a 68.4 mm mean diameter, 21.6 active coils; k0 about 24 200 N/m, m0 about 3.6 kg. Its initial tension
+#: must be specified below the 500 N smallest pull (Shigley's preferred range starts above it at this
+#: index: `check` says so). A template is a spring one could wind: the reference's 0.83 kg at 0.92 GPa is
+#: not (its body is above 0.45 S_ut).
+TEMPLATE_CLOSING_SPRING = {"count": 2, "free_length": 0.30, "anchor": [0.0, 0.0], "wire_diameter": 0.0114,
+                           "coil_diameter": 0.0684, "active_coils": 21.6, "shear_modulus": 79.3e9}
+#: A cam that turns less than this (rad, 0.5 deg) over a whole run did not move: said plainly.
+CAM_DID_NOT_MOVE = 0.5 * 3.141592653589793 / 180.0

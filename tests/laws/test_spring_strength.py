@@ -101,5 +101,5 @@ def test_check_reports_the_spring_makers_checks(tmp_path):
     text = "\n".join(explain(rig))
     for name in ("body torsion:", "hook bending (A):", "hook torsion (B", "body fatigue:", "initial tension"):
         assert name in text, name
-    assert "FAILS 6 of 7 checks" in text and "screwed-in plug ends" in text
+    assert "FAILS 6 of 6 strength checks" in text and "screwed-in plug ends" in text
     assert "compression spring" in text and "guide" in text

@@ -29,8 +29,8 @@ def rig(tmp_path):
 
 
 def read_rows(path):
-    with open(path, newline="") as f:
-        return list(csv.reader(f))
+    with open(path, newline="") as f:  # after the rig's fingerprint, a comment line
+        return list(csv.reader(line for line in f if not line.startswith("#")))
 
 
 # --- the design ---------------------------------------------------------------------------------
@@ -140,8 +140,7 @@ _FLUSH_LOG = {}
 
 def evaluate_and_look_at_the_file(rig, t_end):
     """An evaluation that records how many rows the output file holds when each run starts."""
-    with open(_FLUSH_LOG["path"], newline="") as f:
-        _FLUSH_LOG.setdefault("rows_seen", []).append(len(list(csv.reader(f))) - 1)
+    _FLUSH_LOG.setdefault("rows_seen", []).append(len(read_rows(_FLUSH_LOG["path"])) - 1)
     return {"mass": rig.pendulum.mass}
 
 
@@ -163,7 +162,7 @@ def test_resume_skips_finished_runs_after_an_interrupt(rig, tmp_path):
     lines = full_path.read_text().splitlines(keepends=True)
     # interrupted after runs 4 and 2 (finishing order), in the middle of writing a third row
     partial = tmp_path / "partial.csv"
-    partial.write_text(lines[0] + lines[4] + lines[2] + lines[5][:9])
+    partial.write_text(lines[0] + lines[1] + lines[5] + lines[3] + lines[6][:9])  # the fingerprint, the header
     again = S.sweep(rig, vary, samples=5, seed=7, workers=1, output=str(partial), resume=True, verbose=False)
     assert again.attrs["runs_done"] == 3  # runs 1, 3 and 5
     pd.testing.assert_frame_equal(again, full, check_like=True)

@@ -26,7 +26,7 @@ def test_simulate_summary_gives_the_sweeps_figures(breaker, tmp_path, capsys):
         return float(line.split(" ms ", 1)[1].split()[0])
     assert main(["sweep", str(breaker), "--vary", "friction.mu_k=0.13:0.13:1", "-o", str(tmp_path / "s.csv"), "-q",
                  "--workers", "1"]) == 0
-    row = pd.read_csv(tmp_path / "s.csv").iloc[0]
+    row = pd.read_csv(tmp_path / "s.csv", comment="#").iloc[0]
     # printed to 4 significant figures, in ms
     assert shown("closing time (last pole)") == pytest.approx(1e3 * row["closing_time_s"], abs=0.006)
     assert shown("pole spread") == pytest.approx(1e3 * row["pole_spread_s"], abs=6e-4)
@@ -52,7 +52,7 @@ def test_a_datasheet_field_that_changes_nothing_is_not_swept(breaker, tmp_path, 
     sheet = write_rig(tmp_path, data, "sheet")
     assert main(["sweep", str(sheet), "--vary", "closing_spring.active_coils=13:17:3", "-o", str(tmp_path / "t.csv"),
                  "-q"]) == 0
-    assert pd.read_csv(tmp_path / "t.csv")["closing_time_s"].nunique() == 3
+    assert pd.read_csv(tmp_path / "t.csv", comment="#")["closing_time_s"].nunique() == 3
 
 
 def test_compiled_ancf_is_refused_in_one_line_before_any_work(breaker, tmp_path, capsys):

@@ -34,6 +34,7 @@ from ..laws.friction import effective_static, zeta_from_viscous
 from ..records.signals import first_peak_amplitude
 from ..rig.spring_model import SpringModel
 from .fit import Dataset, FitResult, SimulationPool, fit, make_parameters, staged_fit
+from .release import released_pairs
 
 if TYPE_CHECKING:
     from ..records.measurement import Measurement
@@ -193,8 +194,7 @@ def identify(pairs: Sequence[tuple[Rig, Measurement]], law: str = "hybrid", verb
         ``stribeck_velocity`` (rad/s), ``viscous`` (N m s/rad); ``first_peaks`` in rad.
     """
     spec = LAWS[law]
-    for _, meas in pairs:
-        starts_at_release(meas)
+    pairs = released_pairs(pairs)  # each record from its release, found
     pairs = [usual_rate(pair) for pair in pairs]
     datasets = [Dataset(rig, meas) for rig, meas in pairs]
     rig0, meas0 = pairs[0]

@@ -28,10 +28,11 @@ from ..experiments import experiment_of
 from ..experiments.report import Report, lines_report, report_json, report_text
 from ..experiments.loading import load_pair, load_rig, require_experiment
 from ..experiments.sequence import run_sequence, sequence_lines
+from ..experiments.run_checks import require_motion
 from ..experiments.simulation import compiled_path_has, model_spec, output_times, simulate
 from ..model.choice import parse_effects_option
 from ..rig.spring_model import SpringModel
-from .outputs import check_output, write_file
+from .outputs import check_distinct, check_output, protected_inputs, write_file
 from .templates import TEMPLATES, explain, template
 from .closing_plot import plot_closing
 from .plots import plot_diagnosis, plot_simulation, supported_image_formats
@@ -184,10 +185,10 @@ def cmd_simulate(args: argparse.Namespace) -> int:
         record.check_duration(args.t_end, "--t-end", "t_end")
     if args.json and not args.output:
         raise InputError("--json", "output", "needs -o OUT.csv (stdout carries the JSON, so the CSV goes to a file)")
-    if args.plot and args.output and os.path.abspath(args.plot) == os.path.abspath(args.output):
-        raise InputError(args.plot, "--plot", "is also the -o file (the figure would replace the CSV): give it another name")
-    check_output(args.output, "-o", inputs=(args.rig,), force=args.force)
-    check_output(args.plot, "--plot", inputs=(args.rig,), force=args.force, formats=supported_image_formats())
+    check_distinct(args.plot, args.output, "--plot", "-o")
+    inputs = protected_inputs(args.rig, rig.data)
+    check_output(args.output, "-o", inputs=inputs, force=args.force)
+    check_output(args.plot, "--plot", inputs=inputs, force=args.force, formats=supported_image_formats())
     t_end = args.t_end or record.default_duration
     model_spec(rig, effects, spring_model=spring_model)  # a value the model needs but the rig lacks: bad input, first
     if args.backend == "compiled" and not compiled_path_has(record, spring_model):
@@ -196,6 +197,7 @@ def cmd_simulate(args: argparse.Namespace) -> int:
     log.info("simulate %s: %s, %g s of %s", rig.name, spring_model.label, t_end, rig.experiment)
     # the figures of merit from every step (as sweeps and studies compute them); the file at the sensor's rate
     full = simulate(rig, effects, spring_model=spring_model, t_end=t_end, backend=args.backend)
+    require_motion(full, rig)  # a cam that never moved: said plainly, not a summary of nothing
     result = full.resample(output_times(rig, t_end))
     channels = record.record_channels(result, rig)
     spec = result.spec
@@ -315,7 +317,7 @@ def cmd_diagnose(args: argparse.Namespace) -> int:
     held_out = [load_pair(path, None) for path in args.held_out]
     for other, _ in held_out:  # records of the same rig: the same experiment
         require_experiment(other, rig.experiment, "diagnose --held-out")
-    check_output(args.plot, "--plot", inputs=(args.measurement, rig.path), force=args.force,
+    check_output(args.plot, "--plot", inputs=protected_inputs(rig.path, rig.data, (args.measurement, *args.held_out)), force=args.force,
                  formats=supported_image_formats())
     with results_only_on_stdout():
         d = diagnose(rig, meas, processes=max(1, args.processes), held_out=held_out)
@@ -335,7 +337,9 @@ def cmd_diagnose(args: argparse.Namespace) -> int:
 def cmd_sweep(args: argparse.Namespace) -> int:
     if args.resume and not args.output:
         raise InputError("--resume", "output", "needs -o OUT.csv (the file to resume)")
-    check_output(args.output, "-o", inputs=(args.rig,), force=args.force, keep=args.resume, resumable=True)
+    rig = load_rig(args.rig)  # a fault first, and the rig's unusual values said once (not by every run)
+    check_output(args.output, "-o", inputs=protected_inputs(args.rig, rig.data), force=args.force, keep=args.resume,
+                 resumable=True)
     table = sweep(args.rig, args.vary, samples=args.samples, seed=args.seed, workers=args.workers,
                   scheduler=args.scheduler, output=args.output, stream=None if args.output else sys.stdout,
                   resume=args.resume, force=args.force, backend=args.backend)

@@ -2,7 +2,9 @@
 
 Every rule here is checked before any work starts:
 
-- an output is never one of the command's inputs (``simulate x.rig.json -o x.rig.json``);
+- an output is never one of the command's inputs (``simulate x.rig.json -o x.rig.json``), nor a file the rig
+  reads (its cam's points file) or its record beside it, through any spelling of the path, a symlink or
+  a hard link, ``--force`` or not (:func:`protected_inputs`);
 - an existing regular file is replaced only with ``--force`` (a sweep may also ``--resume`` it);
 - the folder must exist and be writable, a plot's suffix must be a format matplotlib writes.
 
@@ -18,13 +20,24 @@ import tempfile
 from collections.abc import Iterable
 
 from ..errors import InputError
+from ..rig.files import is_record, rig_inputs, same_file
 
 
-def _same_file(a, b):
-    try:
-        return os.path.samefile(a, b)
-    except OSError:
-        return os.path.realpath(a) == os.path.realpath(b)
+def protected_inputs(rig_path: str | os.PathLike | None, data: object = None, others: Iterable[str | os.PathLike] = ()) -> tuple[str, ...]:
+    """Every file a command reads through its rig, which its outputs may never replace (``--force`` or
+    not): :func:`vcbmodel.rig.files.rig_inputs` (the rig, the files it reads, its record beside it
+    unless ``vcbmodel simulate`` wrote it) and ``others`` (a measurement)."""
+    return (*rig_inputs(rig_path, data), *(str(o) for o in others))
+
+
+def check_distinct(path: str | os.PathLike | None, other: str | os.PathLike | None, argname: str, other_name: str) -> None:
+    """Refuse two outputs of one command that are the same file (however spelt: a symlink, ``./``)."""
+    if path is None or other is None:
+        return
+    same = (os.path.exists(path) and os.path.exists(other) and same_file(path, other)) or \
+        os.path.realpath(path) == os.path.realpath(other)
+    if same:
+        raise InputError(path, argname, f"is also the {other_name} file (one would replace the other): give it another name")
 
 
 def is_regular_or_absent(path: str | os.PathLike) -> bool:
@@ -51,11 +64,20 @@ def check_output(path: str | os.PathLike | None, argname: str, *, inputs: Iterab
     """
     if path is None:
         return
+    inputs = list(inputs)
     for source in inputs:
-        if source is not None and os.path.exists(path) and _same_file(path, source):
-            raise InputError(path, argname, f"is an input of this command ({source}): give another output file")
+        if source is not None and os.path.exists(path) and same_file(path, source):
+            raise InputError(path, argname, f"is an input of this command ({source}): an input is never replaced, "
+                             "--force or not; give another output file")
     if os.path.isdir(path):
         raise InputError(path, argname, "is a folder: give a file name")
+    if is_record(path):
+        raise InputError(path, argname, "is a test's record (beside its rig file, not written by vcbmodel): data is "
+                         "never replaced, --force or not; give another output file")
+    inputs = [source for source in inputs if source is not None]
+    if inputs and str(path).endswith(".rig.json") and is_regular_or_absent(path):  # a command reading a rig writes none
+        raise InputError(path, argname, "is named as a rig file (NAME.rig.json): an output is never a rig; give "
+                         "another name")
     folder = os.path.dirname(os.path.abspath(path))
     if not os.path.isdir(folder):
         raise InputError(path, argname, "the folder does not exist")

@@ -17,6 +17,7 @@ from .. import parameters as P
 from ..experiments.cycle_evaluation import cycle_check_lines
 from ..experiments import experiment_of
 from ..experiments.simulation import model_spec
+from ..rig.plausibility import reachable_travel, travel_curve
 from ..model.effects import EFFECTS, parameter_specs
 from ..model.values import rig_values
 from ..laws.breaker import segment_stiffness, torsional_frequencies
@@ -34,19 +35,68 @@ SECTION_UNITS = {
     "pendulum": "mass: kg; inertia: kg m^2 about the shaft; com_distance: m; initial_angle: rad from hanging; "
                 "initial_velocity: rad/s",
     "cam": "mass: kg; inertia_com: kg m^2 about its centre of mass; com_distance: m; com_angle: rad; pivot: [x, y] m "
-           "of the closing spring's lever pivot; arm_length: m; initial_angle: rad; initial_velocity: rad/s",
-    "closing_spring": "count: springs acting together; stiffness: N/m each; mass: kg each; free_length: m; "
-                      "anchor: [x, y] m",
+           "of the cam shaft's axis; arm_length: m, axis to the closing spring's pin; initial_angle: rad of the arm "
+           "from +x; initial_velocity: rad/s",
+    "closing_spring": "count: springs acting together; stiffness: N/m each; mass: kg each (active coils); "
+                      "free_length: m; anchor: [x, y] m; or the datasheet instead of stiffness and mass: "
+                      "wire_diameter, coil_diameter (mean): m; active_coils; shear_modulus: Pa; density: kg/m^3",
     "friction": "mu_k, mu_s: -; stick_velocity, stribeck_velocity: rad/s; viscous: N m s/rad",
     "model": "effects: names (docs/rig-format.md section 4); spring_model: massless | lumped-N | ancf",
-    "breaker": "SI units throughout (m, kg, N, N/m, rad, s); every field in docs/rig-format.md section 3.8",
+    "breaker": "roller_radius: m; speed_zone: [start, end] m before each pole's touch; the subsections below say "
+               "their own units (docs/rig-format.md section 3.8)",
+    "cam_profile": "base_radius: m (the cam's base circle); lift: m (the roller centre's rise); rise_start, rise_end, "
+                   "return_start, return_end: rad of cam turn (a profile from points instead: points_file)",
+    "follower": "pivot: [x, y] m; inertia: kg m^2 about the pivot (follower, main shaft and pole levers); roller_arm, "
+                "output_arm: m; output_angle, rest_angle: rad",
+    "poles": "count; moving_mass: kg per pole; contact_gap: m; gap_offsets: m per pole; push_rod_length: m; "
+             "wipe_preload: N; wipe_rate: N/m; rod_stiffness: N/m; rod_damping: N s/m; bellows_force: N",
+    "opening_spring": "stiffness: N/m; preload: N when open; length: m, its anchor to the output point when open",
+    "contact": "cam_roller_stiffness, pole_stiffness: N/m^exponent (Hertz); exponent: -; restitution: -; "
+               "min_impact_speed: m/s; roller_width: m; cam_roller_law: point | line; cam_roller_damping: "
+               "lankarani_nikravesh | hunt_crossley; cam_roller_damping_factor: s/m",
+    "latch": "release_time: s; arm: m; angle: rad",
+    "end_stop": "angle: rad of cam turn, counted on from the start (not wrapped); arm: m; stiffness: N/m; "
+                "damping: N s/m",
+    "hold_latch": "angle: rad of cam turn, counted on from the start (not wrapped); arm: m; stiffness: N/m; "
+                  "damping: N s/m",
+    "main_shaft": "pole_pitch, diameter, bore: m; shear_modulus: Pa (steel 79.3e9); damping: N m s/rad per "
+                  "segment; lever_inertia: kg m^2 per pole lever; drive_pole: 1..count",
+    "limits": "acceptance limits, one per figure (docs/rig-format.md section 3.8): each states its own unit",
 }
+#: The ``_units`` comment of each limit in ``breaker.limits``.
+LIMIT_UNITS = "min, max: in the unit named by unit (required); source: where the limit comes from"
+#: Fields that hold angles (rad): each gets a comment with its value in degrees in the templates
+ANGLE_FIELDS = ("initial_angle", "com_angle", "rise_start", "rise_end", "return_start", "return_end",
+                "output_angle", "rest_angle", "angle")
+
+
+def _template_cam(reference: dict) -> dict:
+    """A template's cam and closing spring: the breaker's cam with the template spring, whose datasheet
+    passes the strength checks (``parameters.TEMPLATE_CLOSING_SPRING``)."""
+    return dict(reference, cam=copy.deepcopy(P.REFERENCE_BREAKER["cam"]),
+                closing_spring=copy.deepcopy(P.TEMPLATE_CLOSING_SPRING))
+
+
 TEMPLATES = {
     "pendulum": lambda: dict(copy.deepcopy(P.REFERENCE_PENDULUM), friction=dict(P.REFERENCE_PENDULUM_TRUTH),
                              name="my pendulum test"),
-    "cam_drop": lambda: dict(copy.deepcopy(P.REFERENCE_CAM), name="my cam drop"),
-    "vcb_closing": lambda: dict(copy.deepcopy(P.REFERENCE_BREAKER), name="my breaker's closing"),
+    "cam_drop": lambda: dict(_template_cam(copy.deepcopy(P.REFERENCE_CAM)), name="my cam drop"),
+    "vcb_closing": lambda: dict(_template_cam(copy.deepcopy(P.REFERENCE_BREAKER)), name="my breaker's closing"),
 }
+
+
+def commented(key: str, value: object, parent: str = "") -> object:
+    """A section with its ``_units`` comment first and a degree hint (``_FIELD``: "... = N deg") after each
+    angle, its subsections (``breaker``'s, each limit) commented alike; other values as they are."""
+    if not isinstance(value, dict):
+        return value
+    units = LIMIT_UNITS if parent == "limits" else SECTION_UNITS.get(key)
+    out = {"_units": units} if units else {}
+    for name, v in value.items():
+        out[name] = commented(name, v, key)
+        if name in ANGLE_FIELDS and isinstance(v, (int, float)):
+            out[f"_{name}"] = f"{v:.6g} rad = {math.degrees(v):.2f} deg (angles are in rad)"
+    return out
 
 
 def template(kind: str) -> str:
@@ -55,21 +105,53 @@ def template(kind: str) -> str:
     record = experiment_of(kind)
     out = {"_about": f"vcbmodel rig file: {record.description}. Every number is in SI units; keys starting with _ are "
                      "comments. Edit the values for your machine; docs/rig-format.md describes every field. "
+                     "The values here are the documented reference ones (vcbmodel/parameters.py); the closing "
+                     "spring is given by its datasheet (parameters.TEMPLATE_CLOSING_SPRING), within its allowables."
+                     if record.has_closing_spring else
+                     f"vcbmodel rig file: {record.description}. Every number is in SI units; keys starting with _ are "
+                     "comments. Edit the values for your machine; docs/rig-format.md describes every field. "
                      "The values here are the documented reference ones (vcbmodel/parameters.py)."}
     for key, value in data.items():
-        if isinstance(value, dict) and key in SECTION_UNITS:
-            value = {"_units": SECTION_UNITS[key], **value}
-        out[key] = value
+        out[key] = commented(key, value)
     return json.dumps(out, indent=2) + "\n"
+
+
+def closing_stroke(b, cam) -> tuple[float, str]:
+    """The cam angle (rad) where the closing stroke ends, and why: the end stop's angle, or (without
+    one) where the poles' travel peaks over the turn from the start."""
+    if b.end_stop is not None:
+        return b.end_stop.angle, "to the end stop"
+    thetas = cam.initial_angle + np.linspace(0.0, 2 * np.pi, 361)
+    return float(thetas[int(np.argmax(travel_curve(b, cam, thetas)))]), "to the largest lift"
+
+
+def pressure_lines(rig: Rig) -> list[str]:
+    """The largest pressure angle over the closing stroke (what the closing runs: from the start to the
+    end stop, or to the largest lift), against the usual 30 deg, and over the rest of the turn, which
+    a closing never runs (a return flank)."""
+    b, cam = rig.breaker, rig.cam
+    end, why = closing_stroke(b, cam)
+    geometry = rest_geometry(b, cam.pivot)
+    stroke = cam.initial_angle + np.linspace(0.0, end - cam.initial_angle, 361)
+    rest = np.linspace(end, cam.initial_angle + 2 * np.pi, 361)
+    lines = []
+    for thetas, what in ((stroke, f"over the closing stroke (cam angle {np.degrees(stroke[0]):.1f} to "
+                                  f"{np.degrees(end):.1f} deg, {why})"), (rest, "over the rest of the turn (not run "
+                                                                               "in a closing)")):
+        pressure = np.degrees(pressure_angle_curve(b, geometry, thetas))
+        k = int(np.argmax(pressure))
+        verdict = "" if pressure[k] <= P.USUAL_PRESSURE_ANGLE or what.startswith("over the rest") else (
+            f": ABOVE the usual {P.USUAL_PRESSURE_ANGLE:g} deg (a longer rise or a larger base circle lowers it)")
+        lines.append(f"    largest pressure angle {what}: {pressure[k]:.1f} deg at cam angle "
+                     f"{np.degrees(thetas[k]):.1f} deg{verdict}")
+    return lines
 
 
 def cam_lines(rig: Rig) -> list[str]:
     """The cam as a designer checks it: where its profile comes from, the largest pressure angle over
-    the turn from the start (limit 30 deg usual, 45 deg refused) and the roller's clearance."""
-    b, cam = rig.breaker, rig.cam
-    thetas = cam.initial_angle + np.linspace(0.0, 2 * np.pi, 721)
-    pressure = pressure_angle_curve(b, rest_geometry(b, cam.pivot), thetas)
-    k = int(np.argmax(pressure))
+    the closing stroke (usual limit 30 deg) and over the rest of the turn (above 45 deg a profile from
+    points is refused), the speed zone, the stops and the main shaft."""
+    b = rig.breaker
     smoothing = rig.data["breaker"]["cam_profile"].get("smoothing")
     points = rig.data["breaker"]["cam_profile"].get("points_file")
     through = (f"a smoothing spline (within about {1e6 * smoothing:g} um, breaker.cam_profile.smoothing) of"
@@ -77,12 +159,12 @@ def cam_lines(rig: Rig) -> list[str]:
     where = f"the points in {points}" if points else "the rig's points"
     source = (f"{len(b.profile.table) // 2}-sample table of {through} {where}" if b.profile.table
               else "4-5-6-7 polynomial rise, dwell and return")
-    return [f"  cam profile: {source}; lift {1e3 * b.profile.lift:.2f} mm, base circle {1e3 * b.profile.base_radius:.1f} mm, "
-            f"roller {1e3 * b.roller_radius:g} mm",
-            f"    largest pressure angle {np.degrees(pressure[k]):.1f} deg at cam angle {np.degrees(thetas[k]):.1f} deg "
-            f"(usual limit 30 deg; above 45 deg a profile is refused)",
-            f"  closing speed: mean pole speed from {1e3 * b.speed_zone[0]:g} to {1e3 * b.speed_zone[1]:g} mm before each "
-            "pole's touch (breaker.speed_zone)"] + stop_lines(b) + shaft_lines(b) + cycle_check_lines(b)
+    return ([f"  cam profile: {source}; lift {1e3 * b.profile.lift:.2f} mm, base circle {1e3 * b.profile.base_radius:.1f} "
+             f"mm, roller {1e3 * b.roller_radius:g} mm; the poles travel up to {1e3 * reachable_travel(b, rig.cam):.2f} mm "
+             f"(gap {1e3 * b.poles.contact_gap:g} mm)"]
+            + pressure_lines(rig)
+            + [f"  closing speed: mean pole speed from {1e3 * b.speed_zone[0]:g} to {1e3 * b.speed_zone[1]:g} mm before "
+               "each pole's touch (breaker.speed_zone)"] + stop_lines(b) + shaft_lines(b) + cycle_check_lines(b))
 
 
 def shaft_lines(b) -> list[str]:
@@ -153,15 +235,18 @@ def strength_lines(rig: Rig, c: dict) -> list[str]:
     high, low = closing_pulls(s, rig.cam)
     d, D = c["wire_diameter_m"], c["coil_diameter_m"]
     checks = extension_checks(d, D, high, low)
-    failed = [k.name for k in checks if not k.passes]
+    failed = [k.name for k in checks if k.fails]
+    strength = sum(not k.advisory for k in checks)
     lines = [f"    as an extension spring (standard hooks, Cr-Si wire) cycling {low:.0f}-{high:.0f} N "
              f"{P.RATED_OPERATIONS} times (IEC 62271-100 class M2): "
-             + (f"FAILS {len(failed)} of {len(checks)} checks" if failed else f"passes all {len(checks)} checks")]
+             + (f"FAILS {len(failed)} of {strength} strength checks" if failed else f"passes all {strength} strength checks")
+             + ("" if all(k.passes for k in checks if k.advisory) else " (and asks for a specified initial tension)")]
     for k in checks:
         value = (f"{k.value / 1e6:.0f} MPa against {k.allowable / 1e6:.0f} MPa" if k.unit == "Pa" else
                  f"factor of safety {k.value:.2f} (at least 1)" if k.unit == "-" else
                  f"{k.value:.0f} N at most {k.allowable:.0f} N")
-        lines.append(f"      {k.name}: {value} ({k.source}) {'ok' if k.passes else 'FAILS'}")
+        verdict = "ok" if k.passes else "FAILS" if k.fails else "SPECIFY an initial tension below the smallest pull"
+        lines.append(f"      {k.name}: {value} ({k.source}) {verdict}")
     if failed:
         index = min(max(D / d, 4.0), 12.0)
         found = [(what, wire_for_index(index, s.stiffness, high, low, hooks=hooks))
@@ -189,6 +274,16 @@ def compression_line(c: dict, high: float) -> str:
                                     if guided else ""))
 
 
+def value_lines(rig: Rig) -> list[str]:
+    """What the plausibility check (:mod:`vcbmodel.rig.plausibility`) says of the rig's values: each
+    unusual value (its unit to check), or that all lie in their usual ranges; and that every run's
+    energy balance is checked."""
+    head = (f"  values: {len(rig.warnings)} unusual (possible, but check the unit):" if rig.warnings else
+            "  values: every one within its usual range (docs/rig-format.md 3.10)")
+    return ([head] + [f"    {w}" for w in rig.warnings]
+            + ["  every run's energy balance is checked: a run that creates energy fails (exit 1)"])
+
+
 def explain(rig: Rig) -> list[str]:
     """Lines saying what ``simulate`` would run for ``rig``, where each value comes from, and what
     it reports; a value the model needs but the rig lacks raises InputError, as simulate would."""
@@ -208,6 +303,7 @@ def explain(rig: Rig) -> list[str]:
         lines += spring_lines(rig)
     if rig.breaker is not None:
         lines += cam_lines(rig)
+    lines += value_lines(rig)
     lines.append(f"  simulate runs {record.default_duration:g} s at a fixed step of {record.step(rig):g} s and "
                  f"writes {record.measured_channel} ({record.unit}) at {record.sample_rate:g} samples/s")
     lines.append(f"  it reports: {', '.join(name for name, _ in record.figure_units)}")

@@ -138,8 +138,8 @@ def energy_parts(result: SimulationResult, rig: Rig) -> dict:
     parts.update(_shaft_parts(ch, laws, t))
     parts.update(_spring_parts(ch, rig, chain))
     parts["cam_weight"] = cam.mass * rig.gravity * cam.com_distance * np.sin(th - cam.com_angle)
-    parts["opening_spring"] = np.array([0.5 * b.opening_spring.stiffness * (laws.opening(p)[0] / b.opening_spring.stiffness)
-                                        ** 2 for p in ch["follower_angle"]])
+    parts["opening_spring"] = 0.5 * b.opening_spring.stiffness * (laws.opening(ch["follower_angle"], ArrayOps)[0]
+                                                                  / b.opening_spring.stiffness) ** 2
     parts.update(_pole_parts(ch, laws, b))
     friction = -ch["friction_torque"] * w if "friction_torque" in ch else np.zeros_like(th)
     parts["dissipated_friction"] = cumulative_trapezoid(friction, t, initial=0.0)
@@ -148,7 +148,9 @@ def energy_parts(result: SimulationResult, rig: Rig) -> dict:
     parts.update(_stop_parts(ch, b, t))
     holding = result.info["initial"].holding_torque
     shift = NEVER if b.commands is not None and not b.commands.close else 0.0  # an O's closing latch holds
-    parts["latch_work"] = cumulative_trapezoid(np.array([laws.latch(tt - shift, holding) for tt in t]) * w, t, initial=0.0)
+    with np.errstate(all="ignore"):  # the latch law's unchosen branch
+        latch = laws.latch(t - shift, holding, ArrayOps)
+    parts["latch_work"] = cumulative_trapezoid(latch * w, t, initial=0.0)
     power = ch.get("cycle_power")
     parts["cycle_work"] = cumulative_trapezoid(power, t, initial=0.0) if power is not None else np.zeros_like(t)
     return parts
@@ -187,7 +189,7 @@ def _pole_parts(ch, laws, b):
     latch the roller is left out of the contacts (its work through the link is ``cycle_work``)."""
     t = ch["cam_angle"] * 0.0
     kinetic, rods, poles = t.copy(), t.copy(), t.copy()
-    contacts = np.array([laws.roller_energy(p) for p in ch["cam_roller_penetration"]])
+    contacts = laws.roller_energy(ch["cam_roller_penetration"], ArrayOps)
     contact_damping = ch["cam_roller_damping_force"] * ch["cam_roller_penetration_rate"]
     if b.trip_latch is not None:  # the roller's work goes through the trip-free link: cycle_work counts it
         contacts, contact_damping = contacts * 0.0, contact_damping * 0.0
@@ -195,8 +197,8 @@ def _pole_parts(ch, laws, b):
     for i in range(b.poles.count):
         z, zd = ch[f"pole_{i + 1}_travel"], ch[f"pole_{i + 1}_velocity"]
         kinetic += 0.5 * b.poles.moving_mass * zd**2
-        rods += np.array([push_rod_energy(s, b.poles) for s in ch[f"pole_{i + 1}_rod_compression"]])
-        contacts += np.array([laws.pole_energy(zz - laws.gaps[i]) for zz in z])
+        rods += push_rod_energy(ch[f"pole_{i + 1}_rod_compression"], b.poles, ArrayOps)
+        contacts += laws.pole_energy(z - laws.gaps[i], ArrayOps)
         poles -= laws.pole_load * z
         contact_damping = contact_damping + ch[f"pole_{i + 1}_contact_damping_force"] * zd
         rod_damping = rod_damping + b.poles.rod_damping * ch[f"pole_{i + 1}_rod_rate"] ** 2

@@ -6,6 +6,7 @@ the file and the field. Keys starting with ``_`` are free comments.
 from __future__ import annotations
 
 import json
+import logging
 from pathlib import Path
 from typing import TYPE_CHECKING
 
@@ -16,12 +17,15 @@ from ..model.values import rig_values
 from ..records.analyser import analyser_channels, check_contacts, simulated_channels
 from ..records.measurement import load_measurement, sibling_rig_path
 from ..rig.data import Rig
+from ..rig.plausibility import check_rig, plausibility, step_limits
 from ..rig.reader import Reader, read_json
 from ..rig.sections import read_friction, read_record, read_uncertain
 from .base import EXPERIMENTS
 
 if TYPE_CHECKING:
     from ..records.measurement import Measurement
+
+log = logging.getLogger("vcbmodel")
 
 FORMAT = "vcb-rig/1"
 COMMON_KEYS = ("format", "name", "experiment", "gravity", "shaft", "friction", "model", "record", "uncertain")
@@ -40,7 +44,10 @@ def load_rig(path: str | Path) -> Rig:
         The checked rig; its values in SI units (m, kg, kg m^2, N/m, N, rad, s; docs/rig-format.md).
     """
     path = str(path)
-    return rig_from_data(read_json(path), path)
+    rig = rig_from_data(read_json(path), path)
+    for line in rig.warnings:  # unusual but possible values: said once, where the file is read
+        log.warning("vcbmodel: warning: %s: %s", path, line)
+    return rig
 
 
 def rig_from_data(data: dict, path: str = "(rig)") -> Rig:
@@ -61,14 +68,17 @@ def rig_from_data(data: dict, path: str = "(rig)") -> Rig:
     model = read_model(rd, data, name)
     if not record.has_closing_spring and not model.spring_model.is_massless:
         rd.fail("model.spring_model", f"a {name} test has no closing spring: use 'massless'")
+    warnings = plausibility(rd, data)  # a unit slip first: it would mislead the sections' own checks
     sections = record.read_sections(rd, data)
+    warnings += check_rig(rd, data, sections)
     title = data.get("name", Path(path).name.replace(".rig.json", ""))
     if not isinstance(title, str):
         rd.fail("name", "must be a string")
     rig = Rig(path=path, name=title, experiment=name, gravity=gravity, shaft_radius=radius, friction=friction,
               model=model, sections=sections, data=data, record=read_record(rd, data),
-              uncertain=read_uncertain(rd, data))
+              uncertain=read_uncertain(rd, data), warnings=warnings)
     rig_values(rig)  # the effects check the values the rig gives (e.g. zeta on a pendulum only)
+    step_limits(rig, model.spring_model, record.step(rig))  # a spring or damper too stiff for the step
     return rig
 
 

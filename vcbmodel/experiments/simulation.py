@@ -17,7 +17,9 @@ from ..model.effects import ModelSpec, assemble, consistent_effects
 from ..model.result import SimulationResult
 from ..model.values import model_values
 from ..rig.data import Rig
+from ..rig.plausibility import step_limits
 from .base import experiment_of
+from .run_checks import audit_energy, check_call
 
 if TYPE_CHECKING:
     from ..rig.spring_model import SpringModel
@@ -101,8 +103,21 @@ def simulate(rig: Rig, effects: Sequence[str] | None = None, values: dict[str, f
     -------
     SimulationResult
         Times ``t`` (s) and channels in SI units (``units`` names each: rad, rad/s, m, m/s, N, N m);
-        ``info`` says which backend ran and with which step (s).
+        ``info`` says which backend ran and with which step (s), and for a run recorded at every
+        step its energy balance's largest residual as a fraction of its starting energy
+        (``energy_residual``).
+
+    Raises
+    ------
+    InputError
+        An argument it cannot run faithfully (:func:`.run_checks.check_call`: an unknown backend,
+        effect or value name, a negative value, a duration, step or sample times that are not
+        positive and increasing); a spring or damper too stiff for the fixed step (exudyn and
+        compiled backends), naming it.
+    SimulationError
+        A run recorded at every step that created energy (:func:`.run_checks.audit_energy`).
     """
+    check_call(effects, values, t_end, step, sample_times, backend)
     record = experiment_of(rig.experiment)
     spec = model_spec(rig, effects, values, spring_model)
     if sticking is not None:
@@ -117,10 +132,13 @@ def simulate(rig: Rig, effects: Sequence[str] | None = None, values: dict[str, f
         backend = "compiled" if compiled_covers(record, spec.spring_model) else "exudyn"
     if backend in ("exudyn", "compiled"):
         step, period = _step_and_period(rig, record, spec, ancf, step, sample_times)
+        step_limits(rig, spec.spring_model, step)  # a spring or damper too stiff for the step: refused, naming it
         solve = _solve_compiled if backend == "compiled" else _solve_exudyn
         data, info = solve(rig, record, spec, spec.friction_law(rig.shaft_radius, step), chain, t_end, step, period,
                            user_function, ancf)
     elif backend == "reference":
+        if method == "rk4" and step is None:  # the fixed-step reference at the experiment's step
+            step = record.step(rig)
         law = spec.friction_law(rig.shaft_radius, step if method == "rk4" else 0.0)
         if record.reference is None:
             raise ValueError(f"no reference solve for a {record.name} experiment: use backend='exudyn'")
@@ -131,6 +149,8 @@ def simulate(rig: Rig, effects: Sequence[str] | None = None, values: dict[str, f
         raise ValueError(f"unknown backend {backend!r}")
     result = SimulationResult(data["angle"][:, 0], record.channels(data, rig, spec, info), record.name,
                               record.measured_channel, spec, info, {record.measured_channel: record.unit})
+    if backend in ("exudyn", "compiled") and period is None:  # every step recorded: a run that creates energy fails
+        result.info["energy_residual"] = audit_energy(result, rig)
     if sample_times is not None:
         result = result.resample(sample_times)
     return result

@@ -7,7 +7,11 @@ from __future__ import annotations
 
 
 from typing import TYPE_CHECKING
+
+import numpy as np
+
 from .. import parameters as P
+from ..errors import InputError
 from ..builders.breaker import build_vcb_closing
 from ..compiled import OdeModel
 from ..reference.solve import reference_closing
@@ -32,18 +36,29 @@ def build(rig: Rig, spec: ModelSpec, law: FrictionLaw, chain: LumpedChain | None
     return build_vcb_closing(rig, spec, law, chain, user_function, ancf_elements)
 
 
-def reference(rig: Rig, spec: ModelSpec, law: FrictionLaw, chain: LumpedChain | None, t_end: float, method: str = "DOP853",
-              step: float | None = None) -> tuple:
-    """The scipy reference solve of a closing (:func:`vcbmodel.reference.solve.reference_closing`);
-    it knows the closing only: a rig with operating-cycle parts (a making current, a trip latch, an
-    opening dashpot) or a run that trips is refused, not solved without them (the opening's own
-    independent solve is :mod:`vcbmodel.reference.breaker_opening`)."""
+def reference(rig: Rig, spec: ModelSpec, law: FrictionLaw, chain: LumpedChain | None, t_end: float,
+              method: str = "DOP853", step: float | None = None) -> tuple[dict[str, np.ndarray], dict]:
+    """The reference solve of a closing (:func:`vcbmodel.reference.solve.reference_closing`) where it
+    covers the rig: an InputError naming what it does not cover (an elastic main shaft; an operating
+    cycle's parts: a making current, a trip latch, an opening dashpot, a run that trips, whose own
+    independent solve is :mod:`vcbmodel.reference.breaker_opening`; the contact damping and the holding
+    latch need ``method='rk4'``), never a solve of another model. Its fixed step defaults to the
+    experiment's."""
     b = rig.breaker
-    parts = [k for k in ("making_current", "trip_latch", "opening_dashpot", "commands") if getattr(b, k) is not None]
-    if parts:
-        raise ValueError(f"the reference closing solve does not model breaker.{parts[0]}: use backend='exudyn' or "
-                         "'compiled' (the opening's independent check: vcbmodel.reference.breaker_opening)")
-    return reference_closing(rig, spec, law, chain, t_end, method, step)
+    uncovered = [f"breaker.{k} (the reference closing solve knows the closing only: use backend='exudyn' or 'compiled'; "
+                 "the opening's independent check: vcbmodel.reference.breaker_opening)"
+                 for k in ("making_current", "trip_latch", "opening_dashpot", "commands") if getattr(b, k) is not None]
+    if b.main_shaft is not None:
+        uncovered.append("breaker.main_shaft (the reference solve has a rigid main shaft only: leave the section out "
+                         "for a rigid shaft, or use backend='exudyn' or 'compiled')")
+    if method != "rk4" and spec.restitution < 1.0:
+        uncovered.append("breaker.contact.restitution (the contacts' damping needs method='rk4')")
+    if method != "rk4" and b.hold_latch is not None:
+        uncovered.append("breaker.hold_latch (its engagement needs method='rk4')")
+    if uncovered:
+        raise InputError(rig.path, uncovered[0].split(" ")[0], "backend='reference' does not cover "
+                         + "; nor ".join(uncovered))
+    return reference_closing(rig, spec, law, chain, t_end, method, step if step is not None else default_step(rig))
 
 
 def default_step(rig: Rig) -> float:

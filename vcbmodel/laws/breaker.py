@@ -53,9 +53,9 @@ def contact_force(penetration: Scalar, rate: Scalar, stiffness: Scalar, exponent
                                exponent, ops)
 
 
-def contact_energy(penetration: float, stiffness: float, exponent: float) -> float:
+def contact_energy(penetration: Scalar, stiffness: float, exponent: float, ops: Ops = NumericOps) -> Scalar:
     """Elastic energy (J) stored in a Hertz contact: K delta^(n+1) / (n+1)."""
-    return stiffness * max(penetration, 0.0) ** (exponent + 1.0) / (exponent + 1.0)
+    return stiffness * ops.max(penetration, 0.0) ** (exponent + 1.0) / (exponent + 1.0)
 
 
 @dataclass(frozen=True)
@@ -228,13 +228,12 @@ def push_rod_force(compression: Scalar, rate: Scalar, poles, ops: Ops = NumericO
     return elastic + poles.rod_damping * rate
 
 
-def push_rod_energy(compression: float, poles) -> float:
+def push_rod_energy(compression: Scalar, poles, ops: Ops = NumericOps) -> Scalar:
     """Elastic energy (J) of :func:`push_rod_force`'s spring part."""
     s0 = poles.wipe_preload / poles.rod_stiffness
-    if compression <= s0:
-        return 0.5 * poles.rod_stiffness * compression * compression
     x = compression - s0
-    return 0.5 * poles.wipe_preload * s0 + poles.wipe_preload * x + 0.5 * poles.wipe_rate * x * x
+    return ops.where(compression <= s0, 0.5 * poles.rod_stiffness * compression * compression,
+                     0.5 * poles.wipe_preload * s0 + poles.wipe_preload * x + 0.5 * poles.wipe_rate * x * x)
 
 
 def latch_torque(t: Scalar, holding_torque: Scalar, release_time: Scalar, ops: Ops = NumericOps) -> Scalar:
@@ -345,9 +344,9 @@ class BreakerLaws:
         """Elastic part (N) of the cam-roller force."""
         return self.roller_stiffness * max(penetration, 0.0) ** self.roller_exponent
 
-    def roller_energy(self, penetration: float) -> float:
+    def roller_energy(self, penetration: Scalar, ops: Ops = NumericOps) -> Scalar:
         """Elastic energy (J) stored in the cam-roller contact."""
-        return contact_energy(penetration, self.roller_stiffness, self.roller_exponent)
+        return contact_energy(penetration, self.roller_stiffness, self.roller_exponent, ops)
 
     def roller(self, theta: Scalar, omega: Scalar, phi: Scalar, phi_dot: Scalar, impact_speed: Scalar = 0.0,
                ops: Ops = NumericOps) -> tuple[CamRollerContact, Scalar]:
@@ -399,9 +398,9 @@ class BreakerLaws:
         law = self.b.contact
         return law.pole_stiffness * max(penetration, 0.0) ** law.exponent
 
-    def pole_energy(self, penetration: float) -> float:
+    def pole_energy(self, penetration: Scalar, ops: Ops = NumericOps) -> Scalar:
         law = self.b.contact
-        return contact_energy(penetration, law.pole_stiffness, law.exponent)
+        return contact_energy(penetration, law.pole_stiffness, law.exponent, ops)
 
     # -- opening spring
     def opening(self, phi: Scalar, ops: Ops = NumericOps) -> tuple[Scalar, Scalar]:

@@ -104,6 +104,9 @@ class Check:
     allowable: float
     unit: str
     source: str
+    #: True for a maker's preference rather than a strength limit: not passing it asks for something to
+    #: be specified on the drawing (an initial tension below the preferred range), it does not fail the spring
+    advisory: bool = False
 
     @property
     def ratio(self) -> float:
@@ -115,13 +118,19 @@ class Check:
     def passes(self) -> bool:
         return self.ratio <= 1.0
 
+    @property
+    def fails(self) -> bool:
+        """Not passing a strength limit (an advisory check that does not pass asks for a specification)."""
+        return not self.passes and not self.advisory
+
 
 def extension_checks(wire: float, coil: float, high: float, low: float, operations: float = P.RATED_OPERATIONS,
                      material: str = P.SPRING_WIRE) -> list[Check]:
     """Every check of an extension spring (d ``wire``, D ``coil`` in m) that cycles between ``low`` and
     ``high`` pulls (N) ``operations`` times: static body, hook bending and hook torsion (Shigley Table
     10-7), their fatigue (Table 10-8 with Goodman) and whether the smallest pull keeps the coils apart
-    (``low`` at least the lowest preferred initial tension, :func:`initial_tension_range`)."""
+    (``low`` at least the lowest preferred initial tension, :func:`initial_tension_range`: advisory, a
+    maker's preference; an initial tension below it can be specified)."""
     s_ut = wire_strength(wire, material)
     s_su = P.SHEAR_ULTIMATE_FRACTION * s_ut
     a = P.EXTENSION_ALLOWABLE
@@ -141,7 +150,9 @@ def extension_checks(wire: float, coil: float, high: float, low: float, operatio
             Check("hook bending fatigue", goodman_factor(bend, bend_low, f_bend * s_ut, s_ut), 1.0, "-", life),
             Check("hook torsion fatigue", goodman_factor(twist, twist_low, f_twist * s_ut, s_su), 1.0, "-", life),
             Check("lowest preferred initial tension vs the smallest pull", initial, low, "N",
-                  "Shigley eq. 10-39: below its initial tension the coils close and the spring goes slack")]
+                  "Shigley eq. 10-39's preferred range, the easiest to hold in winding; below its initial tension "
+                  "the coils close and the spring goes slack, so one below the range must be specified on the drawing",
+                  advisory=True)]
 
 
 def critical_deflection(free_length: float, coil: float, end: str = "fixed-fixed",

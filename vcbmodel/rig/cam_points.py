@@ -48,6 +48,12 @@ def check_point_pairs(rd: Reader, pairs: list[tuple[float, float]], field: str) 
         if angles[i] < angles[i - 1]:
             rd.fail(f"{field}.{i}", f"angle {angles[i]:.6g} rad is below point {i - 1}'s ({angles[i - 1]:.6g}): sort "
                     "the points by angle")
+    gaps = np.diff(np.append(angles, angles[0] + TWO_PI))
+    k = int(np.argmax(gaps))
+    if gaps[k] > P.CAM_POINT_LARGEST_GAP:
+        rd.fail(field, f"the points leave {math.degrees(gaps[k]):.1f} deg of the turn without a point (after "
+                f"{math.degrees(angles[k]):.4g} deg): a profile from points goes round the whole cam (its dwell and "
+                "return too); are the angles in radians under a degree header?")
     i = max(range(len(pairs)), key=lambda k: abs(pairs[k][1]))
     v = pairs[i][1]
     if abs(v) > P.CAM_POINT_LARGEST:
@@ -94,36 +100,65 @@ POINTS_COLUMN = re.compile(r"(?P<what>angle|lift|radius)\s*(?:_|\[|\(|/)?\s*(?P<
 TO_SI = {"deg": math.pi / 180.0, "rad": 1.0, "mm": 1e-3, "m": 1.0}
 
 
+def points_path(rig_path: str, name: str) -> str:
+    """Where a rig's ``points_file`` is: ``name`` relative to the rig file's folder."""
+    return os.path.join(os.path.dirname(os.path.abspath(rig_path)), name)
+
+
+def _cells(row: str, sep: str) -> list[str]:
+    """A line's cells: quotes and blanks stripped, decimal commas read after ``;``, and the empty cells
+    a spreadsheet leaves after the last column dropped."""
+    cells = [c.strip().strip('"').strip() for c in row.split(sep)]
+    while cells and cells[-1] == "":
+        cells.pop()
+    return [c.replace(",", ".") for c in cells] if sep == ";" else cells
+
+
+#: A unit row under a header without units (``angle,lift`` then ``deg,mm``), as some exports write it
+UNITS_ROW = re.compile(r"\[?\(?\s*(deg|rad|mm|m)\s*[\])]?", re.IGNORECASE)
+
+
+def _columns(path: str, lines: list[tuple[int, str]]) -> tuple[str, list, list[tuple[int, str]]]:
+    """(separator, the two columns' matches, the data lines) from the header, which names each column's
+    unit (``angle_deg``, ``lift [mm]``) or leaves them to a unit row below it (``deg,mm``)."""
+    (hline, header), rows = lines[0], lines[1:]
+    sep = ";" if ";" in header else "\t" if "\t" in header else ","
+    names = _cells(header, sep)
+    if rows and all(UNITS_ROW.fullmatch(c) for c in _cells(rows[0][1], sep)) and len(_cells(rows[0][1], sep)) == len(names):
+        units = [UNITS_ROW.fullmatch(c).group(1) for c in _cells(rows[0][1], sep)]
+        names, rows = [f"{n}_{u}" for n, u in zip(names, units)], rows[1:]
+    columns = [POINTS_COLUMN.fullmatch(c) for c in names]
+    if len(columns) != 2 or not all(columns) or columns[0]["what"].lower() != "angle" or columns[1]["what"].lower() == "angle":
+        raise InputError(path, f"line {hline}", f"the header must name two columns with their units: the angle (angle_deg "
+                         f"or angle_rad), then the lift or pitch radius (lift_mm, lift_m, radius_mm, radius_m); got {header[:60]!r}")
+    if columns[0]["unit"].lower() not in ("deg", "rad") or columns[1]["unit"].lower() not in ("mm", "m"):
+        raise InputError(path, f"line {hline}", "the angle's unit must be deg or rad, the lift's or radius's mm or m")
+    return sep, columns, rows
+
+
 def read_points_file(rd: Reader, cp: dict, prefix: str) -> tuple[str, list[list[float]]]:
     """``points_file`` (a CSV beside the rig, as CAD or a CMM exports it): two columns, the cam angle
     and the lift (or pitch radius), each naming its unit in the header (``angle_deg,lift_mm``,
-    ``angle [rad];radius [m]``). Separators ``,``, ``;`` (with decimal commas) or tabs; ``#``
-    comments, blank lines, a byte-order mark and Windows line ends are fine. Returns ("points" or
-    "radius_points", [[angle rad, value m], ...]); a fault is one line naming the file and line."""
+    ``angle [rad];radius [m]``) or in a unit row below it (``angle,lift`` then ``deg,mm``). Separators
+    ``,``, ``;`` (with decimal commas) or tabs; ``#`` comments, blank lines, a byte-order mark, empty
+    cells after the last column and Windows line ends are fine. Returns ("points" or "radius_points",
+    [[angle rad, value m], ...]); a fault is one line naming the file and line."""
     name = cp["points_file"]
     if not isinstance(name, str) or not name:
         rd.fail(prefix + "points_file", "must be a file name (a CSV beside the rig file)")
-    path = os.path.join(os.path.dirname(os.path.abspath(rd.path)), name)
+    path = points_path(rd.path, name)
     if not os.path.exists(path):
         rd.fail(prefix + "points_file", f"{name}: no such file (a path relative to the rig file's folder)")
     lines = [(i, line.strip()) for i, line in enumerate(text_bytes(path, read_bytes(path)).splitlines(), start=1)]
     lines = [(i, line.decode("utf-8", errors="replace")) for i, line in lines if line and not line.startswith(b"#")]
     if not lines:
         raise InputError(path, "header", "missing (no line other than comments)")
-    (hline, header), rows = lines[0], lines[1:]
-    sep = ";" if ";" in header else "\t" if "\t" in header else ","
-    columns = [POINTS_COLUMN.fullmatch(c.strip().strip('"')) for c in header.split(sep)]
-    if len(columns) != 2 or not all(columns) or columns[0]["what"].lower() != "angle" or columns[1]["what"].lower() == "angle":
-        raise InputError(path, f"line {hline}", f"the header must name two columns with their units: the angle (angle_deg "
-                         f"or angle_rad), then the lift or pitch radius (lift_mm, lift_m, radius_mm, radius_m); got {header[:60]!r}")
+    sep, columns, rows = _columns(path, lines)
     scale = [TO_SI[c["unit"].lower()] for c in columns]
-    if columns[0]["unit"].lower() not in ("deg", "rad") or columns[1]["unit"].lower() not in ("mm", "m"):
-        raise InputError(path, f"line {hline}", "the angle's unit must be deg or rad, the lift's or radius's mm or m")
     points = []
     for i, row in rows:
-        cells = [c.strip().strip('"').replace(",", ".") if sep == ";" else c.strip().strip('"') for c in row.split(sep)]
         try:
-            values = [float(c) for c in cells]
+            values = [float(c) for c in _cells(row, sep)]
         except ValueError:
             values = []
         if len(values) != 2 or not all(math.isfinite(v) for v in values):

@@ -187,6 +187,8 @@ class Rig:
     record: dict = field(default_factory=dict)
     #: rig values known only approximately (section ``uncertain``): dotted path -> relative sd
     uncertain: dict = field(default_factory=dict)
+    #: values that are unusual but possible, one line each (``FIELD: ...``; vcbmodel.rig.plausibility)
+    warnings: tuple = ()
 
     @property
     def pendulum(self) -> Pendulum | None:

@@ -392,10 +392,19 @@ def read_cam_profile(rd, cp, p, roller_radius) -> CamProfile:
     return profile
 
 
+#: The fields of a polynomial profile, which a profile from points takes from its points instead
+POLYNOMIAL_FIELDS = ("lift", "rise_start", "rise_end", "return_start", "return_end")
+
+
 def read_point_profile(rd, cp, p, roller_radius) -> CamProfile:
     key = "points" if "points" in cp else "radius_points"
     if sum(k in cp for k in ("points", "radius_points", "points_file")) > 1:
         rd.fail(p + key, "give one of points (lift), radius_points (pitch radius) or points_file, not several")
+    given = "points_file" if "points_file" in cp else key
+    for name in POLYNOMIAL_FIELDS:
+        if name in cp:
+            rd.fail(p + name, f"conflicts with {p}{given}: a profile from points takes its lift and angles from the "
+                    f"points, so {name} would be ignored; leave out {', '.join(POLYNOMIAL_FIELDS)} (or the points)")
     raw = cp[key] if key in cp else None
     if "points_file" in cp:
         key, raw = read_points_file(rd, cp, p)
@@ -420,6 +429,9 @@ def read_point_profile(rd, cp, p, roller_radius) -> CamProfile:
     radii = settle_scatter(rd, cp, angles, radii, field)
     if key == "radius_points":
         base = min(radii) - roller_radius
+        if "base_radius" in cp and abs(rd.number(cp, "base_radius", p, positive=True) - base) > 1e-5:
+            rd.fail(p + "base_radius", f"{cp['base_radius']:g} m conflicts with {field}, whose smallest pitch radius "
+                    f"less the roller's gives {base:.6g} m: leave base_radius out (the points give it) or correct one")
     elif min(v for _, v in pairs) < -(3.0 * rd.number(cp, "smoothing", p) if "smoothing" in cp else 1e-9):
         rd.fail(field, "a lift below the base circle (negative, beyond 3 x smoothing): lifts are measured from the base circle")
     spline = profile_spline(angles, radii)

@@ -58,7 +58,8 @@ from .design import DEFAULT_SEED, DIGITS, DISTRIBUTIONS, MAX_RUNS, SAMPLING, Var
 from .executors import _dask, _local_pool, _serial, check_workers, connect, default_workers
 from .runs import (SweepJob, check_datasheet_used, check_paths, check_used, figures_of_merit, inline_data_files, one_line,
                    run_chunk, run_one)
-from .table import cell_text, read_finished, rewrite_in_order, table_lock, typed_row, value_text
+from .table import (cell_text, check_table_path, fingerprint_line, read_finished, rewrite_in_order, rig_fingerprint, table_lock,
+                    typed_row, value_text)
 
 __all__ = ["sweep", "design", "parse_vary", "parse_varies", "Vary", "figures_of_merit", "run_one", "run_chunk",
            "SweepJob", "connect", "check_workers", "inline_data_files", "default_workers",
@@ -209,11 +210,12 @@ def sweep(rig: str | Path | dict | Rig, vary: Iterable[str | tuple[str, str] | V
              columns=columns, label=label, backend=backend)
     if workers is not None and (isinstance(workers, bool) or int(workers) != workers or workers < 1):
         raise InputError("--workers", "workers", f"must be a whole number >= 1, got {workers}")
+    check_table_path(output, p.rig_path, p.data)
     if output and not (resume or force) and os.path.isfile(output) and os.path.getsize(output) > 0:
         raise InputError(output, "output", "exists already: give --force to replace it (or --resume to continue it)")
     with table_lock(output):
         has_rows = resume and output and os.path.exists(output) and os.path.getsize(output) > 0
-        finished = read_finished(output, p.header, p.table) if has_rows else {}
+        finished = read_finished(output, p.header, p.table, rig_fingerprint(p.data, p.rig_path)) if has_rows else {}
         client, own_client = (connect(scheduler) if scheduler is not None else (None, False))
         try:
             if client is not None:
@@ -238,6 +240,7 @@ def _open_outputs(p, finished, output, stream):
     sinks = []
     if f:
         if not finished:
+            f.write(fingerprint_line(rig_fingerprint(p.data, p.rig_path)))
             csv.writer(f, lineterminator="\n").writerow(p.header)
             f.flush()
         sinks.append((csv.writer(f, lineterminator="\n"), f))

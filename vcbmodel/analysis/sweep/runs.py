@@ -47,6 +47,12 @@ def check_paths(data: dict, paths: Iterable[str], rig_path: str, experiment: str
                     hint = str(e).split("unknown field", 1)[1].split(";")[0]
                     at = f" (at {e.field})" if e.field != path else ""
                     raise InputError(rig_path, path, f"unknown field of a {experiment} rig{hint}{at}") from None
+                message = str(e).split(": ", 2)[-1]
+                if e.field != path and message.startswith("missing"):  # name what the user varied, not the gap
+                    section = path.rsplit(".", 1)[0]
+                    raise InputError(rig_path, path, f"this rig has no {section}, and this value alone does not make "
+                                     f"one ({e.field} is {message.split(':')[0]}): give the whole {section} section in "
+                                     "the rig to vary it") from None
             continue
         if isinstance(value, bool) or not isinstance(value, (int, float)):
             raise InputError(rig_path, path, f"is not a number ({type(value).__name__}): only numeric fields can be varied")
@@ -115,7 +121,9 @@ def run_one(data: dict, overrides: dict[str, float], rig_path: str, evaluate: Ca
             values = evaluate(rig, t_end) if evaluate is not None else figures_of_merit(rig, t_end, backend)
             status = experiment_of(rig.experiment).run_status(values) if evaluate is None else "ok"
         except InputError as e:
-            values, status = {}, f"failed: {e.field}: {one_line(str(e).split(': ', 2)[-1])}"
+            # a field the run did not vary is named with the varied values that made it fail
+            cause = "" if e.field in overrides else "with " + ", ".join(f"{k} = {v:g}" for k, v in overrides.items()) + ": "
+            values, status = {}, f"failed: {cause if overrides else ''}{e.field}: {one_line(str(e).split(': ', 2)[-1])}"
         except SimulationError as e:
             values, status = {}, f"failed: {one_line(e)}"
         except Exception as e:  # noqa: BLE001 -- any other fault is that run's, the sweep goes on
