@@ -59,11 +59,13 @@ def swing_frequency(rig: Rig) -> float:
 
 def figures_of_merit(result: SimulationResult, rig: Rig) -> dict:
     """``first_peak_rad``: amplitude of the first extreme after release; ``stop_time_s``:
-    when the shaft last moved faster than the stick band."""
+    when the shaft last moved faster than the stick band (0 if it never did; None if it still does
+    at the end of the run: it has not stopped)."""
     w = result.channels["shaft_velocity"]
     moving = np.nonzero(np.abs(w) > result.spec.stick_velocity)[0]
+    still_swinging = moving.size and moving[-1] == w.size - 1
     return {"first_peak_rad": first_peak_amplitude(result.t, result.measured),
-            "stop_time_s": float(result.t[moving[-1]]) if moving.size else 0.0}
+            "stop_time_s": None if still_swinging else float(result.t[moving[-1]]) if moving.size else 0.0}
 
 
 def _span_decay(rig: Rig, measurement: Measurement) -> dict | None:

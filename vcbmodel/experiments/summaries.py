@@ -56,6 +56,10 @@ def pendulum_summary(result: SimulationResult, rig: Rig) -> list[tuple]:
         lines.append((f"amplitude decay ({decay['shape']})",
                       decay["linear_slope"] if decay["shape"] == "linear" else decay["exponential_rate"],
                       "rad/s" if decay["shape"] == "linear" else "1/s", "deg/s" if decay["shape"] == "linear" else None))
+    if fom["stop_time_s"] is None:
+        w = float(result.channels["shaft_velocity"][-1])
+        lines.append(("note", f"the run ends at {float(t[-1]):.4g} s with the pendulum still swinging ({w:.3g} rad/s "
+                              f"at {np.degrees(y[-1]):.1f} deg): it has not stopped; a longer --t-end shows where it does", None))
     return lines
 
 
