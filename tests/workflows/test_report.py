@@ -138,6 +138,7 @@ def test_bad_limits_are_refused_in_one_line(tmp_path, capsys, limits, field, wor
 @pytest.mark.parametrize("value, step, text", [(38.84214, 1e-3, "38.84"), (0.537937, 1e-3, "0.538"),
                                                (25646.4e-3, 1e-3, "25.65"), (8.1e-6, 1e-3, "0.000"),
                                                (-1e-7, 1e-3, "0.000"), (252.119, 0.01, "252.1"), (1234.6, 0.0, "1235"),
+                                               (-3.0381e-6, 0.0, "-3.038e-06"), (2.5e7, 0.0, "2.500e+07"),
                                                (None, 1e-3, "-"), (float("nan"), 1e-3, "-"), (2, 1.0, "2")])
 def test_values_are_printed_to_four_figures_and_no_finer_than_their_unit(value, step, text):
     assert format_value(value, step) == text

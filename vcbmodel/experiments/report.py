@@ -143,7 +143,9 @@ def report_text(report: Report) -> str:
     out = [report.title] if report.title else []
 
     def line(what, unit, cells, limit="", result=""):
-        body = f"  {what:<{width}}{unit:<5}" + "".join(f"{c:>9}" for c in cells + [""] * (columns - len(cells)))
+        # a cell wider than its column still keeps a space from the one before
+        body = f"  {what:<{width}}{unit:<5}" + "".join(f"{c:>9}" if len(c) < 9 else f" {c}"
+                                                        for c in cells + [""] * (columns - len(cells)))
         return (body + (f"   {limit:<15}{result}" if limit or result else "")).rstrip()
 
     judged = report.limits is not None
