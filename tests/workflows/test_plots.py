@@ -159,3 +159,17 @@ def test_identify_plot_refuses_an_existing_file_or_an_input_before_fitting(tmp_p
         err = capsys.readouterr().err.strip()
         assert len(err.splitlines()) == 1 and words in err
     assert old.read_bytes() == b"mine"
+
+
+def test_a_long_title_is_broken_to_fit_the_figure(closing):
+    rig, result, _, _ = closing
+    name = "my breaker with a long name: 12 kV, 40 kA, three poles on a 60 mm main shaft, spring set B, " * 2
+    report = closing_report(result, rig)
+    fig = closing_figure(result, rig, name, report)
+    fig.canvas.draw()
+    title = fig._suptitle
+    width = title.get_window_extent(fig.canvas.get_renderer()).width
+    assert title.get_text().count("\n") >= 2 and width <= fig.bbox.width
+    # the words are all there, in order
+    assert " ".join(title.get_text().split()).startswith(" ".join(name.split()))
+    matplotlib.pyplot.close(fig)

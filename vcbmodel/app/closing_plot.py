@@ -19,7 +19,7 @@ from ..experiments.closing_evaluation import energy_balance
 from ..experiments.summaries import result_figures
 from ..laws.breaker import pole_gaps
 from ..rig.units import format_value
-from .plots import save
+from .plots import fitted_title, save
 
 if TYPE_CHECKING:
     from matplotlib.axes import Axes
@@ -63,7 +63,7 @@ def closing_figure(result: SimulationResult, rig: Rig, title: str, report: Repor
     axes[0].set_xlim(float(t_ms[0]), float(t_ms[-1]))
     fig.subplots_adjust(top=0.93, bottom=0.04, left=0.1, right=0.97)
     verdict = report.verdict() if report is not None else ""
-    fig.suptitle(f"{title}\nSIMULATED, not measured" + (f"; {verdict}" if verdict else ""), fontsize=9)
+    fig.suptitle(fitted_title(fig, f"{title}\nSIMULATED, not measured" + (f"; {verdict}" if verdict else ""), 9), fontsize=9)
     return fig
 
 

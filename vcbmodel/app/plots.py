@@ -3,6 +3,7 @@ from __future__ import annotations
 
 import io
 import os
+import textwrap
 from typing import TYPE_CHECKING
 
 import matplotlib
@@ -40,6 +41,13 @@ def save(fig: Figure, path: str | os.PathLike, tight: bool = True) -> None:
     write_file(path, buf.getvalue())
 
 
+def fitted_title(fig: Figure, text: str, fontsize: float) -> str:
+    """``text`` broken into lines that fit ``fig``'s width at ``fontsize`` (pt; a character taken as
+    0.55 of the size wide, about DejaVu Sans' average): a long rig name or verdict is not cut off."""
+    chars = max(20, int(fig.get_figwidth() * 72 / (0.55 * fontsize)))
+    return "\n".join(textwrap.fill(part, chars) for part in text.split("\n"))
+
+
 def time_axis(t: np.ndarray) -> tuple[np.ndarray, str]:
     """(times, label): in ms for a run under 2 s, else in s."""
     return (1e3 * t, "t (ms)") if t[-1] - t[0] < 2.0 else (t, "t (s)")
@@ -61,7 +69,7 @@ def plot_simulation(result: SimulationResult, channels: dict[str, tuple[np.ndarr
         ax.legend(fontsize=8, loc="best")
         ax.grid(alpha=0.3)
     axes[-1, 0].set_xlabel(t_label)
-    fig.suptitle(f"{title} (SIMULATED, not measured)", fontsize=10)
+    fig.suptitle(fitted_title(fig, f"{title} (SIMULATED, not measured)", 10), fontsize=10)
     save(fig, path)
 
 

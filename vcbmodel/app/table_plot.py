@@ -21,7 +21,7 @@ from ..experiments import EXPERIMENTS
 from ..rig.reader import read_bytes, text_bytes
 from ..experiments.report import label
 from ..rig.units import DISPLAY, unit_of_name
-from .plots import save
+from .plots import fitted_title, save
 
 if TYPE_CHECKING:
     from matplotlib.figure import Figure
@@ -130,7 +130,8 @@ def sweep_figure(table: pd.DataFrame, x: str, ys: Sequence[str], title: str) -> 
         ax.grid(alpha=0.3)
     axes[-1, 0].set_xlabel(x_label)
     left_out = len(table) - len(ok)
-    fig.suptitle(title + (f"; {left_out} run(s) that did not finish left out" if left_out else ""), fontsize=9)
+    fig.suptitle(fitted_title(fig, title + (f"; {left_out} run(s) that did not finish left out" if left_out else ""), 9),
+                 fontsize=9)
     fig.tight_layout()
     return fig
 
@@ -170,7 +171,7 @@ def fit_figure(result) -> Figure:
         bottom.grid(alpha=0.3)
     units = {"stick_velocity": " rad/s", "stribeck_velocity": " rad/s", "viscous": " N m s/rad"}
     values = ", ".join(f"{name} {value:.4g}{units.get(name, '')}" for name, value in result.values.items())
-    fig.suptitle(f"friction identification, {result.law} law: {values}", fontsize=9)
+    fig.suptitle(fitted_title(fig, f"friction identification, {result.law} law: {values}", 9), fontsize=9)
     fig.tight_layout()
     return fig
 
