@@ -541,7 +541,9 @@ def main():
           "under the settled reading (0.83 kg, 3000 N each; the pair stores 361 J), the cam shaft is sized for that "
           "energy, the rise ends at 240 deg so that the cam completes it, and the chain is `exact`. With these springs "
           "and this cam law the closing speed times the closing time is set by the shapes (spring pull against angle, "
-          "profile, gap), not by the inertia: a closing speed within 1.0-1.3 m/s over the zone takes about 39 ms from "
+          "profile, gap), not by the inertia: a closing speed within the reference's window "
+          f"({P.REFERENCE_LIMITS['closing_speed']['min']:g}-{P.REFERENCE_LIMITS['closing_speed']['max']:g} m/s, "
+          "parameters.REFERENCE_LIMITS) over the zone takes about 39 ms from "
           "the latch release, against the paper's 'about 30 ms' (which would need about 1.6 m/s).\n",
           "## The main shaft's twist between the pole levers\n",
           f"The reference breaker's main shaft (rig section `breaker.main_shaft`, `MAIN_SHAFT_SECTION` in "
