@@ -169,14 +169,16 @@ def strength_lines(rig: Rig, c: dict) -> list[str]:
                      + "; ".join(f"{what} {1e3 * b['wire_diameter_m']:.2f} mm on {1e3 * b['coil_diameter_m']:.1f} mm, "
                                  f"{b['active_coils']:.1f} active coils, {b['mass_kg']:.2f} kg active mass"
                                  for what, b in found))
-    return lines + [compression_line(c, high)]
+    return lines + [compression_line(c, high, s.shear_modulus or P.DEFAULT_SHEAR_MODULUS)]
 
 
-def compression_line(c: dict, high: float) -> str:
+def compression_line(c: dict, high: float, shear_modulus: float) -> str:
     """The same coil read as a compression spring (laws.spring_strength.compression_reading): its body
-    against 0.65 S_ut, and where it buckles unguided; a guide holds it, and with it the lateral motion."""
+    against 0.65 S_ut, and where it buckles unguided; a guide holds it, and with it the lateral motion.
+    Its active coils are those of its rate k0 in the wire's ``shear_modulus`` (Pa; the rig's, as for
+    the stress check)."""
     d, D = c["wire_diameter_m"], c["coil_diameter_m"]
-    n_a = P.DEFAULT_SHEAR_MODULUS * d**4 / (8.0 * D**3 * c["stiffness_N_m"])
+    n_a = shear_modulus * d**4 / (8.0 * D**3 * c["stiffness_N_m"])
     r = compression_reading(d, D, n_a, c["stiffness_N_m"], high)
     ends = ", ".join(f"{end} ends {'never' if math.isinf(y) else f'at {1e3 * y:.0f} mm'}"
                      for end, y in ((e, r[f"buckles_at_{e}_m"]) for e in P.BUCKLING_END_CONSTANTS))
