@@ -173,3 +173,32 @@ def test_a_long_title_is_broken_to_fit_the_figure(closing):
     # the words are all there, in order
     assert " ".join(title.get_text().split()).startswith(" ".join(name.split()))
     matplotlib.pyplot.close(fig)
+
+
+def test_the_diagnosis_figure_is_in_engineering_units():
+    """diagnose --plot of a closing record: travel in mm, its residual in um, time in ms (a 55 ms
+    record), the noise band at +-2 sigma and the windows where the diagnosis put them."""
+    from types import SimpleNamespace
+
+    from vcbmodel.app.plots import diagnosis_figure
+
+    t = np.linspace(0.0, 0.055, 661)
+    travel = 0.015 * np.clip((t - 0.02) / 0.03, 0.0, 1.0)
+    residual = 2e-8 * np.sin(2e3 * t)
+    fit = SimpleNamespace(simulations=[SimpleNamespace(measured=travel + residual)], effects=("coulomb_friction",),
+                          spring_model=SimpleNamespace(label="lumped-2 (exact)"), times=[t], residuals=[residual],
+                          rms=float(np.sqrt(np.mean(residual**2))))
+    d = SimpleNamespace(unit="m", measurement=SimpleNamespace(t=t, channel=lambda name: travel), baseline=fit, final=fit,
+                        missing_effects=[], nuisance={"values": {"release_time": 1e-4}}, explained=True, noise=1e-8,
+                        window=(0.03, 0.04), verdict={}, rig=SimpleNamespace(experiment="vcb_closing"))
+    fig = diagnosis_figure(d)
+    top, bottom = fig.axes
+    assert top.get_ylabel() == "follower displacement (mm)" and bottom.get_ylabel() == "model - measurement (um)"
+    assert bottom.get_xlabel() == "t (ms, record time)"
+    measured = top.get_lines()[0]
+    assert np.max(measured.get_ydata()) == pytest.approx(15.0) and np.max(measured.get_xdata()) == pytest.approx(55.0)
+    assert np.max(np.abs(bottom.get_lines()[0].get_ydata())) == pytest.approx(0.02, rel=1e-3)
+    assert sorted(abs(line.get_ydata()[0]) for line in bottom.get_lines()[1:3]) == pytest.approx([0.02, 0.02])
+    span = bottom.patches[0]
+    assert (span.get_x(), span.get_x() + span.get_width()) == pytest.approx((30.0, 40.0))
+    matplotlib.pyplot.close(fig)
