@@ -164,7 +164,7 @@ def fit_figure(result) -> Figure:
                     label=f"residual, rms {1e3 * float(np.sqrt(np.mean(fit.residuals[k] ** 2))):.3g} mrad")
         for sign in (-2, 2):
             bottom.axhline(sign * 1e3 * fit.sigma, color="k", ls=":", lw=0.8)
-        bottom.plot([], [], ":", color="k", label=f"records' noise, +-2 sigma ({1e3 * fit.sigma:.3g} mrad)")
+        bottom.plot([], [], ":", color="k", label=f"records' noise, +-2 sigma (sigma {1e3 * fit.sigma:.3g} mrad)")
         bottom.set_ylabel("model - measured (mrad)")
         bottom.set_xlabel("t (s)")
         bottom.legend(fontsize=7)
