@@ -84,8 +84,18 @@ class Report:
     notes: list = field(default_factory=list)
     limits: tuple | None = None
 
+    def judged_per_pole(self, row: Row) -> bool:
+        """Whether ``row`` is a whole-run row of a figure the per-pole rows carry (the mechanism's wipe
+        beside each pole's): a limit on that figure judges each pole, not the whole run
+        (:data:`vcbmodel.rig.limits.LIMITED_FIGURES`)."""
+        return bool(row.key) and not any(row is r for r in self.pole_rows) and \
+            row.figure in {r.figure for r in self.pole_rows}
+
     def check(self, row: Row) -> Check | None:
-        """The row against the rig's limit on its figure (None: no limit on it)."""
+        """The row against the rig's limit on its figure (None: no limit on it, or one that judges
+        the poles' rows instead: :meth:`judged_per_pole`)."""
+        if self.judged_per_pole(row):
+            return None
         for limit in self.limits or ():
             if limit.figure == row.figure:
                 return Check(limit, [limit.holds(None if _missing(v) else float(v)) for v in row.values])
@@ -100,7 +110,8 @@ class Report:
         c = self.check(row)
         if c is not None:
             return c.limit.text(), c.result
-        return (NO_LIMIT, "") if self.limits is not None and row.figure in LIMITED_FIGURES else ("", "")
+        return ((NO_LIMIT, "") if self.limits is not None and row.figure in LIMITED_FIGURES
+                and not self.judged_per_pole(row) else ("", ""))
 
     def verdict(self) -> str:
         """One line: how many limits hold, which fail."""
@@ -173,7 +184,7 @@ def _row_json(report: Report, row: Row, pole: int | None = None) -> dict:
     if c is not None:
         holds = c.holds[pole if pole is not None else 0]
         out.update({"limit": c.limit.text(), "pass": holds})
-    elif report.limits is not None and row.figure in LIMITED_FIGURES:
+    elif report.limits is not None and row.figure in LIMITED_FIGURES and not report.judged_per_pole(row):
         out["limit"] = None
     return out
 
