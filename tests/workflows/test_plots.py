@@ -2,6 +2,8 @@
 of a sweep's table, identify --plot. Checked on matplotlib's objects: the panels, the units in every
 axis label, the same colour for a pole in every panel, the zone, touches and limits drawn where the
 figures of merit put them."""
+import copy
+
 import matplotlib
 import numpy as np
 import pandas as pd
@@ -161,6 +163,20 @@ def test_identify_plot_refuses_an_existing_file_or_an_input_before_fitting(tmp_p
     assert old.read_bytes() == b"mine"
 
 
+def test_a_failing_closing_names_its_failures_in_the_title(closing, tmp_path):
+    """The figure's title names each failing figure and pole; the values and limits are the report's."""
+    rig, result, _, _ = closing
+    data = copy.deepcopy(P.REFERENCE_BREAKER)
+    data["breaker"]["limits"] = {"closing_speed": {"min": 1.0, "max": 1.3, "unit": "m/s"},
+                                 "bounce_duration": {"max": 1.0, "unit": "ms"}}
+    tight = load_rig(write_rig(tmp_path, data, "tight"))
+    fig = closing_figure(result, tight, "tight", closing_report(result, tight))
+    text = " ".join(fig._suptitle.get_text().split())
+    assert "FAIL: closing speed, 4-0 mm before touch on pole 3; bounce duration on pole 1, 2, 3" in text
+    assert "m/s" not in text and "limit" not in text.split("FAIL")[1]
+    matplotlib.pyplot.close(fig)
+
+
 def test_a_long_title_is_broken_to_fit_the_figure(closing):
     rig, result, _, _ = closing
     name = "my breaker with a long name: 12 kV, 40 kA, three poles on a 60 mm main shaft, spring set B, " * 2
@@ -168,8 +184,11 @@ def test_a_long_title_is_broken_to_fit_the_figure(closing):
     fig = closing_figure(result, rig, name, report)
     fig.canvas.draw()
     title = fig._suptitle
-    width = title.get_window_extent(fig.canvas.get_renderer()).width
-    assert title.get_text().count("\n") >= 2 and width <= fig.bbox.width
+    renderer = fig.canvas.get_renderer()
+    box = title.get_window_extent(renderer)
+    assert title.get_text().count("\n") >= 2 and box.width <= fig.bbox.width
+    # above the first panel and its own title, not over them
+    assert box.y0 >= fig.axes[0].title.get_window_extent(renderer).y1
     # the words are all there, in order
     assert " ".join(title.get_text().split()).startswith(" ".join(name.split()))
     matplotlib.pyplot.close(fig)

@@ -61,9 +61,12 @@ def closing_figure(result: SimulationResult, rig: Rig, title: str, report: Repor
     bounce_closeup(closeup, result, rig, fom, t_ms)
     energy_panel(energy, result, rig, t_ms)
     axes[0].set_xlim(float(t_ms[0]), float(t_ms[-1]))
-    fig.subplots_adjust(top=0.93, bottom=0.04, left=0.1, right=0.97)
-    verdict = report.verdict() if report is not None else ""
-    fig.suptitle(fitted_title(fig, f"{title}\nSIMULATED, not measured" + (f"; {verdict}" if verdict else ""), 9), fontsize=9)
+    verdict = report.verdict(brief=True) if report is not None else ""
+    text = fitted_title(fig, f"{title}\nSIMULATED, not measured" + (f"; {verdict}" if verdict else ""), 9)
+    # the title's lines (9 pt, 1.3 line spacing) and a third of an inch above the first panel's own title
+    top = 1.0 - ((text.count("\n") + 1) * 9 * 1.3 / 72 + 0.35) / fig.get_figheight()
+    fig.subplots_adjust(top=top, bottom=0.04, left=0.1, right=0.97)
+    fig.suptitle(text, fontsize=9, y=0.995, va="top")
     return fig
 
 

@@ -113,14 +113,15 @@ class Report:
         return ((NO_LIMIT, "") if self.limits is not None and row.figure in LIMITED_FIGURES
                 and not self.judged_per_pole(row) else ("", ""))
 
-    def verdict(self) -> str:
-        """One line: how many limits hold, which fail."""
+    def verdict(self, brief: bool = False) -> str:
+        """One line: how many limits hold, which fail (``brief``: each failing figure and its poles,
+        without the values and limits, for a figure's title)."""
         if self.limits is None:
             return ""
         if not self.limits:
             return "limits: none given (breaker.limits): no figure is judged"
         checks = self.checks()
-        failed = [self._failure(row, c) for row, c in checks if c.result.startswith("FAIL")]
+        failed = [self._failure(row, c, brief) for row, c in checks if c.result.startswith("FAIL")]
         unseen = [row.what for row, c in checks if c.result == "no value"]
         judged = len({c.limit.figure for _, c in checks})
         head = f"limits (breaker.limits): {judged} of {len(self.limits)} judged"
@@ -129,11 +130,13 @@ class Report:
         return f"{head}: all pass" + (f"; no value for {', '.join(unseen)}" if unseen else "")
 
 
-    def _failure(self, row: Row, check: Check) -> str:
-        """``closing speed ... on pole 3 (1.307 m/s; limit 1-1.5 m/s)``."""
+    def _failure(self, row: Row, check: Check, brief: bool = False) -> str:
+        """``closing speed ... on pole 3 (1.307 m/s; limit 1-1.5 m/s)`` (``brief``: without the brackets)."""
         unit, texts, _ = row.cells()
         bad = [i for i, h in enumerate(check.holds) if h is False]
         where = f" on pole {', '.join(str(i + 1) for i in bad)}" if len(check.holds) > 1 else ""
+        if brief:
+            return f"{row.what}{where}"
         values = ", ".join(texts[i] for i in bad)
         return f"{row.what}{where} ({values} {unit}; limit {check.limit.text()})".replace(" ;", ";")
 
