@@ -112,6 +112,22 @@ def test_a_sweep_is_drawn_per_group_in_engineering_units():
     matplotlib.pyplot.close(fig)
 
 
+def test_a_figure_without_values_says_so_in_its_panel():
+    """A pendulum sweep where every run still swings at the end (stop_time_s empty) and one where one
+    run of three has no value: the panels say how many finished runs have none."""
+    table = pd.DataFrame({"run": [1, 2, 3], "friction.mu_k": [0.0, 0.02, 0.04], "first_peak_rad": [1.49, 1.48, 1.47],
+                          "stop_time_s": [np.nan, np.nan, np.nan], "status": ["ok"] * 3})
+    fig = sweep_figure(table, "friction.mu_k", ["stop_time_s", "first_peak_rad"], "t")
+    empty, full = fig.axes
+    assert [t.get_text() for t in empty.texts] == ["no finished run has a value of stop_time_s (its cells are empty)"]
+    assert not full.texts and full.get_title(loc="left") == ""
+    table.loc[1:, "stop_time_s"] = [2.5, 2.1]
+    fig2 = sweep_figure(table, "friction.mu_k", ["stop_time_s"], "t")
+    assert fig2.axes[0].get_title(loc="left") == "1 of 3 finished runs have no value of stop_time_s (empty cells)"
+    matplotlib.pyplot.close(fig)
+    matplotlib.pyplot.close(fig2)
+
+
 def test_the_plot_command_writes_and_refuses_in_one_line(tmp_path, capsys):
     table = tmp_path / "s.csv"
     sweep_table().to_csv(table, index=False)

@@ -128,12 +128,24 @@ def sweep_figure(table: pd.DataFrame, x: str, ys: Sequence[str], title: str) -> 
             ax.plot(fx * ok[x], fy * ok[y], "o", ms=4, color="C0")
         ax.set_ylabel(y_label)
         ax.grid(alpha=0.3)
+        missing_values(ax, ok, y)
     axes[-1, 0].set_xlabel(x_label)
     left_out = len(table) - len(ok)
     fig.suptitle(fitted_title(fig, title + (f"; {left_out} run(s) that did not finish left out" if left_out else ""), 9),
                  fontsize=9)
     fig.tight_layout()
     return fig
+
+
+def missing_values(ax, ok: pd.DataFrame, y: str) -> None:
+    """Say in ``ax`` how many finished runs have no value of ``y`` (an empty cell: a pendulum still
+    swinging at the end has no stop time), so an empty or sparse panel is not read as a plotting fault."""
+    missing = int(ok[y].isna().sum())
+    if missing == len(ok) and missing:
+        ax.text(0.5, 0.5, f"no finished run has a value of {y} (its cells are empty)", ha="center", va="center",
+                transform=ax.transAxes, fontsize=9)
+    elif missing:
+        ax.set_title(f"{missing} of {len(ok)} finished runs have no value of {y} (empty cells)", fontsize=8, loc="left")
 
 
 def plot_sweep(path: str, x: str, ys: Sequence[str], output: str) -> None:
