@@ -180,3 +180,10 @@ def test_closing_study_compares_main_shafts_like_with_like():
         assert rest == {k: v for k, v in P.REFERENCE_BREAKER["breaker"].items() if k != "main_shaft"}
         assert {k: v for k, v in d.items() if k != "breaker"} == {k: v for k, v in P.REFERENCE_BREAKER.items() if k != "breaker"}
     assert P.REFERENCE_BREAKER["breaker"]["main_shaft"]["drive_pole"] == 1  # the source dict is not changed
+
+
+def test_run_all_refuses_a_log_option_without_a_file_in_one_line():
+    run_all = _load_study("run_all")
+    assert run_all.split_log(["--quick", "--log", "x.log"])[0] == ["--quick"]
+    with pytest.raises(SystemExit, match="--log needs a file name"):
+        run_all.split_log(["--quick", "--log"])
