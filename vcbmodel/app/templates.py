@@ -121,7 +121,7 @@ def stop_lines(b) -> list[str]:
 
 def spring_lines(rig: Rig) -> list[str]:
     """The closing spring as a designer checks it: rate, mass and surge frequency (with their source),
-    the charged pull and the wire's stress against Shigley's allowable for an extension spring."""
+    the charged pull and the coil, then the spring maker's checks (:func:`strength_lines`)."""
     s = rig.closing_spring
     bx, by = cam_pin(rig.cam.initial_angle, rig.cam)
     pull = s.stiffness * (math.hypot(bx - s.anchor[0], by - s.anchor[1]) - s.free_length)
@@ -130,15 +130,15 @@ def spring_lines(rig: Rig) -> list[str]:
     def source(key):
         return "from the datasheet" if key in s.from_datasheet else "given"
 
-    coil = (f"wire {1e3 * c['wire_diameter_m']:.2f} mm on a {1e3 * c['coil_diameter_m']:.1f} mm mean diameter"
+    coil = (f"wire {1e3 * c['wire_diameter_m']:.2f} mm on a {1e3 * c['coil_diameter_m']:.1f} mm mean diameter "
+            f"(index {c['coil_diameter_m'] / c['wire_diameter_m']:.3g})"
             if c["coil_given"] else
             f"no coil given: the lightest coil of this k0 and m0 at index {c['coil_diameter_m'] / c['wire_diameter_m']:g}, "
             f"wire {1e3 * c['wire_diameter_m']:.2f} mm")
-    verdict = "within" if c["stress_ratio"] <= 1 else "ABOVE"
+    # the body's stress is judged once, in the spring maker's checks below (Bergstrasser's factor)
     return [f"  closing spring ({s.count} alike): k0 {s.stiffness:.6g} N/m ({source('stiffness')}), active mass "
             f"{s.mass:.4g} kg ({source('mass')}), surge frequency {c['surge_frequency_hz']:.1f} Hz",
-            f"    charged pull {pull:.0f} N each; {coil}: shear stress {c['shear_stress_Pa'] / 1e9:.2f} GPa (Wahl), "
-            f"{verdict} 0.45 S_ut = {c['allowable_Pa'] / 1e9:.2f} GPa of Cr-Si wire"] + strength_lines(rig, c) + ([
+            f"    charged pull {pull:.0f} N each; {coil}"] + strength_lines(rig, c) + ([
             "    (the rig's coil fields size the stress check and an ANCF spring only: with stiffness and mass given, "
             "they do not change k0 or the mass)"] if c["coil_given"] and not s.from_datasheet else [])
 
