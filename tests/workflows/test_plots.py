@@ -237,3 +237,18 @@ def test_the_diagnosis_figure_is_in_engineering_units():
     span = bottom.patches[0]
     assert (span.get_x(), span.get_x() + span.get_width()) == pytest.approx((30.0, 40.0))
     matplotlib.pyplot.close(fig)
+
+
+def test_the_energy_legend_covers_no_curve(closing):
+    """On a 100 ms run (the cam resting on its latch) the energies fill the panel's upper left."""
+    rig = closing[0]
+    result = simulate(rig, backend="fast", t_end=0.1)
+    fig = closing_figure(result, rig, "long", closing_report(result, rig))
+    energy = fig.axes[4]
+    fig.canvas.draw()
+    box = energy.get_legend().get_window_extent(fig.canvas.get_renderer())
+    for line in energy.get_lines():
+        xy = energy.transData.transform(np.column_stack([line.get_xdata(), line.get_ydata()]))
+        inside = (xy[:, 0] > box.x0) & (xy[:, 0] < box.x1) & (xy[:, 1] > box.y0) & (xy[:, 1] < box.y1)
+        assert not inside.any(), line.get_label()
+    matplotlib.pyplot.close(fig)

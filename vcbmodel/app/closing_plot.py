@@ -113,7 +113,7 @@ def speed_panel(ax: Axes, result: SimulationResult, rig: Rig, fom: dict, t_ms: n
     ax.plot([], [], "-", color="0.3", lw=3.0, label="closing speed over the zone")
     ax.set_ylabel("speed (m/s)")
     ax.set_title("contact speed per pole; dots: touch", fontsize=9, loc="left")
-    ax.legend(fontsize=7, loc="upper left", ncol=2)
+    ax.legend(fontsize=7, loc="best", ncol=2)
     ax.grid(alpha=0.3)
 
 
@@ -181,7 +181,10 @@ def energy_panel(ax: Axes, result: SimulationResult, rig: Rig, t_ms: np.ndarray)
         ax.plot(t_ms, e["dissipated"], color="tab:brown", lw=1.2, label="dissipated (friction, dampers)")
         ax.plot(t_ms, e["potential"] - e["potential"][0] + e["spring_energy_released"], color="tab:cyan", lw=1.0,
                 label="stored elsewhere (opening and wipe springs, contacts, weights)")
-        ax.legend(fontsize=7, loc="upper left")
+        # headroom above the curves for the legend, which then covers none of them
+        low, high = ax.get_ylim()
+        ax.set_ylim(low, high + 0.45 * (high - low))
+        ax.legend(fontsize=7, loc="upper center", ncol=2)
     ax.set_ylabel("energy (J)")
     ax.set_xlabel("t (ms from the latch release)")
     ax.set_title("energy", fontsize=9, loc="left")
