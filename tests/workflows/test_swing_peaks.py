@@ -70,3 +70,20 @@ def test_simulate_says_a_frictionless_pendulum_has_not_stopped(tmp_path, capsys)
     # no friction: every extreme is the release angle, 85.94 deg
     assert abs(float(rows["first peak"][1]) - math.degrees(1.5)) < 0.02
     assert abs(float(rows["amplitude decay (linear)"][1])) < 1e-3
+
+
+def test_the_diagnosis_signature_has_no_stop_time_for_a_swing_that_goes_on():
+    """A swing still going at the end of its record has no stop time (was the record's end, 'stops at
+    3.17 s'); one that sticks at 3 s has its stop within a swing of it."""
+    from types import SimpleNamespace
+
+    from vcbmodel.experiments.pendulum import signature
+
+    t, clean, y = decaying_swing(2.4 * PERIOD)
+    record = SimpleNamespace(t=t, channel=lambda name: y)
+    sig = signature(None, record, clean, y - clean, 5e-4)
+    assert sig["measured_stop_time_s"] is None and sig["model_stop_time_s"] is None
+    t2 = np.arange(0.0, 6.0, 1e-3)
+    stuck = np.where(t2 < 3.0, np.clip(0.17 - 0.055 * t2, 0.0, None) * np.cos(2 * math.pi * t2 / 0.93), 0.0)
+    sig2 = signature(None, SimpleNamespace(t=t2, channel=lambda name: stuck), stuck, 0 * stuck, 1e-4)
+    assert 2.5 < sig2["measured_stop_time_s"] < 3.8

@@ -132,11 +132,16 @@ def swinging_part(t: np.ndarray, y: np.ndarray, sigma: float) -> float | None:
 
 
 def signature(rig: Rig, measurement: Measurement, model_curve: np.ndarray, residual: np.ndarray, sigma: float) -> dict:
-    """How the measured amplitude decays and when the swing stops, measured vs model."""
+    """How the measured amplitude decays and when the swing stops (s), measured vs model; None for
+    a swing that does not stop within the record."""
     t, y = measurement.t, measurement.channel("pendulum_angle")
     tp, ap = swing_peaks(t, y)
-    return {"amplitude_decay": decay_shape(tp, ap), "measured_stop_time_s": motion_end_time(t, y, sigma),
-            "model_stop_time_s": motion_end_time(t, model_curve, sigma)}
+
+    def stop(curve):
+        end = motion_end_time(t, curve, sigma)
+        return None if end >= t[-1] else end
+
+    return {"amplitude_decay": decay_shape(tp, ap), "measured_stop_time_s": stop(y), "model_stop_time_s": stop(model_curve)}
 
 
 PENDULUM = Experiment(
