@@ -189,7 +189,8 @@ def test_run_all_refuses_a_log_option_without_a_file_in_one_line():
         run_all.split_log(["--quick", "--log"])
 
 
-def test_the_tolerance_study_prints_its_draws_to_four_figures():
+def test_the_tolerance_study_prints_its_draws_to_four_figures(monkeypatch):
+    monkeypatch.syspath_prepend(str(STUDIES))  # the studies import their _common
     draw_text = _load_study("design_tolerance").draw_text
     assert draw_text("uniform:0.0040000000000000036:0.097") == "uniform 0.004-0.097"
     assert draw_text("uniform:0.5:0.8999999999999999") == "uniform 0.5-0.9"
