@@ -289,6 +289,14 @@ def main():
     print(md)
 
 
+def draw_text(draw):
+    """A draw as a reader takes it: ``uniform:0.0040000000000000036:0.097`` -> ``uniform 0.004-0.097``,
+    ``normal:0.3:0.0020635`` -> ``normal 0.3, sd 0.002064`` (the table of runs keeps full precision)."""
+    kind, a, b = draw.split(":")
+    a, b = float(a), float(b)
+    return f"uniform {a:.4g}-{b:.4g}" if kind == "uniform" else f"{kind} {a:.4g}, sd {b:.4g}"
+
+
 def report(summary, rig, factors, specs, sources, n, quick, paths):
     """design_tolerance.md from the summary."""
     fr = summary["limits"]
@@ -297,8 +305,8 @@ def report(summary, rig, factors, specs, sources, n, quick, paths):
           f"{summary['failed_runs']} runs failed, {summary['not_closed_runs']} never closed "
           f"(both counted out of limits). Model: {', '.join(rig.model.effects)}; spring "
           f"{rig.model.spring_model.label}. Where each distribution comes from:\n",
-          markdown_table(["parameter", "draw", "source"], [[s.split("=")[0], s.split("=")[1], sources[s.split("=")[0]]]
-                                                           for s in specs]),
+          markdown_table(["parameter", "draw", "source"], [[s.split("=")[0], draw_text(s.split("=")[1]),
+                                                            sources[s.split("=")[0]]] for s in specs]),
           "\n## Against the limits (on every pole; where each comes from)\n",
           markdown_table(["limit", "value", "out of it (95 % Wilson interval)", "source"],
                          [[col, limit_text(col), pct(fr[col]), fr[col]["source"]] for col in LIMITS]),

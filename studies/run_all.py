@@ -47,7 +47,7 @@ def split_log(args):
     it = iter(args)
     for a in it:
         if a == "--log":
-            log = Path(next(it))
+            log = Path(next(it, "") or sys.exit("run_all: --log needs a file name"))
         elif a.startswith("--log="):
             log = Path(a.split("=", 1)[1])
         else:

@@ -59,7 +59,9 @@ def test_stress_check_against_shigley(tmp_path):
     assert wire_strength(0.00784) == pytest.approx(2005 / 7.84**0.108 * 1e6, rel=1e-9)
     assert c["stress_ratio"] > 1.0  # above 0.45 S_ut of an extension spring's body
     text = "\n".join(explain(rig))
-    assert "from the datasheet" in text and "shear stress" in text and "ABOVE" in text
+    assert "from the datasheet" in text and "body torsion:" in text and "FAILS" in text
+    # the body's stress is judged once (Bergstrasser's factor), not again with Wahl's beside it
+    assert "(Wahl)" not in text and text.count("body torsion:") == 1
 
 
 def test_coil_stiffness_scales_as_d4_over_d3_n():

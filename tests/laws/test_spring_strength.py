@@ -103,3 +103,21 @@ def test_check_reports_the_spring_makers_checks(tmp_path):
         assert name in text, name
     assert "FAILS 6 of 6 strength checks" in text and "screwed-in plug ends" in text
     assert "compression spring" in text and "guide" in text
+
+
+def test_the_compression_reading_counts_the_coils_in_the_rigs_own_wire(tmp_path):
+    """A datasheet spring in a wire of G = 69 GPa (stainless): check's compression reading has the
+    datasheet's 15 active coils in its free length (solid (n_a + 2) d + 1.15 x the deflection), not the
+    coils a 79.3 GPa steel wire of the same rate would need."""
+    from vcbmodel.app.templates import explain
+
+    data = copy.deepcopy(P.REFERENCE_BREAKER)
+    spring = data["closing_spring"]
+    for key in ("stiffness", "mass"):
+        spring.pop(key, None)
+    spring.update(wire_diameter=0.0078, coil_diameter=0.047, active_coils=15, shear_modulus=69e9)
+    rig = load_rig(write_rig(tmp_path, data, "stainless"))
+    high, _ = closing_pulls(rig.closing_spring, rig.cam)
+    free = (15 + 2) * 0.0078 + (1 + P.CLASH_ALLOWANCE) * high / rig.closing_spring.stiffness
+    line = next(x for x in explain(rig) if "read as a compression spring" in x)
+    assert f"free length {1e3 * free:.0f} mm" in line

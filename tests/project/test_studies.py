@@ -182,3 +182,18 @@ def test_closing_study_compares_main_shafts_like_with_like():
         assert rest == {k: v for k, v in P.REFERENCE_BREAKER["breaker"].items() if k != "main_shaft"}
         assert {k: v for k, v in d.items() if k != "breaker"} == {k: v for k, v in P.REFERENCE_BREAKER.items() if k != "breaker"}
     assert P.REFERENCE_BREAKER["breaker"]["main_shaft"]["drive_pole"] == 1  # the source dict is not changed
+
+
+def test_run_all_refuses_a_log_option_without_a_file_in_one_line():
+    run_all = _load_study("run_all")
+    assert run_all.split_log(["--quick", "--log", "x.log"])[0] == ["--quick"]
+    with pytest.raises(SystemExit, match="--log needs a file name"):
+        run_all.split_log(["--quick", "--log"])
+
+
+def test_the_tolerance_study_prints_its_draws_to_four_figures(monkeypatch):
+    monkeypatch.syspath_prepend(str(STUDIES))  # the studies import their _common
+    draw_text = _load_study("design_tolerance").draw_text
+    assert draw_text("uniform:0.0040000000000000036:0.097") == "uniform 0.004-0.097"
+    assert draw_text("uniform:0.5:0.8999999999999999") == "uniform 0.5-0.9"
+    assert draw_text("normal:0.3:0.002063532571516432") == "normal 0.3, sd 0.002064"

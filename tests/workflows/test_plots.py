@@ -2,6 +2,8 @@
 of a sweep's table, identify --plot. Checked on matplotlib's objects: the panels, the units in every
 axis label, the same colour for a pole in every panel, the zone, touches and limits drawn where the
 figures of merit put them."""
+import copy
+
 import matplotlib
 import numpy as np
 import pandas as pd
@@ -110,6 +112,22 @@ def test_a_sweep_is_drawn_per_group_in_engineering_units():
     matplotlib.pyplot.close(fig)
 
 
+def test_a_figure_without_values_says_so_in_its_panel():
+    """A pendulum sweep where every run still swings at the end (stop_time_s empty) and one where one
+    run of three has no value: the panels say how many finished runs have none."""
+    table = pd.DataFrame({"run": [1, 2, 3], "friction.mu_k": [0.0, 0.02, 0.04], "first_peak_rad": [1.49, 1.48, 1.47],
+                          "stop_time_s": [np.nan, np.nan, np.nan], "status": ["ok"] * 3})
+    fig = sweep_figure(table, "friction.mu_k", ["stop_time_s", "first_peak_rad"], "t")
+    empty, full = fig.axes
+    assert [t.get_text() for t in empty.texts] == ["no finished run has a value of stop_time_s (its cells are empty)"]
+    assert not full.texts and full.get_title(loc="left") == ""
+    table.loc[1:, "stop_time_s"] = [2.5, 2.1]
+    fig2 = sweep_figure(table, "friction.mu_k", ["stop_time_s"], "t")
+    assert fig2.axes[0].get_title(loc="left") == "1 of 3 finished runs have no value of stop_time_s (empty cells)"
+    matplotlib.pyplot.close(fig)
+    matplotlib.pyplot.close(fig2)
+
+
 def test_the_plot_command_writes_and_refuses_in_one_line(tmp_path, capsys):
     table = tmp_path / "s.csv"
     sweep_table().to_csv(table, index=False)
@@ -159,3 +177,78 @@ def test_identify_plot_refuses_an_existing_file_or_an_input_before_fitting(tmp_p
         err = capsys.readouterr().err.strip()
         assert len(err.splitlines()) == 1 and words in err
     assert old.read_bytes() == b"mine"
+
+
+def test_a_failing_closing_names_its_failures_in_the_title(closing, tmp_path):
+    """The figure's title names each failing figure and pole; the values and limits are the report's."""
+    rig, result, _, _ = closing
+    data = copy.deepcopy(P.REFERENCE_BREAKER)
+    data["breaker"]["limits"] = {"closing_speed": {"min": 1.0, "max": 1.3, "unit": "m/s"},
+                                 "bounce_duration": {"max": 1.0, "unit": "ms"}}
+    tight = load_rig(write_rig(tmp_path, data, "tight"))
+    fig = closing_figure(result, tight, "tight", closing_report(result, tight))
+    text = " ".join(fig._suptitle.get_text().split())
+    assert "FAIL: closing speed, 4-0 mm before touch on pole 3; bounce duration on pole 1, 2, 3" in text
+    assert "m/s" not in text and "limit" not in text.split("FAIL")[1]
+    matplotlib.pyplot.close(fig)
+
+
+def test_a_long_title_is_broken_to_fit_the_figure(closing):
+    rig, result, _, _ = closing
+    name = "my breaker with a long name: 12 kV, 40 kA, three poles on a 60 mm main shaft, spring set B, " * 2
+    report = closing_report(result, rig)
+    fig = closing_figure(result, rig, name, report)
+    fig.canvas.draw()
+    title = fig._suptitle
+    renderer = fig.canvas.get_renderer()
+    box = title.get_window_extent(renderer)
+    assert title.get_text().count("\n") >= 2 and box.width <= fig.bbox.width
+    # above the first panel and its own title, not over them
+    assert box.y0 >= fig.axes[0].title.get_window_extent(renderer).y1
+    # the words are all there, in order
+    assert " ".join(title.get_text().split()).startswith(" ".join(name.split()))
+    matplotlib.pyplot.close(fig)
+
+
+def test_the_diagnosis_figure_is_in_engineering_units():
+    """diagnose --plot of a closing record: travel in mm, its residual in um, time in ms (a 55 ms
+    record), the noise band at +-2 sigma and the windows where the diagnosis put them."""
+    from types import SimpleNamespace
+
+    from vcbmodel.app.plots import diagnosis_figure
+
+    t = np.linspace(0.0, 0.055, 661)
+    travel = 0.015 * np.clip((t - 0.02) / 0.03, 0.0, 1.0)
+    residual = 2e-8 * np.sin(2e3 * t)
+    fit = SimpleNamespace(simulations=[SimpleNamespace(measured=travel + residual)], effects=("coulomb_friction",),
+                          spring_model=SimpleNamespace(label="lumped-2 (exact)"), times=[t], residuals=[residual],
+                          rms=float(np.sqrt(np.mean(residual**2))))
+    d = SimpleNamespace(unit="m", measurement=SimpleNamespace(t=t, channel=lambda name: travel), baseline=fit, final=fit,
+                        missing_effects=[], nuisance={"values": {"release_time": 1e-4}}, explained=True, noise=1e-8,
+                        window=(0.03, 0.04), verdict={}, rig=SimpleNamespace(experiment="vcb_closing"))
+    fig = diagnosis_figure(d)
+    top, bottom = fig.axes
+    assert top.get_ylabel() == "follower displacement (mm)" and bottom.get_ylabel() == "model - measurement (um)"
+    assert bottom.get_xlabel() == "t (ms, record time)"
+    measured = top.get_lines()[0]
+    assert np.max(measured.get_ydata()) == pytest.approx(15.0) and np.max(measured.get_xdata()) == pytest.approx(55.0)
+    assert np.max(np.abs(bottom.get_lines()[0].get_ydata())) == pytest.approx(0.02, rel=1e-3)
+    assert sorted(abs(line.get_ydata()[0]) for line in bottom.get_lines()[1:3]) == pytest.approx([0.02, 0.02])
+    span = bottom.patches[0]
+    assert (span.get_x(), span.get_x() + span.get_width()) == pytest.approx((30.0, 40.0))
+    matplotlib.pyplot.close(fig)
+
+
+def test_the_energy_legend_covers_no_curve(closing):
+    """On a 100 ms run (the cam resting on its latch) the energies fill the panel's upper left."""
+    rig = closing[0]
+    result = simulate(rig, backend="fast", t_end=0.1)
+    fig = closing_figure(result, rig, "long", closing_report(result, rig))
+    energy = fig.axes[4]
+    fig.canvas.draw()
+    box = energy.get_legend().get_window_extent(fig.canvas.get_renderer())
+    for line in energy.get_lines():
+        xy = energy.transData.transform(np.column_stack([line.get_xdata(), line.get_ydata()]))
+        inside = (xy[:, 0] > box.x0) & (xy[:, 0] < box.x1) & (xy[:, 1] > box.y0) & (xy[:, 1] < box.y1)
+        assert not inside.any(), line.get_label()
+    matplotlib.pyplot.close(fig)

@@ -66,6 +66,23 @@ def test_the_per_pole_table_is_in_engineering_units_against_the_limits(run):
     assert "limits (breaker.limits): 5 of 5 judged: all pass" in text
 
 
+def test_a_limit_on_a_per_pole_figure_judges_the_poles_not_the_mechanism(run, tmp_path):
+    """A wipe limit judges each pole's wipe; the mechanism's wipe after the first touch (4.37 mm, a
+    different travel) is shown without it, and so is the last pole's closing time under a per-pole
+    closing-time limit."""
+    rig, result, fom = run
+    limits = {"wipe": {"min": 3.5, "max": 5.0, "unit": "mm"}, "closing_time": {"max": 80, "unit": "ms"}}
+    report = summaries.closing_report(result, load_rig(write_rig(tmp_path, breaker(limits)[0], "wipe")))
+    text = report_text(report)
+    assert table(text)["wipe (travel after touch)"][-3:] == ["FAIL", "pole", "2"]  # 3.462 mm
+    mechanism = next(line for line in text.splitlines() if "mechanism wipe" in line)
+    last = next(line for line in text.splitlines() if "closing time (last pole)" in line)
+    assert mechanism.split()[-1] == "4.366" and last.split()[-1] == "39.08"  # no limit, no result
+    assert "2 of 2 judged" in text
+    body = report_json(report)
+    assert all("limit" not in row for row in body["summary"] if row.get("figure") in ("wipe_m", "closing_time_s"))
+
+
 def test_a_tighter_limit_fails_on_the_poles_that_break_it(run, tmp_path):
     rig, result, fom = run
     bounces = fom["per_pole"]["bounce_duration_s"]
@@ -138,6 +155,7 @@ def test_bad_limits_are_refused_in_one_line(tmp_path, capsys, limits, field, wor
 @pytest.mark.parametrize("value, step, text", [(38.84214, 1e-3, "38.84"), (0.537937, 1e-3, "0.538"),
                                                (25646.4e-3, 1e-3, "25.65"), (8.1e-6, 1e-3, "0.000"),
                                                (-1e-7, 1e-3, "0.000"), (252.119, 0.01, "252.1"), (1234.6, 0.0, "1235"),
+                                               (-3.0381e-6, 0.0, "-3.038e-06"), (2.5e7, 0.0, "2.500e+07"),
                                                (None, 1e-3, "-"), (float("nan"), 1e-3, "-"), (2, 1.0, "2")])
 def test_values_are_printed_to_four_figures_and_no_finer_than_their_unit(value, step, text):
     assert format_value(value, step) == text

@@ -19,7 +19,7 @@ from ..experiments.closing_evaluation import energy_balance
 from ..experiments.summaries import result_figures
 from ..laws.breaker import pole_gaps
 from ..rig.units import format_value
-from .plots import save
+from .plots import fitted_title, save
 
 if TYPE_CHECKING:
     from matplotlib.axes import Axes
@@ -61,9 +61,12 @@ def closing_figure(result: SimulationResult, rig: Rig, title: str, report: Repor
     bounce_closeup(closeup, result, rig, fom, t_ms)
     energy_panel(energy, result, rig, t_ms)
     axes[0].set_xlim(float(t_ms[0]), float(t_ms[-1]))
-    fig.subplots_adjust(top=0.93, bottom=0.04, left=0.1, right=0.97)
-    verdict = report.verdict() if report is not None else ""
-    fig.suptitle(f"{title}\nSIMULATED, not measured" + (f"; {verdict}" if verdict else ""), fontsize=9)
+    verdict = report.verdict(brief=True) if report is not None else ""
+    text = fitted_title(fig, f"{title}\nSIMULATED, not measured" + (f"; {verdict}" if verdict else ""), 9)
+    # the title's lines (9 pt, 1.3 line spacing) and a third of an inch above the first panel's own title
+    top = 1.0 - ((text.count("\n") + 1) * 9 * 1.3 / 72 + 0.35) / fig.get_figheight()
+    fig.subplots_adjust(top=top, bottom=0.04, left=0.1, right=0.97)
+    fig.suptitle(text, fontsize=9, y=0.995, va="top")
     return fig
 
 
@@ -110,7 +113,7 @@ def speed_panel(ax: Axes, result: SimulationResult, rig: Rig, fom: dict, t_ms: n
     ax.plot([], [], "-", color="0.3", lw=3.0, label="closing speed over the zone")
     ax.set_ylabel("speed (m/s)")
     ax.set_title("contact speed per pole; dots: touch", fontsize=9, loc="left")
-    ax.legend(fontsize=7, loc="upper left", ncol=2)
+    ax.legend(fontsize=7, loc="best", ncol=2)
     ax.grid(alpha=0.3)
 
 
@@ -178,7 +181,10 @@ def energy_panel(ax: Axes, result: SimulationResult, rig: Rig, t_ms: np.ndarray)
         ax.plot(t_ms, e["dissipated"], color="tab:brown", lw=1.2, label="dissipated (friction, dampers)")
         ax.plot(t_ms, e["potential"] - e["potential"][0] + e["spring_energy_released"], color="tab:cyan", lw=1.0,
                 label="stored elsewhere (opening and wipe springs, contacts, weights)")
-        ax.legend(fontsize=7, loc="upper left")
+        # headroom above the curves for the legend, which then covers none of them
+        low, high = ax.get_ylim()
+        ax.set_ylim(low, high + 0.45 * (high - low))
+        ax.legend(fontsize=7, loc="upper center", ncol=2)
     ax.set_ylabel("energy (J)")
     ax.set_xlabel("t (ms from the latch release)")
     ax.set_title("energy", fontsize=9, loc="left")

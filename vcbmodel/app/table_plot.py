@@ -21,7 +21,7 @@ from ..experiments import EXPERIMENTS
 from ..rig.reader import read_bytes, text_bytes
 from ..experiments.report import label
 from ..rig.units import DISPLAY, unit_of_name
-from .plots import save
+from .plots import fitted_title, save
 
 if TYPE_CHECKING:
     from matplotlib.figure import Figure
@@ -128,11 +128,24 @@ def sweep_figure(table: pd.DataFrame, x: str, ys: Sequence[str], title: str) -> 
             ax.plot(fx * ok[x], fy * ok[y], "o", ms=4, color="C0")
         ax.set_ylabel(y_label)
         ax.grid(alpha=0.3)
+        missing_values(ax, ok, y)
     axes[-1, 0].set_xlabel(x_label)
     left_out = len(table) - len(ok)
-    fig.suptitle(title + (f"; {left_out} run(s) that did not finish left out" if left_out else ""), fontsize=9)
+    fig.suptitle(fitted_title(fig, title + (f"; {left_out} run(s) that did not finish left out" if left_out else ""), 9),
+                 fontsize=9)
     fig.tight_layout()
     return fig
+
+
+def missing_values(ax, ok: pd.DataFrame, y: str) -> None:
+    """Say in ``ax`` how many finished runs have no value of ``y`` (an empty cell: a pendulum still
+    swinging at the end has no stop time), so an empty or sparse panel is not read as a plotting fault."""
+    missing = int(ok[y].isna().sum())
+    if missing == len(ok) and missing:
+        ax.text(0.5, 0.5, f"no finished run has a value of {y} (its cells are empty)", ha="center", va="center",
+                transform=ax.transAxes, fontsize=9)
+    elif missing:
+        ax.set_title(f"{missing} of {len(ok)} finished runs have no value of {y} (empty cells)", fontsize=8, loc="left")
 
 
 def plot_sweep(path: str, x: str, ys: Sequence[str], output: str) -> None:
@@ -163,14 +176,14 @@ def fit_figure(result) -> Figure:
                     label=f"residual, rms {1e3 * float(np.sqrt(np.mean(fit.residuals[k] ** 2))):.3g} mrad")
         for sign in (-2, 2):
             bottom.axhline(sign * 1e3 * fit.sigma, color="k", ls=":", lw=0.8)
-        bottom.plot([], [], ":", color="k", label=f"records' noise, +-2 sigma ({1e3 * fit.sigma:.3g} mrad)")
+        bottom.plot([], [], ":", color="k", label=f"records' noise, +-2 sigma (sigma {1e3 * fit.sigma:.3g} mrad)")
         bottom.set_ylabel("model - measured (mrad)")
         bottom.set_xlabel("t (s)")
         bottom.legend(fontsize=7)
         bottom.grid(alpha=0.3)
     units = {"stick_velocity": " rad/s", "stribeck_velocity": " rad/s", "viscous": " N m s/rad"}
     values = ", ".join(f"{name} {value:.4g}{units.get(name, '')}" for name, value in result.values.items())
-    fig.suptitle(f"friction identification, {result.law} law: {values}", fontsize=9)
+    fig.suptitle(fitted_title(fig, f"friction identification, {result.law} law: {values}", 9), fontsize=9)
     fig.tight_layout()
     return fig
 

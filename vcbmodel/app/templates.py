@@ -204,7 +204,7 @@ def stop_lines(b) -> list[str]:
 
 def spring_lines(rig: Rig) -> list[str]:
     """The closing spring as a designer checks it: rate, mass and surge frequency (with their source),
-    the charged pull and the wire's stress against Shigley's allowable for an extension spring."""
+    the charged pull and the coil, then the spring maker's checks (:func:`strength_lines`)."""
     s = rig.closing_spring
     bx, by = cam_pin(rig.cam.initial_angle, rig.cam)
     pull = s.stiffness * (math.hypot(bx - s.anchor[0], by - s.anchor[1]) - s.free_length)
@@ -213,15 +213,15 @@ def spring_lines(rig: Rig) -> list[str]:
     def source(key):
         return "from the datasheet" if key in s.from_datasheet else "given"
 
-    coil = (f"wire {1e3 * c['wire_diameter_m']:.2f} mm on a {1e3 * c['coil_diameter_m']:.1f} mm mean diameter"
+    coil = (f"wire {1e3 * c['wire_diameter_m']:.2f} mm on a {1e3 * c['coil_diameter_m']:.1f} mm mean diameter "
+            f"(index {c['coil_diameter_m'] / c['wire_diameter_m']:.3g})"
             if c["coil_given"] else
             f"no coil given: the lightest coil of this k0 and m0 at index {c['coil_diameter_m'] / c['wire_diameter_m']:g}, "
             f"wire {1e3 * c['wire_diameter_m']:.2f} mm")
-    verdict = "within" if c["stress_ratio"] <= 1 else "ABOVE"
+    # the body's stress is judged once, in the spring maker's checks below (Bergstrasser's factor)
     return [f"  closing spring ({s.count} alike): k0 {s.stiffness:.6g} N/m ({source('stiffness')}), active mass "
             f"{s.mass:.4g} kg ({source('mass')}), surge frequency {c['surge_frequency_hz']:.1f} Hz",
-            f"    charged pull {pull:.0f} N each; {coil}: shear stress {c['shear_stress_Pa'] / 1e9:.2f} GPa (Wahl), "
-            f"{verdict} 0.45 S_ut = {c['allowable_Pa'] / 1e9:.2f} GPa of Cr-Si wire"] + strength_lines(rig, c) + ([
+            f"    charged pull {pull:.0f} N each; {coil}"] + strength_lines(rig, c) + ([
             "    (the rig's coil fields size the stress check and an ANCF spring only: with stiffness and mass given, "
             "they do not change k0 or the mass)"] if c["coil_given"] and not s.from_datasheet else [])
 
@@ -255,14 +255,16 @@ def strength_lines(rig: Rig, c: dict) -> list[str]:
                      + "; ".join(f"{what} {1e3 * b['wire_diameter_m']:.2f} mm on {1e3 * b['coil_diameter_m']:.1f} mm, "
                                  f"{b['active_coils']:.1f} active coils, {b['mass_kg']:.2f} kg active mass"
                                  for what, b in found))
-    return lines + [compression_line(c, high)]
+    return lines + [compression_line(c, high, s.shear_modulus or P.DEFAULT_SHEAR_MODULUS)]
 
 
-def compression_line(c: dict, high: float) -> str:
+def compression_line(c: dict, high: float, shear_modulus: float) -> str:
     """The same coil read as a compression spring (laws.spring_strength.compression_reading): its body
-    against 0.65 S_ut, and where it buckles unguided; a guide holds it, and with it the lateral motion."""
+    against 0.65 S_ut, and where it buckles unguided; a guide holds it, and with it the lateral motion.
+    Its active coils are those of its rate k0 in the wire's ``shear_modulus`` (Pa; the rig's, as for
+    the stress check)."""
     d, D = c["wire_diameter_m"], c["coil_diameter_m"]
-    n_a = P.DEFAULT_SHEAR_MODULUS * d**4 / (8.0 * D**3 * c["stiffness_N_m"])
+    n_a = shear_modulus * d**4 / (8.0 * D**3 * c["stiffness_N_m"])
     r = compression_reading(d, D, n_a, c["stiffness_N_m"], high)
     ends = ", ".join(f"{end} ends {'never' if math.isinf(y) else f'at {1e3 * y:.0f} mm'}"
                      for end, y in ((e, r[f"buckles_at_{e}_m"]) for e in P.BUCKLING_END_CONSTANTS))

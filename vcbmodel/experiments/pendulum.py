@@ -59,11 +59,13 @@ def swing_frequency(rig: Rig) -> float:
 
 def figures_of_merit(result: SimulationResult, rig: Rig) -> dict:
     """``first_peak_rad``: amplitude of the first extreme after release; ``stop_time_s``:
-    when the shaft last moved faster than the stick band."""
+    when the shaft last moved faster than the stick band (0 if it never did; None if it still does
+    at the end of the run: it has not stopped)."""
     w = result.channels["shaft_velocity"]
     moving = np.nonzero(np.abs(w) > result.spec.stick_velocity)[0]
+    still_swinging = moving.size and moving[-1] == w.size - 1
     return {"first_peak_rad": first_peak_amplitude(result.t, result.measured),
-            "stop_time_s": float(result.t[moving[-1]]) if moving.size else 0.0}
+            "stop_time_s": None if still_swinging else float(result.t[moving[-1]]) if moving.size else 0.0}
 
 
 def _span_decay(rig: Rig, measurement: Measurement) -> dict | None:
@@ -130,11 +132,16 @@ def swinging_part(t: np.ndarray, y: np.ndarray, sigma: float) -> float | None:
 
 
 def signature(rig: Rig, measurement: Measurement, model_curve: np.ndarray, residual: np.ndarray, sigma: float) -> dict:
-    """How the measured amplitude decays and when the swing stops, measured vs model."""
+    """How the measured amplitude decays and when the swing stops (s), measured vs model; None for
+    a swing that does not stop within the record."""
     t, y = measurement.t, measurement.channel("pendulum_angle")
     tp, ap = swing_peaks(t, y)
-    return {"amplitude_decay": decay_shape(tp, ap), "measured_stop_time_s": motion_end_time(t, y, sigma),
-            "model_stop_time_s": motion_end_time(t, model_curve, sigma)}
+
+    def stop(curve):
+        end = motion_end_time(t, curve, sigma)
+        return None if end >= t[-1] else end
+
+    return {"amplitude_decay": decay_shape(tp, ap), "measured_stop_time_s": stop(y), "model_stop_time_s": stop(model_curve)}
 
 
 PENDULUM = Experiment(

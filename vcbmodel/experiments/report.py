@@ -84,8 +84,18 @@ class Report:
     notes: list = field(default_factory=list)
     limits: tuple | None = None
 
+    def judged_per_pole(self, row: Row) -> bool:
+        """Whether ``row`` is a whole-run row of a figure the per-pole rows carry (the mechanism's wipe
+        beside each pole's): a limit on that figure judges each pole, not the whole run
+        (:data:`vcbmodel.rig.limits.LIMITED_FIGURES`)."""
+        return bool(row.key) and not any(row is r for r in self.pole_rows) and \
+            row.figure in {r.figure for r in self.pole_rows}
+
     def check(self, row: Row) -> Check | None:
-        """The row against the rig's limit on its figure (None: no limit on it)."""
+        """The row against the rig's limit on its figure (None: no limit on it, or one that judges
+        the poles' rows instead: :meth:`judged_per_pole`)."""
+        if self.judged_per_pole(row):
+            return None
         for limit in self.limits or ():
             if limit.figure == row.figure:
                 return Check(limit, [limit.holds(None if _missing(v) else float(v)) for v in row.values])
@@ -100,16 +110,18 @@ class Report:
         c = self.check(row)
         if c is not None:
             return c.limit.text(), c.result
-        return (NO_LIMIT, "") if self.limits is not None and row.figure in LIMITED_FIGURES else ("", "")
+        return ((NO_LIMIT, "") if self.limits is not None and row.figure in LIMITED_FIGURES
+                and not self.judged_per_pole(row) else ("", ""))
 
-    def verdict(self) -> str:
-        """One line: how many limits hold, which fail."""
+    def verdict(self, brief: bool = False) -> str:
+        """One line: how many limits hold, which fail (``brief``: each failing figure and its poles,
+        without the values and limits, for a figure's title)."""
         if self.limits is None:
             return ""
         if not self.limits:
             return "limits: none given (breaker.limits): no figure is judged"
         checks = self.checks()
-        failed = [self._failure(row, c) for row, c in checks if c.result.startswith("FAIL")]
+        failed = [self._failure(row, c, brief) for row, c in checks if c.result.startswith("FAIL")]
         unseen = [row.what for row, c in checks if c.result == "no value"]
         judged = len({c.limit.figure for _, c in checks})
         head = f"limits (breaker.limits): {judged} of {len(self.limits)} judged"
@@ -118,11 +130,13 @@ class Report:
         return f"{head}: all pass" + (f"; no value for {', '.join(unseen)}" if unseen else "")
 
 
-    def _failure(self, row: Row, check: Check) -> str:
-        """``closing speed ... on pole 3 (1.307 m/s; limit 1-1.5 m/s)``."""
+    def _failure(self, row: Row, check: Check, brief: bool = False) -> str:
+        """``closing speed ... on pole 3 (1.307 m/s; limit 1-1.5 m/s)`` (``brief``: without the brackets)."""
         unit, texts, _ = row.cells()
         bad = [i for i, h in enumerate(check.holds) if h is False]
         where = f" on pole {', '.join(str(i + 1) for i in bad)}" if len(check.holds) > 1 else ""
+        if brief:
+            return f"{row.what}{where}"
         values = ", ".join(texts[i] for i in bad)
         return f"{row.what}{where} ({values} {unit}; limit {check.limit.text()})".replace(" ;", ";")
 
@@ -143,7 +157,9 @@ def report_text(report: Report) -> str:
     out = [report.title] if report.title else []
 
     def line(what, unit, cells, limit="", result=""):
-        body = f"  {what:<{width}}{unit:<5}" + "".join(f"{c:>9}" for c in cells + [""] * (columns - len(cells)))
+        # a cell wider than its column still keeps a space from the one before
+        body = f"  {what:<{width}}{unit:<5}" + "".join(f"{c:>9}" if len(c) < 9 else f" {c}"
+                                                        for c in cells + [""] * (columns - len(cells)))
         return (body + (f"   {limit:<15}{result}" if limit or result else "")).rstrip()
 
     judged = report.limits is not None
@@ -171,7 +187,7 @@ def _row_json(report: Report, row: Row, pole: int | None = None) -> dict:
     if c is not None:
         holds = c.holds[pole if pole is not None else 0]
         out.update({"limit": c.limit.text(), "pass": holds})
-    elif report.limits is not None and row.figure in LIMITED_FIGURES:
+    elif report.limits is not None and row.figure in LIMITED_FIGURES and not report.judged_per_pole(row):
         out["limit"] = None
     return out
 

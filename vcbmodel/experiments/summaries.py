@@ -56,6 +56,10 @@ def pendulum_summary(result: SimulationResult, rig: Rig) -> list[tuple]:
         lines.append((f"amplitude decay ({decay['shape']})",
                       decay["linear_slope"] if decay["shape"] == "linear" else decay["exponential_rate"],
                       "rad/s" if decay["shape"] == "linear" else "1/s", "deg/s" if decay["shape"] == "linear" else None))
+    if fom["stop_time_s"] is None:
+        w = float(result.channels["shaft_velocity"][-1])
+        lines.append(("note", f"the run ends at {float(t[-1]):.4g} s with the pendulum still swinging ({w:.3g} rad/s "
+                              f"at {np.degrees(y[-1]):.1f} deg): it has not stopped; a longer --t-end shows where it does", None))
     return lines
 
 
@@ -142,15 +146,14 @@ def closing_notes(fom: dict, rig: Rig) -> list[tuple]:
 def twist_summary(result: SimulationResult, rig: Rig) -> list[tuple]:
     """[(what, value, unit)] of the main shaft's twist (``breaker.main_shaft``; none for a rigid
     shaft): the largest angle between two pole levers before the first touch, over the run and at
-    its end, in rad and as travel at the pole (m)."""
+    its end, in rad and as travel at the pole (m: the twist times the follower's output arm)."""
     twist = main_shaft_twist(result, rig)
     if twist is None:
         return []
     lines = []
-    for key, what in (("before_touch", "before the first touch"), ("largest", "over the run"),
-                      ("end", "at the end of the run")):
-        lines += [(f"main shaft's largest twist {what}", twist[f"{key}_rad"], "rad"),
-                  (f"  as travel at the pole (twist x output arm) {what}", twist[f"{key}_m"], "m")]
+    for key, what in (("before_touch", "before first touch"), ("largest", "largest"), ("end", "at the end")):
+        lines += [(f"main shaft twist, {what}", twist[f"{key}_rad"], "rad"),
+                  (f"  as pole travel, {what}", twist[f"{key}_m"], "m")]
     return lines
 
 
@@ -251,12 +254,7 @@ def closing_report(result: SimulationResult, rig: Rig) -> Report:
     rows += [Row(key, label(key), [value], unit_of_name(key)) for key, value in fom.items()
              if key not in shown and unit_of_name(key) and isinstance(value, (int, float, type(None)))
              and not isinstance(value, bool)]
-    rows += [Row("", what, [value], unit) for what, value, unit in stop_summary(result, rig)]
-    twist = main_shaft_twist(result, rig)
-    for key, what in (("before_touch", "before first touch"), ("largest", "largest"), ("end", "at the end")):
-        if twist is not None:
-            rows += [Row("", f"main shaft twist, {what}", [twist[f"{key}_rad"]], "rad"),
-                     Row("", f"  as pole travel, {what}", [twist[f"{key}_m"]], "m")]
+    rows += [Row("", what, [value], unit) for what, value, unit in stop_summary(result, rig) + twist_summary(result, rig)]
     extra = pole_travel_figures(result, rig, fom["per_pole"]["touch_s"])
     return Report(f"{rig.name}: {rig.experiment}", rows, pole_rows(fom, extra, rig), rig.breaker.poles.count,
                   [text for _, text, _ in closing_notes(fom, rig)], rig.breaker.limits)

@@ -15,8 +15,8 @@ poles; here the reference is the mechanical release, the record's ``release_time
 - **bounce**: every 1 -> 0 transition after a pole's first touch is a bounce (an opening of at
   least ``min_bounce`` s); ``bounce_count`` is the largest count of any pole, ``bounce_duration_s``
   the longest interval from a pole's first touch to its final closing;
-- **touch speed** over a zone: the mean speed of the travel channel over the last ``zone`` m of
-  travel before the first contact touch (default 4 mm, parameters.SPEED_ZONE: the zone of the
+- **closing speed** over a zone (``closing_speed_m_s``): the mean speed of the travel channel over
+  the last ``zone`` m of travel before the first contact touch (default 4 mm, parameters.SPEED_ZONE: the zone of the
   simulations' closing speed too), distance over time;
 - **overtravel**: the largest travel beyond the final resting position (max - final); **rebound**:
   how far the travel comes back below the final position after that peak (final - min after it);
@@ -42,7 +42,7 @@ if TYPE_CHECKING:
 
 CONTACT = re.compile(r"pole_(\d+)_contact")
 TRAVEL = re.compile(r"pole_(\d+)_travel")
-#: Travel zone before the first touch over which the touch speed is averaged (m): the closing speed's
+#: Travel zone before the first touch over which the closing speed is averaged (m): the closing speed's
 #: zone of the simulations (parameters.SPEED_ZONE), so a record and a simulation report one figure.
 TOUCH_ZONE = P.SPEED_ZONE[0]
 #: Shortest opening counted as a bounce (s): one sample of a 20 kHz analyser.
@@ -145,8 +145,8 @@ def figures_of_merit(t: np.ndarray, contacts: Sequence[np.ndarray], travel: np.n
                 i = int(before[-1])
                 # the crossing of x_touch - zone, interpolated
                 t0 = t[i] + (x_touch - zone - travel[i]) / max(travel[i + 1] - travel[i], 1e-300) * (t[i + 1] - t[i])
-                out["touch_speed_m_s"] = zone / max(t_touch - t0, 1e-300)
-                out["touch_zone_m"] = zone
+                out["closing_speed_m_s"] = zone / max(t_touch - t0, 1e-300)
+                out["closing_speed_zone_m"] = zone
     return out
 
 

@@ -27,17 +27,62 @@ def noise_estimate(y: np.ndarray) -> float:
     return float(1.4826 * mad / math.sqrt(20.0))
 
 
+def turning_points(y: np.ndarray, reversal: float) -> np.ndarray:
+    """Indices of the alternating extremes of ``y``: a running maximum (minimum) becomes a turning
+    point once ``y`` has come back from it by more than ``reversal`` (same unit as ``y``). The first
+    sample counts as one when the signal leaves it (a release); the last candidate, which the record
+    may have cut mid-swing, does not."""
+    y = np.asarray(y, float)
+    points: list[int] = []
+    lo = hi = 0
+    direction = 0
+    for i in range(1, y.size):
+        if direction >= 0 and y[i] > y[hi]:
+            hi = i
+        if direction <= 0 and y[i] < y[lo]:
+            lo = i
+        if direction >= 0 and y[hi] - y[i] > reversal:
+            points.append(hi)
+            direction, lo = -1, i
+        elif direction <= 0 and y[i] - y[lo] > reversal:
+            points.append(lo)
+            direction, hi = 1, i
+    return np.array(points, dtype=int)
+
+
+def swing_centre(y: np.ndarray, sigma: float) -> float:
+    """The angle (same unit as ``y``) a free swing turns about.
+
+    Where the swing has stopped within the record (its last 5 % moves by no more than ten noise
+    levels or 1 % of the record's span), the median of that stretch: the angle it stuck at. Where it
+    is still swinging, that median is wherever the record happens to end, so the centre comes from the
+    turning points p_i instead: the median of (p_i + 2 p_(i+1) + p_(i+2)) / 4, in which an amplitude
+    that shrinks steadily from one extreme to the next cancels; the mid-point of two; the tail's
+    median when the record holds fewer."""
+    y = np.asarray(y, float)
+    tail = y[-max(10, y.size // 20):]
+    span = float(np.ptp(y)) if y.size else 0.0
+    still = max(10 * sigma, 0.01 * span) if math.isfinite(sigma) else 0.01 * span
+    if float(np.ptp(tail)) <= still:
+        return float(np.median(tail))
+    p = y[turning_points(y, still)]
+    if p.size >= 3:
+        return float(np.median((p[:-2] + 2 * p[1:-1] + p[2:]) / 4))
+    return float(0.5 * (p[0] + p[1])) if p.size == 2 else float(np.median(tail))
+
+
 def swing_peaks(t: np.ndarray, angle: np.ndarray, min_separation: float = 0.1, signed: bool = False) -> tuple[np.ndarray, ...]:
     """Extreme values of a free swing: returns (times, |amplitudes|) of alternating peaks,
     and with ``signed`` also the angle values at the peaks.
 
-    A peak is the largest |angle| between two zero crossings of the (median-filtered)
-    angle about its final rest value; peaks below three noise levels are dropped.
+    A peak is the largest |angle - centre| between two crossings of the centre the swing turns
+    about (:func:`swing_centre`); peaks below three noise levels are dropped, and so is a peak
+    less than ``min_separation`` s after the one before, and the last sample (a record that ends
+    mid-swing has its largest deviation there, which is no turning point).
     """
-    t, y = np.asarray(t), np.asarray(angle)
+    t, y = np.asarray(t), np.asarray(angle, float)
     sigma = noise_estimate(y)
-    rest = np.median(y[-max(10, y.size // 20):])
-    z = y - rest
+    z = y - swing_centre(y, sigma)
     sign = np.sign(z)
     crossings = np.nonzero(np.diff(sign) != 0)[0]
     bounds = np.concatenate([[0], crossings + 1, [y.size]])
@@ -46,7 +91,7 @@ def swing_peaks(t: np.ndarray, angle: np.ndarray, min_separation: float = 0.1, s
         if b - a < 3:
             continue
         i = a + int(np.argmax(np.abs(z[a:b])))
-        if abs(z[i]) > 3 * sigma and (not times or t[i] - times[-1] >= min_separation):
+        if i < y.size - 1 and abs(z[i]) > 3 * sigma and (not times or t[i] - times[-1] >= min_separation):
             times.append(t[i])
             amps.append(abs(z[i]))
             vals.append(y[i])

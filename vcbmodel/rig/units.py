@@ -74,14 +74,17 @@ def display(si_unit: str | None) -> Display:
 
 
 def format_value(value: float | int | None, step: float = 0.0, figures: int = 4) -> str:
-    """``value`` to ``figures`` significant figures, never finer than ``step`` (0: no floor); ``-``
-    for None or NaN. Integers (counts) as they are."""
+    """``value`` to ``figures`` significant figures, never finer than ``step`` (0: no floor, and a
+    value below 1e-3 or from 1e6 up in powers of ten, ``-3.038e-06``); ``-`` for None or NaN.
+    Integers (counts) as they are."""
     if value is None or (isinstance(value, float) and not math.isfinite(value)):
         return "-"
     if isinstance(value, (bool, int)) or (step >= 1.0 and float(value).is_integer()):
         return str(int(value))
     v = float(value)
     magnitude = math.floor(math.log10(abs(v))) if v != 0.0 else 0
+    if step == 0.0 and not -3 <= magnitude < 6:
+        return f"{v:.{figures - 1}e}"
     decimals = max(0, figures - 1 - magnitude)
     if step > 0.0:
         decimals = min(decimals, max(0, -math.floor(math.log10(step) + 1e-9)))

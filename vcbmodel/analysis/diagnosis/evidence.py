@@ -132,8 +132,10 @@ def _start_text(ctx, baseline, window, signature, verdict: Verdict, period) -> s
             f"{ctx.search.noise.lag1:.2f}), largest in t = [{window[0]:.4g}, {window[1]:.4g}] s.")
     if "amplitude_decay" in signature and signature["amplitude_decay"].get("shape") != "unknown":
         d = signature["amplitude_decay"]
-        text += (f" The measured swing amplitude decays {d['shape']}ly over {d['peaks']} peaks and stops at "
-                 f"{signature['measured_stop_time_s']:.2f} s (model: {signature['model_stop_time_s']:.2f} s).")
+        def stops(s):
+            return "does not stop within the record" if s is None else f"stops at {s:.2f} s"
+        text += (f" The measured swing amplitude decays {d['shape']}ly over {d['peaks']} peaks and "
+                 f"{stops(signature['measured_stop_time_s'])} (model: {stops(signature['model_stop_time_s'])}).")
     if "spring_surge_frequency_hz" in signature:
         text += (f" Residual grows {signature['residual_growth']:.1f}x from the first to the second half; "
                  f"its dominant frequency is {signature['residual_dominant_frequency_hz']:.0f} Hz "
