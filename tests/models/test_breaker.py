@@ -487,7 +487,10 @@ def test_cli_simulates_a_closing_and_writes_follower_displacement(tmp_path):
                         "--t-end", str(P.BREAKER_T_END), "-o", str(out)], capture_output=True, text=True, timeout=300)
     assert p.returncode == 0, p.stderr
     lines = [ln for ln in out.read_text().splitlines() if not ln.startswith("#")]
-    assert lines[0] == "t,follower_displacement," + ",".join(f"pole_{i}_{c}" for i in (1, 2, 3) for c in ("travel", "contact"))
+    header = lines[0].split(",")
+    assert header[:11] == ["t", "follower_displacement"] + [f"pole_{i}_{c}" for i in (1, 2, 3)
+                                                            for c in ("travel", "velocity", "contact")]
+    assert {"pole_1_contact_force", "pole_3_rod_force", "cam_angle", "shaft_velocity", "cam_roller_force"} <= set(header)
     values = np.array([[float(x) for x in ln.split(",")] for ln in lines[1:]])
     assert values[0, 1] == 0.0 and values[-1, 1] == pytest.approx(0.0150006, abs=1e-6)  # closed: gap + wipe
     assert np.allclose(np.diff(values[:, 0]), 1 / 12000, atol=1e-7)

@@ -119,7 +119,7 @@ def test_a_figure_the_evaluation_adds_gets_its_row(run, monkeypatch):
     report = summaries.closing_report(result, rig)
     text = report_text(report)
     assert re.search(r"making current\s+kA\s+31.00\s+32.00\s+33.00", text)
-    assert re.search(r"kinetic margin\s+J\s+12.3\b", text)
+    assert re.search(r"kinetic margin \(cam's least, touch to latch\)\s+J\s+12.3\b", text)
     assert report_json(report)["poles"][2]["making_current"] == {"what": "making current", "value": 33.0, "unit": "kA",
                                                                  "figure": "making_current_A"}
 
