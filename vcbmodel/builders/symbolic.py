@@ -18,6 +18,7 @@ recorded law gives.
 """
 from __future__ import annotations
 
+from collections import OrderedDict
 from collections.abc import Callable, Sequence
 
 from ..compiled.trace import CONST, Expr, Graph, TraceOps
@@ -28,6 +29,9 @@ COMPARISONS = ("lt", "le", "gt", "ge", "eq", "ne")
 MAX_LEAVES = 256
 #: State values at the trace (any: no Python ``if`` may read the state, and nothing is folded with it).
 _TRACE_STATE = 0.3
+#: Plans kept (a model rebuilt with the same law and numbers traces to the same graph and reuses its plan).
+_PLANS_KEPT = 32
+_plans: OrderedDict = OrderedDict()
 
 
 def trace_law(law: Callable, n_args: int) -> tuple[Graph, int, list[int]]:
@@ -44,10 +48,23 @@ def lean_expression(law: Callable, args: Sequence) -> object:
     from .core import exudyn_modules
 
     exu, _ = exudyn_modules()
-    graph, root, leaves = trace_law(law, len(args))
+    graph, root, leaves, plan = _planned(law, len(args))
     writer = _Writer(graph, exu.symbolic, dict(zip(leaves, args)))
-    plan = _decisions(graph, root, [MAX_LEAVES])
     return writer.tree(root) if plan is None else writer.decided(plan)
+
+
+def _planned(law: Callable, n_args: int):
+    """(graph, root, argument nodes, plan) of ``law``: traced, and planned once per distinct graph
+    (the planning re-records the law per branch and costs ten times the trace)."""
+    graph, root, leaves = trace_law(law, n_args)
+    key = (tuple(graph.nodes), tuple(map(repr, graph.values)), root, tuple(leaves))
+    if key in _plans:
+        _plans.move_to_end(key)
+        return _plans[key]
+    _plans[key] = (graph, root, leaves, _decisions(graph, root, [MAX_LEAVES]))
+    if len(_plans) > _PLANS_KEPT:
+        _plans.popitem(last=False)
+    return _plans[key]
 
 
 def _decisions(graph: Graph, root: int, budget: list[int]):
@@ -55,12 +72,78 @@ def _decisions(graph: Graph, root: int, budget: list[int]):
     true, plan if false); None when more than ``budget[0]`` branch combinations would be written."""
     conditions = _conditions(graph, root)
     if not conditions:
-        budget[0] -= 1
-        return root if budget[0] >= 0 else None
+        return _signs_decided(graph, root, budget)
     c = _outermost(graph, conditions)
     if_true = _decisions(graph, _fixed(graph, root, c, True), budget)
     if_false = None if if_true is None else _decisions(graph, _fixed(graph, root, c, False), budget)
-    return None if if_false is None else (c, if_true, if_false)
+    if if_false is None:
+        return None
+    split = _either(graph, c)
+    if split is None:
+        return (c, if_true, if_false)
+    junction, first, second = split  # the cheaper test first; the other only where it decides
+    if junction == "or":
+        return (first, if_true, (second, if_true, if_false))
+    return (first, (second, if_true, if_false), if_false)
+
+
+def _signs_decided(graph: Graph, root: int, budget: list[int]):
+    """A branch-free ``root`` with the sign of an argument it takes ``sign`` or ``abs`` of decided
+    first: ``y > 0``, ``y < 0`` or ``y == 0``, and in each, ``sign(y)`` and ``abs(y)`` written as
+    what they are there (1 and y, -1 and -y, 0 and 0), so the constants they multiply fold."""
+    y = next((a[0] for op, a in (graph.nodes[i] for i in graph.used([root]))
+              if op in ("sign", "abs") and graph.nodes[a[0]][0] == "state"), None)
+    if y is None:
+        budget[0] -= 1
+        return root if budget[0] >= 0 else None
+    Y = Expr(graph, y)
+    plans = []
+    for s in (1.0, -1.0, 0.0):
+        known = {"sign": graph.const(s), "abs": Y if s > 0 else (-Y if s < 0 else graph.const(0.0))}
+        plans.append(_decisions(graph, _substituted(graph, root, y, known), budget))
+        if plans[-1] is None:
+            return None
+    return (graph.apply("gt", Y, 0.0).index, plans[0], (graph.apply("lt", Y, 0.0).index, plans[1], plans[2]))
+
+
+def _substituted(graph: Graph, root: int, y: int, known: dict) -> int:
+    """``root`` re-recorded with ``sign(y)`` and ``abs(y)`` replaced by ``known['sign']`` and
+    ``known['abs']`` (and ``y`` by 0 where it is 0)."""
+    new = {}
+    zero = graph.values[known["sign"].index] == 0.0
+    for i in graph.used([root]):
+        op, args = graph.nodes[i]
+        if op in ("sign", "abs") and args[0] == y:
+            new[i] = known[op]
+        elif i == y and zero:
+            new[i] = graph.const(0.0)
+        elif op in ("const", "param", "state") or not any(new[a].index != a for a in args):
+            new[i] = Expr(graph, i)
+        else:
+            new[i] = graph.apply(op, *(new[a] for a in args))
+    return new[root].index
+
+
+def _either(graph: Graph, c: int) -> tuple[str, int, int] | None:
+    """A comparison with a max or min, ``x <= max(a, b)`` and its kin, as two comparisons
+    ("or" or "and", cheaper, other): ``x <= max(a, b)`` is ``x <= a or x <= b`` for every
+    number, so where the cheaper one holds the other is not evaluated. None for other conditions."""
+    op, args = graph.nodes[c]
+    if op not in ("lt", "le", "gt", "ge") or len(args) != 2:
+        return None
+    if op in ("gt", "ge"):  # a > b is b < a
+        op, args = {"gt": "lt", "ge": "le"}[op], (args[1], args[0])
+    for side in (1, 0):  # x <= m (side 1) or m <= x (side 0)
+        pick = _min_max(graph, args[side])
+        if pick is None:
+            continue
+        kind, a, b = pick
+        x = args[1 - side]
+        tests = [graph.apply(op, *((Expr(graph, x), Expr(graph, m)) if side == 1 else (Expr(graph, m), Expr(graph, x)))).index
+                 for m in (a, b)]
+        tests.sort(key=lambda i: _cost(graph, i))
+        return ("or" if (kind == "max") == (side == 1) else "and", tests[0], tests[1])
+    return None
 
 
 def _is_boolean(graph: Graph, i: int) -> bool:
@@ -128,18 +211,53 @@ def _fixed(graph: Graph, root: int, condition: int, truth: bool) -> int:
     return new[root].index
 
 
+#: Rough cost of evaluating a node of each kind in Exudyn's tree interpreter (ns, measured in a
+#: solve: a leaf and an add about 2, a sin 8, a pow 10), to choose between ways of writing a value.
+_COST = {"const": 1.0, "state": 1.5, "abs": 2.5, "sign": 2.5, "sqrt": 5.0, "sin": 8.0, "cos": 8.0, "pow": 10.0,
+         "where": 3.0, "min": 3.0, "max": 3.0, "atan2": 20.0, "acos": 15.0}
+_COST_OTHER = 2.0
+
+
+def _cost(graph: Graph, i: int, memo: dict | None = None) -> float:
+    """Estimated cost of node ``i`` as the writer writes it (a tree: a shared value is paid at every
+    use; of an if-then-else the dearer branch)."""
+    memo = {} if memo is None else memo
+    if i not in memo:
+        op, args = graph.nodes[i]
+        pick = _min_max(graph, i)
+        if op in ("const", "param", "state"):
+            memo[i] = _COST.get(op, _COST_OTHER)
+        elif pick is not None:
+            memo[i] = _COST[pick[0]] + _cost(graph, pick[1], memo) + _cost(graph, pick[2], memo)
+        elif op == "where":
+            memo[i] = _COST["where"] + _cost(graph, args[0], memo) + max(_cost(graph, a, memo) for a in args[1:])
+        elif _is_square(graph, i):
+            memo[i] = min(2.0 * _cost(graph, args[0], memo) + _COST_OTHER,
+                          _cost(graph, args[0], memo) + _COST["pow"] + _COST["const"])
+        else:
+            memo[i] = _COST.get(op, _COST_OTHER) + sum(_cost(graph, a, memo) for a in args)
+    return memo[i]
+
+
+def _is_square(graph: Graph, i: int) -> bool:
+    op, args = graph.nodes[i]
+    return op == "mul" and args[0] == args[1]
+
+
 class _Writer:
     """Writes graph nodes as Exudyn symbolic expressions."""
 
     def __init__(self, graph: Graph, es, leaves: dict):
         self.graph, self.es, self.leaves = graph, es, leaves
-        self.done = {}
+        self.done, self.plans, self.costs = {}, {}, {}
 
     def decided(self, plan):
         if isinstance(plan, int):
             return self.tree(plan)
-        c, if_true, if_false = plan
-        return self.es.IfThenElse(self.tree(c), self.decided(if_true), self.decided(if_false))
+        if id(plan) not in self.plans:  # a plan reached by two decisions is written once (a shared subtree)
+            c, if_true, if_false = plan
+            self.plans[id(plan)] = self.es.IfThenElse(self.tree(c), self.decided(if_true), self.decided(if_false))
+        return self.plans[id(plan)]
 
     def tree(self, i: int):
         if i not in self.done:
@@ -157,8 +275,8 @@ class _Writer:
         pick = _min_max(self.graph, i)
         if pick is not None:
             return _WRITE[pick[0]](es, self.tree(pick[1]), self.tree(pick[2]))
-        if op == "mul" and args[0] == args[1] and self.graph.nodes[args[0]][0] not in ("const", "state"):
-            return es.pow(self.tree(args[0]), es.Real(2.0))  # a square: its operand evaluated once
+        if _is_square(self.graph, i) and _cost(self.graph, args[0], self.costs) > _COST["pow"] - 1.0:
+            return es.pow(self.tree(args[0]), es.Real(2.0))  # a square of a dear operand: evaluated once
         a = [self.tree(j) for j in args]
         return _WRITE[op](es, *a)
 
