@@ -18,6 +18,7 @@ recorded law gives.
 """
 from __future__ import annotations
 
+import math
 from collections import OrderedDict
 from collections.abc import Callable, Sequence
 
@@ -249,7 +250,7 @@ class _Writer:
 
     def __init__(self, graph: Graph, es, leaves: dict):
         self.graph, self.es, self.leaves = graph, es, leaves
-        self.done, self.plans, self.costs = {}, {}, {}
+        self.done, self.plans, self.costs, self.forms, self.sums = {}, {}, {}, {}, {}
 
     def decided(self, plan):
         if isinstance(plan, int):
@@ -275,10 +276,167 @@ class _Writer:
         pick = _min_max(self.graph, i)
         if pick is not None:
             return _WRITE[pick[0]](es, self.tree(pick[1]), self.tree(pick[2]))
-        if _is_square(self.graph, i) and _cost(self.graph, args[0], self.costs) > _COST["pow"] - 1.0:
-            return es.pow(self.tree(args[0]), es.Real(2.0))  # a square of a dear operand: evaluated once
+        if op in ("add", "sub", "neg", "mul", "div"):
+            c0, terms = _form(self.graph, i, self.forms)
+            if terms and (c0, terms) != (0.0, {(("n", i),): 1.0}):
+                return self._sum(c0, terms)
+        if op in ("lt", "le", "gt", "ge"):
+            difference = _difference(self.graph, op, args, self.forms)
+            if difference is not None:
+                cmp, (c0, terms) = difference
+                return _WRITE[cmp](es, self._sum(c0, terms), es.Real(0.0))
         a = [self.tree(j) for j in args]
         return _WRITE[op](es, *a)
+
+    def _sum(self, c0: float, terms: dict):
+        """c0 + sum of coefficient x product of factors: a positive term first, the others added or
+        subtracted with their coefficient's magnitude."""
+        es = self.es
+        items = sorted(terms.items(), key=lambda kv: (kv[1] < 0, kv[0]))
+        total = es.Real(c0) if c0 > 0.0 and items[0][1] < 0 else None
+        for factors, coeff in items:
+            m = self._product(factors)
+            term = m if abs(coeff) == 1.0 else es.Real(abs(coeff)) * m
+            if total is None:
+                total = term if coeff > 0 else -term
+            else:
+                total = total + term if coeff > 0 else total - term
+        if c0 != 0.0 and not (c0 > 0.0 and items[0][1] < 0):
+            total = total + es.Real(c0) if c0 > 0 else total - es.Real(-c0)
+        return total
+
+    def _product(self, factors: tuple):
+        """The product of ``factors`` (repeated as often as they multiply): a factor twice is a
+        square, written as pow of it where evaluating it again would cost more."""
+        product = None
+        for f in sorted(set(factors)):
+            n = factors.count(f)
+            pieces = [self._square(f)] * (n // 2) + [self._factor(f)] * (n % 2)
+            for piece in pieces:
+                product = piece if product is None else product * piece
+        return product
+
+    def _factor(self, key: tuple):
+        """A factor: a node (``("n", i)``) or a sum (``("f", (c0, terms))``), each written once."""
+        if key[0] == "n":
+            return self.tree(key[1])
+        if key not in self.sums:
+            self.sums[key] = self._sum(key[1][0], dict(key[1][1]))
+        return self.sums[key]
+
+    def _square(self, key: tuple):
+        if _factor_cost(self.graph, key, self.costs) > _COST["pow"] - 1.0:
+            return self.es.pow(self._factor(key), self.es.Real(2.0))  # a dear operand evaluated once
+        return self._factor(key) * self._factor(key)
+
+
+def _factor_cost(graph: Graph, key: tuple, memo: dict) -> float:
+    if key[0] == "n":
+        return _cost(graph, key[1], memo)
+    c0, terms = key[1]
+    return (3.0 if c0 else 0.0) + sum(2.0 * len(f) + (1.0 if abs(v) != 1.0 else 0.0)
+                                      + sum(_factor_cost(graph, k, memo) for k in f) for f, v in terms)
+
+
+def _form(graph: Graph, i: int, forms: dict) -> tuple[float, dict]:
+    """Node ``i`` as c0 + sum of coefficient x product of factors ({sorted factor keys: coefficient};
+    a factor is a node, ``("n", i)``, or a sum, ``("f", (c0, terms))``, scaled to a first coefficient
+    of 1), through sums, differences, negation, products and division by constants; any other node
+    is a factor of its own. The constants of a law's arithmetic gather into one coefficient per term,
+    and a value that enters twice (a square, a term in two places) is recognised as one (reassociation:
+    the same value to rounding)."""
+    if i in forms:
+        return forms[i]
+    op, args = graph.nodes[i]
+    form = (0.0, {(("n", i),): 1.0})
+    if op == "const":
+        form = (graph.values[i], {})
+    elif op in ("add", "sub"):
+        (ca, ta), (cb, tb) = _form(graph, args[0], forms), _form(graph, args[1], forms)
+        sign = 1.0 if op == "add" else -1.0
+        terms = dict(ta)
+        for k, v in tb.items():
+            terms[k] = terms.get(k, 0.0) + sign * v
+        form = (ca + sign * cb, {k: v for k, v in terms.items() if v != 0.0})
+    elif op == "neg":
+        form = _scaled(_form(graph, args[0], forms), -1.0)
+    elif op == "mul":
+        form = _times(_form(graph, args[0], forms), _form(graph, args[1], forms), forms)
+    elif op == "div":
+        fa, fb = _form(graph, args[0], forms), _form(graph, args[1], forms)
+        if not fb[1] and fb[0] != 0.0 and math.isfinite(fb[0]):
+            form = (fa[0] / fb[0], {k: v / fb[0] for k, v in fa[1].items()})
+    forms[i] = form
+    return form
+
+
+def _difference(graph: Graph, op: str, args: tuple, forms: dict):
+    """A comparison of two state-dependent sides as (operator, form of left minus right) against 0,
+    their terms merged; ``|a| <= k sqrt(q)`` (k > 0) as ``a a - k k q <= 0`` (both sides are not
+    negative, so the squares compare alike, and the square of a monomial folds into its terms).
+    None when a side is constant (then the comparison is written as it is)."""
+    if op in ("gt", "ge"):  # a > b is b < a
+        op, args = {"gt": "lt", "ge": "le"}[op], (args[1], args[0])
+    a, b = args
+    fa, fb = _form(graph, a, forms), _form(graph, b, forms)
+    root = _root_of(graph, fb, forms)
+    if graph.nodes[a][0] == "abs" and root is not None:
+        inner = _form(graph, graph.nodes[a][1][0], forms)
+        fa, fb = _times(inner, inner, forms), root
+    if not fa[1] or not fb[1]:
+        return None
+    terms = dict(fa[1])
+    for k, v in fb[1].items():
+        terms[k] = terms.get(k, 0.0) - v
+    terms = {k: v for k, v in terms.items() if v != 0.0}
+    return (op, (fa[0] - fb[0], terms)) if terms else None
+
+
+def _root_of(graph: Graph, form: tuple[float, dict], forms: dict) -> tuple[float, dict] | None:
+    """For a form k sqrt(q) with k > 0: the form of k k q; else None."""
+    c0, terms = form
+    if c0 != 0.0 or len(terms) != 1:
+        return None
+    (factors, k), = terms.items()
+    if k <= 0.0 or len(factors) != 1 or factors[0][0] != "n" or graph.nodes[factors[0][1]][0] != "sqrt":
+        return None
+    return _scaled(_form(graph, graph.nodes[factors[0][1]][1][0], forms), k * k)
+
+
+def _times(fa: tuple[float, dict], fb: tuple[float, dict], forms: dict) -> tuple[float, dict]:
+    """The product of two forms, as one term (a sum that multiplies is a factor of its own)."""
+    if not fa[1] or not fb[1]:
+        return _scaled(fb, fa[0]) if not fa[1] else _scaled(fa, fb[0])
+    canon = forms.setdefault("canon", {})
+    (ka, pa), (kb, pb) = _monomial(fa, canon), _monomial(fb, canon)
+    return (0.0, {tuple(sorted(pa + pb)): ka * kb})
+
+
+def _scaled(form: tuple[float, dict], c: float) -> tuple[float, dict]:
+    return (form[0] * c, {k: v * c for k, v in form[1].items()})
+
+
+def _monomial(form: tuple[float, dict], canon: dict) -> tuple[float, tuple]:
+    """(coefficient, factors) of a form as one term: itself when it is one, else its first
+    coefficient times the sum scaled by it (so a sum and its multiples are the same factor)."""
+    c0, terms = form
+    if c0 == 0.0 and len(terms) == 1:
+        (factors, coeff), = terms.items()
+        return coeff, factors
+    items = sorted(terms.items())
+    s = items[0][1]
+    key = ("f", (c0 / s, tuple((k, v / s) for k, v in items)))
+    return s, (canon.setdefault(_rounded(key), key),)
+
+
+def _rounded(key):
+    """A factor key with its coefficients to 12 digits: sums equal but for rounding (one law
+    computed the same sum by two routes) are the same factor."""
+    if isinstance(key, float):
+        return float(f"{key:.12g}")
+    if isinstance(key, tuple):
+        return tuple(_rounded(k) for k in key)
+    return key
 
 
 _WRITE = {
