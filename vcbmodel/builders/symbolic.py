@@ -371,17 +371,17 @@ def _form(graph: Graph, i: int, forms: dict) -> tuple[float, dict]:
 
 
 def _difference(graph: Graph, op: str, args: tuple, forms: dict):
-    """A comparison of two state-dependent sides as (operator, form of left minus right) against 0,
-    their terms merged; ``|a| <= k sqrt(q)`` (k > 0) as ``a a - k k q <= 0`` (both sides are not
-    negative, so the squares compare alike, and the square of a monomial folds into its terms).
-    None when a side is constant (then the comparison is written as it is)."""
+    """A comparison of two state-dependent sides that share a term as (operator, form of left minus
+    right) against 0, their terms merged; ``|a| <= k sqrt(q)`` (k > 0, a one term) as ``a a - k k q <= 0`` (both sides
+    are not negative, so the squares compare alike, and a's square folds into q's terms).
+    None when a side is constant or nothing merges (then the comparison is written as it is)."""
     if op in ("gt", "ge"):  # a > b is b < a
         op, args = {"gt": "lt", "ge": "le"}[op], (args[1], args[0])
     a, b = args
     fa, fb = _form(graph, a, forms), _form(graph, b, forms)
     root = _root_of(graph, fb, forms)
-    if graph.nodes[a][0] == "abs" and root is not None:
-        inner = _form(graph, graph.nodes[a][1][0], forms)
+    inner = _form(graph, graph.nodes[a][1][0], forms) if graph.nodes[a][0] == "abs" else (1.0, {})
+    if root is not None and inner[0] == 0.0 and len(inner[1]) == 1:  # squared, a monomial stays one term
         fa, fb = _times(inner, inner, forms), root
     if not fa[1] or not fb[1]:
         return None
@@ -389,7 +389,8 @@ def _difference(graph: Graph, op: str, args: tuple, forms: dict):
     for k, v in fb[1].items():
         terms[k] = terms.get(k, 0.0) - v
     terms = {k: v for k, v in terms.items() if v != 0.0}
-    return (op, (fa[0] - fb[0], terms)) if terms else None
+    merged = len(terms) < len(fa[1]) + len(fb[1])
+    return (op, (fa[0] - fb[0], terms)) if terms and merged else None
 
 
 def _root_of(graph: Graph, form: tuple[float, dict], forms: dict) -> tuple[float, dict] | None:
