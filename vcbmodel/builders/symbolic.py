@@ -213,8 +213,8 @@ def _fixed(graph: Graph, root: int, condition: int, truth: bool) -> int:
 
 
 #: Rough cost of evaluating a node of each kind in Exudyn's tree interpreter (ns, measured in a
-#: solve: a leaf and an add about 2, a sin 8, a pow 10), to choose between ways of writing a value.
-_COST = {"const": 1.0, "state": 1.5, "abs": 2.5, "sign": 2.5, "sqrt": 5.0, "sin": 8.0, "cos": 8.0, "pow": 10.0,
+#: solve: a leaf and an add about 2, a sin 6, a pow 9), to choose between ways of writing a value.
+_COST = {"const": 1.0, "state": 1.5, "abs": 2.5, "sign": 2.5, "sqrt": 5.0, "sin": 6.0, "cos": 6.0, "pow": 9.0,
          "where": 3.0, "min": 3.0, "max": 3.0, "atan2": 20.0, "acos": 15.0}
 _COST_OTHER = 2.0
 
@@ -280,6 +280,9 @@ class _Writer:
             c0, terms = _form(self.graph, i, self.forms)
             if terms and (c0, terms) != (0.0, {(("n", i),): 1.0}):
                 return self._sum(c0, terms)
+        norm = self._norm(i)
+        if norm is not None:
+            return norm
         if op in ("lt", "le", "gt", "ge"):
             difference = _difference(self.graph, op, args, self.forms)
             if difference is not None:
@@ -295,8 +298,9 @@ class _Writer:
         items = sorted(terms.items(), key=lambda kv: (kv[1] < 0, kv[0]))
         total = es.Real(c0) if c0 > 0.0 and items[0][1] < 0 else None
         for factors, coeff in items:
-            m = self._product(factors)
-            term = m if abs(coeff) == 1.0 else es.Real(abs(coeff)) * m
+            norm = self._norm(factors[0][1], abs(coeff)) if len(factors) == 1 and factors[0][0] == "n" else None
+            m = norm if norm is not None else self._product(factors)
+            term = m if abs(coeff) == 1.0 or norm is not None else es.Real(abs(coeff)) * m
             if total is None:
                 total = term if coeff > 0 else -term
             else:
@@ -304,6 +308,28 @@ class _Writer:
         if c0 != 0.0 and not (c0 > 0.0 and items[0][1] < 0):
             total = total + es.Real(c0) if c0 > 0 else total - es.Real(-c0)
         return total
+
+    def _norm(self, i: int, scale: float = 1.0):
+        """``scale * sqrt(q)`` for a node ``i = sqrt(q)`` whose q is a sum of squares with positive
+        coefficients (a reaction's magnitude) as Exudyn's NormL2 of the vector of ``scale sqrt(c) f``
+        (each component evaluated once: no pow, no sqrt of a sum); None for another node."""
+        op, args = self.graph.nodes[i]
+        if op != "sqrt":
+            return None
+        c0, terms = _form(self.graph, args[0], self.forms)
+        if c0 < 0.0 or not terms or any(v <= 0.0 or len(f) != 2 or f[0] != f[1] for f, v in terms.items()):
+            return None
+        parts = [self._scaled_factor(f[0], scale * math.sqrt(v)) for f, v in sorted(terms.items())]
+        if c0 > 0.0:
+            parts.append(self.es.Real(scale * math.sqrt(c0)))
+        return self.es.Vector(parts).NormL2()
+
+    def _scaled_factor(self, key: tuple, k: float):
+        """``k`` times a factor: a sum's coefficients absorb k."""
+        if key[0] == "f":
+            c0, terms = key[1]
+            return self._sum(c0 * k, {f: v * k for f, v in terms})
+        return self._factor(key) if k == 1.0 else self.es.Real(k) * self._factor(key)
 
     def _product(self, factors: tuple):
         """The product of ``factors`` (repeated as often as they multiply): a factor twice is a
