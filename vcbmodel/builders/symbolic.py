@@ -287,7 +287,8 @@ class _Writer:
             difference = _difference(self.graph, op, args, self.forms)
             if difference is not None:
                 cmp, (c0, terms) = difference
-                return _WRITE[cmp](es, self._sum(c0, terms), es.Real(0.0))
+                squares = self._squares_compared(cmp, c0, terms)
+                return squares if squares is not None else _WRITE[cmp](es, self._sum(c0, terms), es.Real(0.0))
         a = [self.tree(j) for j in args]
         return _WRITE[op](es, *a)
 
@@ -308,6 +309,18 @@ class _Writer:
         if c0 != 0.0 and not (c0 > 0.0 and items[0][1] < 0):
             total = total + es.Real(c0) if c0 > 0 else total - es.Real(-c0)
         return total
+
+    def _squares_compared(self, cmp: str, c0: float, terms: dict):
+        """``p f^2 - q g^2 < 0`` (p, q > 0) as ``|sqrt(p) f| < |sqrt(q) g|`` (each side evaluated once);
+        None for another difference."""
+        items = sorted(terms.items(), key=lambda kv: kv[1] < 0)
+        if c0 != 0.0 or len(items) != 2 or items[0][1] <= 0.0 or items[1][1] >= 0.0:
+            return None
+        if any(len(f) != 2 or f[0] != f[1] for f, _ in items):
+            return None
+        (f, p), (g, q) = items
+        left, right = (self.es.abs(self._scaled_factor(k[0], math.sqrt(abs(c)))) for k, c in ((f, p), (g, q)))
+        return _WRITE[cmp](self.es, left, right)
 
     def _norm(self, i: int, scale: float = 1.0):
         """``scale * sqrt(q)`` for a node ``i = sqrt(q)`` whose q is a sum of squares with positive
