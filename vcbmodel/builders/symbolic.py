@@ -284,13 +284,51 @@ class _Writer:
         if norm is not None:
             return norm
         if op in ("lt", "le", "gt", "ge"):
-            difference = _difference(self.graph, op, args, self.forms)
-            if difference is not None:
-                cmp, (c0, terms) = difference
-                squares = self._squares_compared(cmp, c0, terms)
-                return squares if squares is not None else _WRITE[cmp](es, self._sum(c0, terms), es.Real(0.0))
+            return self._comparison(op, args)
         a = [self.tree(j) for j in args]
         return _WRITE[op](es, *a)
+
+    def _comparison(self, op: str, args: tuple):
+        """A comparison: as a merged difference (:func:`_difference`), or both sides divided by a
+        positive number where that saves multiplications, or as it is."""
+        es = self.es
+        difference = _difference(self.graph, op, args, self.forms)
+        if difference is not None:
+            cmp, (c0, terms) = difference
+            sides = _squares_compared(c0, terms)
+            if sides is None:
+                return _WRITE[cmp](es, self._sum(c0, terms), es.Real(0.0))
+            op = cmp
+        else:
+            sides = [self._side(j) for j in args]
+        if all(side is not None for side in sides):
+            best = min((s for side in sides for s in [1.0] + [abs(v) for v in side[1][1].values()]),
+                       key=lambda s: sum(_multiplications(side, s) for side in sides))
+            if best != 1.0:
+                return _WRITE[op](es, *(self._side_written(side, best) for side in sides))
+        return _WRITE[op](es, self.tree(args[0]), self.tree(args[1]))
+
+    def _side(self, i: int):
+        """A comparison's side as (kind, form): a sum or constant ("sum"), the absolute value of
+        one ("abs"), or k sqrt(q) with a NormL2 ("norm"); None for another node."""
+        op, args = self.graph.nodes[i]
+        if op == "abs":
+            return ("abs", _form(self.graph, args[0], self.forms))
+        c0, terms = _form(self.graph, i, self.forms)
+        if c0 == 0.0 and len(terms) == 1:
+            (f, v), = terms.items()
+            if v > 0.0 and len(f) == 1 and f[0][0] == "n" and self._norm(f[0][1]) is not None:
+                return ("norm", (f[0][1], {(): v}))
+        if terms == {(("n", i),): 1.0}:
+            return None
+        return ("sum", (c0, terms))
+
+    def _side_written(self, side: tuple, s: float):
+        kind, (c0, terms) = side
+        if kind == "norm":
+            return self._norm(c0, terms[()] / s)
+        written = self._sum(c0 / s, {k: v / s for k, v in terms.items()}) if terms else self.es.Real(c0 / s)
+        return self.es.abs(written) if kind == "abs" else written
 
     def _sum(self, c0: float, terms: dict):
         """c0 + sum of coefficient x product of factors: a positive term first, the others added or
@@ -309,18 +347,6 @@ class _Writer:
         if c0 != 0.0 and not (c0 > 0.0 and items[0][1] < 0):
             total = total + es.Real(c0) if c0 > 0 else total - es.Real(-c0)
         return total
-
-    def _squares_compared(self, cmp: str, c0: float, terms: dict):
-        """``p f^2 - q g^2 < 0`` (p, q > 0) as ``|sqrt(p) f| < |sqrt(q) g|`` (each side evaluated once);
-        None for another difference."""
-        items = sorted(terms.items(), key=lambda kv: kv[1] < 0)
-        if c0 != 0.0 or len(items) != 2 or items[0][1] <= 0.0 or items[1][1] >= 0.0:
-            return None
-        if any(len(f) != 2 or f[0] != f[1] for f, _ in items):
-            return None
-        (f, p), (g, q) = items
-        left, right = (self.es.abs(self._scaled_factor(k[0], math.sqrt(abs(c)))) for k, c in ((f, p), (g, q)))
-        return _WRITE[cmp](self.es, left, right)
 
     def _norm(self, i: int, scale: float = 1.0):
         """``scale * sqrt(q)`` for a node ``i = sqrt(q)`` whose q is a sum of squares with positive
@@ -367,6 +393,27 @@ class _Writer:
         if _factor_cost(self.graph, key, self.costs) > _COST["pow"] - 1.0:
             return self.es.pow(self._factor(key), self.es.Real(2.0))  # a dear operand evaluated once
         return self._factor(key) * self._factor(key)
+
+
+def _squares_compared(c0: float, terms: dict) -> list | None:
+    """``p f^2 - q g^2 < 0`` (p, q > 0) as the sides of ``|sqrt(p) f| < |sqrt(q) g|`` (each evaluated
+    once); None for another difference."""
+    items = sorted(terms.items(), key=lambda kv: kv[1] < 0)
+    if c0 != 0.0 or len(items) != 2 or items[0][1] <= 0.0 or items[1][1] >= 0.0:
+        return None
+    if any(len(f) != 2 or f[0] != f[1] for f, _ in items):
+        return None
+    sides = []
+    for f, c in items:
+        k, key = math.sqrt(abs(c)), f[0]
+        sides.append(("abs", (key[1][0] * k, {f2: v * k for f2, v in key[1][1]}) if key[0] == "f" else (0.0, {(key,): k})))
+    return sides
+
+
+def _multiplications(side: tuple, s: float) -> int:
+    """Coefficients other than +-1 in a comparison's side divided by ``s`` (a norm takes any)."""
+    kind, (c0, terms) = side
+    return 0 if kind == "norm" else sum(1 for v in terms.values() if abs(v / s) != 1.0)
 
 
 def _factor_cost(graph: Graph, key: tuple, memo: dict) -> float:
