@@ -301,12 +301,57 @@ class _Writer:
             op = cmp
         else:
             sides = [self._side(j) for j in args]
-        if all(side is not None for side in sides):
-            best = min((s for side in sides for s in [1.0] + [abs(v) for v in side[1][1].values()]),
-                       key=lambda s: sum(_multiplications(side, s) for side in sides))
-            if best != 1.0:
-                return _WRITE[op](es, *(self._side_written(side, best) for side in sides))
-        return _WRITE[op](es, self.tree(args[0]), self.tree(args[1]))
+        if not all(side is not None for side in sides):
+            return _WRITE[op](es, self.tree(args[0]), self.tree(args[1]))
+        best = min((s for side in sides for s in [1.0] + [abs(v) for v in side[1][1].values()]),
+                   key=lambda s: sum(_multiplications(side, s) for side in sides))
+        written = [self._side_written(side, best) for side in sides]
+        compared = _WRITE[op](es, *written)
+        big = 1 if op in ("lt", "le") else 0  # x <= N, or N >= x
+        bound = self._norm_bound(sides[big], best) if _cost(self.graph, args[1 - big], self.costs) <= 6.0 else None
+        if bound is None:
+            return compared
+        # x above a bound of N that reads no sin or cos (|sin|, |cos| <= 1) decides the comparison false
+        return es.IfThenElse(written[1 - big] > self._sum(*bound), es.Real(0.0), compared)
+
+    def _norm_bound(self, side: tuple, s: float) -> tuple[float, dict] | None:
+        """An upper bound of a norm side divided by ``s`` (the sum of its parts' bounds, each with
+        sin and cos at most 1), where it reads no sin or cos; None for other sides."""
+        if side[0] != "norm":
+            return None
+        j, k = side[1][0], side[1][1][()] / s
+        c0, terms = _form(self.graph, self.graph.nodes[j][1][0], self.forms)
+        total, trig = {}, [False]
+        const = k * math.sqrt(c0) if c0 > 0.0 else 0.0
+        for f, v in terms.items():
+            bound = self._bound(f[0], trig)
+            if bound is None:
+                return None
+            const += k * math.sqrt(v) * bound[0]
+            for m, c in bound[1].items():
+                total[m] = total.get(m, 0.0) + k * math.sqrt(v) * c
+        return (const, total) if trig[0] else None
+
+    def _bound(self, key: tuple, trig: list) -> tuple[float, dict] | None:
+        """A form not below |factor| with sin and cos replaced by 1 (``trig[0]`` set where one was);
+        None where a factor of unknown sign stays."""
+        if key[0] == "n":
+            return self._bound((None, (0.0, (((key,), 1.0),))), trig)
+        c0, terms = key[1]
+        total = {}
+        for factors, v in terms:
+            kept = []
+            for f in sorted(set(factors)):
+                n = factors.count(f)
+                if f[0] == "n" and self.graph.nodes[f[1]][0] in ("sin", "cos"):
+                    trig[0] = True
+                elif n % 2 == 0 or (f[0] == "n" and self.graph.nodes[f[1]][0] == "abs"):
+                    kept += [f] * n
+                else:
+                    return None
+            total[tuple(kept)] = total.get(tuple(kept), 0.0) + abs(v)
+        const = abs(c0) + total.pop((), 0.0)
+        return const, total
 
     def _side(self, i: int):
         """A comparison's side as (kind, form): a sum or constant ("sum"), the absolute value of
