@@ -22,9 +22,10 @@ they multiply fold. The branch-free arithmetic is then written by
 forms of sums and products, magnitudes as ``NormL2``, comparisons merged): the decisions are the
 law's, the values the law's to rounding.
 
-The plan (the decisions and the re-recorded branches) is kept per distinct traced graph: a model
-rebuilt with the same law and numbers (a benchmark's repeats, a fit's runs with the same values)
-traces again but plans nothing.
+The written expression is kept per distinct traced graph as construction steps
+(:class:`~vcbmodel.builders.symbolic_writer.Tape`): a model rebuilt with the same law and numbers (a
+benchmark's repeats, a fit's runs with the same values) traces again and builds the expression on its
+own arguments, but plans and writes nothing.
 """
 from __future__ import annotations
 
@@ -32,7 +33,7 @@ from collections import OrderedDict
 from collections.abc import Callable, Sequence
 
 from ..compiled.trace import CONST, Expr, Graph, TraceOps
-from .symbolic_writer import Writer, min_max, tree_cost
+from .symbolic_writer import Tape, Writer, min_max, tree_cost
 
 #: Comparison operations: their value is exactly 1.0 or 0.0
 COMPARISONS = ("lt", "le", "gt", "ge", "eq", "ne")
@@ -59,23 +60,25 @@ def lean_expression(law: Callable, args: Sequence) -> object:
     from .core import exudyn_modules
 
     exu, _ = exudyn_modules()
-    graph, root, leaves, plan = _planned(law, len(args))
-    writer = Writer(graph, exu.symbolic, dict(zip(leaves, args)))
-    return writer.tree(root) if plan is None else writer.decided(plan)
+    return _planned(law, len(args)).replay(exu.symbolic, args)
 
 
-def _planned(law: Callable, n_args: int):
-    """(graph, root, argument nodes, plan) of ``law``: traced, and planned once per distinct graph
-    (the planning re-records the law per branch and costs ten times the trace)."""
+def _planned(law: Callable, n_args: int) -> Tape:
+    """``law`` traced, planned and written once per distinct traced graph (planning and writing cost
+    ten times the trace): the written expression as a :class:`Tape` to build for any arguments."""
     graph, root, leaves = trace_law(law, n_args)
     key = (tuple(graph.nodes), tuple(map(repr, graph.values)), root, tuple(leaves))
     if key in _plans:
         _plans.move_to_end(key)
         return _plans[key]
-    _plans[key] = (graph, root, leaves, _decisions(graph, root, [MAX_LEAVES]))
+    plan = _decisions(graph, root, [MAX_LEAVES])
+    tape = Tape()
+    writer = Writer(graph, tape.es, {leaf: tape.argument(k) for k, leaf in enumerate(leaves)})
+    tape.root = writer.tree(root) if plan is None else writer.decided(plan)
+    _plans[key] = tape
     if len(_plans) > _PLANS_KEPT:
         _plans.popitem(last=False)
-    return _plans[key]
+    return tape
 
 
 def _decisions(graph: Graph, root: int, budget: list[int]):

@@ -29,6 +29,7 @@ branch); the decisions are the law's.
 from __future__ import annotations
 
 import math
+from collections.abc import Sequence
 
 from ..compiled.trace import Graph
 
@@ -422,3 +423,107 @@ _WRITE = {
     "max": lambda es, a, b: es.max(a, b), "atan2": lambda es, a, b: es.atan2(a, b), "acos": lambda es, a: es.acos(a),
     "pow": lambda es, a, b: es.pow(a, b), "floor": lambda es, a: es.floor(a),
 }
+
+
+class Tape:
+    """The Exudyn expression a :class:`Writer` builds, recorded as construction steps so it can be
+    built again for other arguments without writing it again (a model rebuilt with the same law:
+    a few hundred Exudyn calls instead of the writer's normal forms). ``Writer(graph, tape.es,
+    {node: tape.argument(k)})`` records; :meth:`replay` builds."""
+
+    def __init__(self):
+        self.steps: list[tuple] = []
+        self.es = _Recorder(self)
+        self.root: _Ref | None = None
+
+    def argument(self, k: int) -> _Ref:
+        """The user function's ``k``-th symbolic argument."""
+        return self.add("argument", k)
+
+    def add(self, kind: str, *payload) -> _Ref:
+        self.steps.append((kind, payload))
+        return _Ref(self, len(self.steps) - 1)
+
+    def replay(self, es: object, args: Sequence) -> object:
+        """The recorded expression built with Exudyn's symbolic module ``es`` on ``args``."""
+        built = []
+        for kind, payload in self.steps:
+            def at(r):
+                return built[r.index] if isinstance(r, _Ref) else r
+            if kind == "argument":
+                built.append(args[payload[0]])
+            elif kind == "real":
+                built.append(es.Real(payload[0]))
+            elif kind == "operator":
+                built.append(_OPERATORS[payload[0]](*(at(r) for r in payload[1:])))
+            elif kind == "vector":
+                built.append(es.Vector([at(r) for r in payload[0]]))
+            elif kind == "norm":
+                built.append(at(payload[0]).NormL2())
+            else:  # a function of exudyn.symbolic
+                built.append(getattr(es, payload[0])(*(at(r) for r in payload[1:])))
+        return built[self.root.index]
+
+
+_OPERATORS = {"add": lambda a, b: a + b, "sub": lambda a, b: a - b, "mul": lambda a, b: a * b,
+              "div": lambda a, b: a / b, "neg": lambda a: -a, "lt": lambda a, b: a < b,
+              "le": lambda a, b: a <= b, "gt": lambda a, b: a > b, "ge": lambda a, b: a >= b,
+              "eq": lambda a, b: a == b, "ne": lambda a, b: a != b}
+
+
+class _Ref:
+    """A recorded value (a step of a :class:`Tape`): arithmetic and comparisons record steps."""
+
+    __slots__ = ("tape", "index")
+
+    def __init__(self, tape: Tape, index: int):
+        self.tape, self.index = tape, index
+
+    def _op(self, name, *others):
+        return self.tape.add("operator", name, self, *(o if isinstance(o, _Ref) else self.tape.add("real", float(o))
+                                                         for o in others))
+
+    def _rop(self, name, other):
+        return self.tape.add("operator", name, self.tape.add("real", float(other)), self)
+
+    __add__ = lambda s, o: s._op("add", o)  # noqa: E731
+    __radd__ = lambda s, o: s._rop("add", o)  # noqa: E731
+    __sub__ = lambda s, o: s._op("sub", o)  # noqa: E731
+    __rsub__ = lambda s, o: s._rop("sub", o)  # noqa: E731
+    __mul__ = lambda s, o: s._op("mul", o)  # noqa: E731
+    __rmul__ = lambda s, o: s._rop("mul", o)  # noqa: E731
+    __truediv__ = lambda s, o: s._op("div", o)  # noqa: E731
+    __rtruediv__ = lambda s, o: s._rop("div", o)  # noqa: E731
+    __lt__ = lambda s, o: s._op("lt", o)  # noqa: E731
+    __le__ = lambda s, o: s._op("le", o)  # noqa: E731
+    __gt__ = lambda s, o: s._op("gt", o)  # noqa: E731
+    __ge__ = lambda s, o: s._op("ge", o)  # noqa: E731
+    __eq__ = lambda s, o: s._op("eq", o)  # noqa: E731
+    __ne__ = lambda s, o: s._op("ne", o)  # noqa: E731
+    __hash__ = object.__hash__
+
+    def __neg__(self):
+        return self.tape.add("operator", "neg", self)
+
+    def NormL2(self) -> _Ref:  # noqa: N802 (Exudyn's name)
+        return self.tape.add("norm", self)
+
+
+class _Recorder:
+    """Stands for ``exudyn.symbolic`` while a :class:`Writer` writes onto a :class:`Tape`."""
+
+    def __init__(self, tape: Tape):
+        self._tape = tape
+
+    def Real(self, value: float) -> _Ref:  # noqa: N802 (Exudyn's name)
+        return self._tape.add("real", float(value))
+
+    def Vector(self, parts: list) -> _Ref:  # noqa: N802 (Exudyn's name)
+        return self._tape.add("vector", list(parts))
+
+    def __getattr__(self, name):
+        tape = self._tape
+
+        def call(*args):
+            return tape.add("function", name, *(a if isinstance(a, _Ref) else tape.add("real", float(a)) for a in args))
+        return call
