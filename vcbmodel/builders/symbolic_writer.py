@@ -432,7 +432,8 @@ class Tape:
     {node: tape.argument(k)})`` records; :meth:`replay` builds."""
 
     def __init__(self):
-        self.steps: list[tuple] = []
+        self.steps: list[tuple] = []  # (kind, name or value, indices of earlier steps)
+        self._seen: dict = {}
         self.es = _Recorder(self)
         self.root: _Ref | None = None
 
@@ -440,28 +441,32 @@ class Tape:
         """The user function's ``k``-th symbolic argument."""
         return self.add("argument", k)
 
-    def add(self, kind: str, *payload) -> _Ref:
-        self.steps.append((kind, payload))
-        return _Ref(self, len(self.steps) - 1)
+    def add(self, kind: str, name: object, *refs: _Ref) -> _Ref:
+        """A step (an equal step recorded before is reused: one Exudyn object, shared)."""
+        step = (kind, name, tuple(r.index for r in refs))
+        key = (kind, repr(name), step[2])  # repr: -0.0 is not 0.0
+        if key not in self._seen:
+            self.steps.append(step)
+            self._seen[key] = len(self.steps) - 1
+        return _Ref(self, self._seen[key])
 
     def replay(self, es: object, args: Sequence) -> object:
         """The recorded expression built with Exudyn's symbolic module ``es`` on ``args``."""
         built = []
-        for kind, payload in self.steps:
-            def at(r):
-                return built[r.index] if isinstance(r, _Ref) else r
+        for kind, name, refs in self.steps:
+            parts = [built[i] for i in refs]
             if kind == "argument":
-                built.append(args[payload[0]])
+                built.append(args[name])
             elif kind == "real":
-                built.append(es.Real(payload[0]))
+                built.append(es.Real(name))
             elif kind == "operator":
-                built.append(_OPERATORS[payload[0]](*(at(r) for r in payload[1:])))
+                built.append(_OPERATORS[name](*parts))
             elif kind == "vector":
-                built.append(es.Vector([at(r) for r in payload[0]]))
+                built.append(es.Vector(parts))
             elif kind == "norm":
-                built.append(at(payload[0]).NormL2())
+                built.append(parts[0].NormL2())
             else:  # a function of exudyn.symbolic
-                built.append(getattr(es, payload[0])(*(at(r) for r in payload[1:])))
+                built.append(getattr(es, name)(*parts))
         return built[self.root.index]
 
 
@@ -506,7 +511,7 @@ class _Ref:
         return self.tape.add("operator", "neg", self)
 
     def NormL2(self) -> _Ref:  # noqa: N802 (Exudyn's name)
-        return self.tape.add("norm", self)
+        return self.tape.add("norm", None, self)
 
 
 class _Recorder:
@@ -519,7 +524,7 @@ class _Recorder:
         return self._tape.add("real", float(value))
 
     def Vector(self, parts: list) -> _Ref:  # noqa: N802 (Exudyn's name)
-        return self._tape.add("vector", list(parts))
+        return self._tape.add("vector", None, *parts)
 
     def __getattr__(self, name):
         tape = self._tape
