@@ -81,15 +81,17 @@ def _planned(law: Callable, n_args: int) -> Tape:
     return tape
 
 
-def _decisions(graph: Graph, root: int, budget: list[int]):
+def _decisions(graph: Graph, root: int, budget: list[int], nonzero: frozenset = frozenset()):
     """The branches of ``root`` chosen first: ``root`` (no condition left) or (condition, plan if
-    true, plan if false); None when more than ``budget[0]`` branch combinations would be written."""
+    true, plan if false); None when more than ``budget[0]`` branch combinations would be written.
+    ``nonzero``: arguments the decisions taken so far show to be nonzero."""
     conditions = _conditions(graph, root)
     if not conditions:
-        return _signs_decided(graph, root, budget)
+        return _signs_decided(graph, root, budget, nonzero)
     c = _outermost(graph, conditions)
-    if_true = _decisions(graph, _fixed(graph, root, c, True), budget)
-    if_false = None if if_true is None else _decisions(graph, _fixed(graph, root, c, False), budget)
+    known = [nonzero | _nonzero(graph, c, truth) for truth in (True, False)]
+    if_true = _decisions(graph, _fixed(graph, root, c, True), budget, known[0])
+    if_false = None if if_true is None else _decisions(graph, _fixed(graph, root, c, False), budget, known[1])
     if if_false is None:
         return None
     split = _either(graph, c)
@@ -101,10 +103,11 @@ def _decisions(graph: Graph, root: int, budget: list[int]):
     return (first, (second, if_true, if_false), if_false)
 
 
-def _signs_decided(graph: Graph, root: int, budget: list[int]):
+def _signs_decided(graph: Graph, root: int, budget: list[int], nonzero: frozenset = frozenset()):
     """A branch-free ``root`` with the sign of an argument it takes ``sign`` or ``abs`` of decided
-    first: ``y > 0``, ``y < 0`` or ``y == 0``, and in each, ``sign(y)`` and ``abs(y)`` written as
-    what they are there (1 and y, -1 and -y, 0 and 0), so the constants they multiply fold."""
+    first: ``y > 0``, ``y < 0`` or ``y == 0`` (not the last where ``y`` is in ``nonzero``), and in
+    each, ``sign(y)`` and ``abs(y)`` written as what they are there (1 and y, -1 and -y, 0 and 0),
+    so the constants they multiply fold."""
     y = next((a[0] for op, a in (graph.nodes[i] for i in graph.used([root]))
               if op in ("sign", "abs") and graph.nodes[a[0]][0] == "state"), None)
     if y is None:
@@ -112,12 +115,44 @@ def _signs_decided(graph: Graph, root: int, budget: list[int]):
         return root if budget[0] >= 0 else None
     Y = Expr(graph, y)
     plans = []
-    for s in (1.0, -1.0, 0.0):
+    for s in (1.0, -1.0) if y in nonzero else (1.0, -1.0, 0.0):
         known = {"sign": graph.const(s), "abs": Y if s > 0 else (-Y if s < 0 else graph.const(0.0))}
-        plans.append(_decisions(graph, _substituted(graph, root, y, known), budget))
+        plans.append(_decisions(graph, _substituted(graph, root, y, known), budget, nonzero | {y}))
         if plans[-1] is None:
             return None
+    if y in nonzero:
+        return (graph.apply("gt", Y, 0.0).index, plans[0], plans[1])
     return (graph.apply("gt", Y, 0.0).index, plans[0], (graph.apply("lt", Y, 0.0).index, plans[1], plans[2]))
+
+
+def _nonzero(graph: Graph, c: int, truth: bool) -> frozenset:
+    """{y} where condition ``c`` being ``truth`` shows the argument y to be nonzero: ``|y| > m`` or
+    ``|y| >= m`` (and the negations that read so) with m known not below a number >= 0 (> 0 for
+    ``>=``); else empty."""
+    op, (left, right) = graph.nodes[c][0], (graph.nodes[c][1] + (None, None))[:2]
+    if op not in ("lt", "le", "gt", "ge"):
+        return frozenset()
+    flip = {"lt": "gt", "le": "ge", "gt": "lt", "ge": "le"}
+    if graph.nodes[right][0] == "abs":
+        op, left, right = flip[op], right, left
+    if not truth:
+        op = {"lt": "ge", "le": "gt", "gt": "le", "ge": "lt"}[op]
+    y = graph.nodes[left][1][0] if graph.nodes[left][0] == "abs" else None
+    if y is None or graph.nodes[y][0] != "state" or op not in ("gt", "ge"):
+        return frozenset()
+    low = _lower_bound(graph, right)
+    return frozenset({y}) if low is not None and (low > 0.0 or (low == 0.0 and op == "gt")) else frozenset()
+
+
+def _lower_bound(graph: Graph, i: int) -> float | None:
+    """A number node ``i`` is never below: a constant, or a max with one (else None)."""
+    if graph.kinds[i] == CONST:
+        return graph.values[i]
+    pick = min_max(graph, i)
+    if pick is None or pick[0] != "max":
+        return None
+    bounds = [b for b in (_lower_bound(graph, pick[1]), _lower_bound(graph, pick[2])) if b is not None]
+    return max(bounds) if bounds else None
 
 
 def _substituted(graph: Graph, root: int, y: int, known: dict) -> int:
