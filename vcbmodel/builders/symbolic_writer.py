@@ -88,6 +88,7 @@ class Writer:
     def __init__(self, graph: Graph, es: object, leaves: dict):
         self.graph, self.es, self.leaves = graph, es, leaves
         self.done, self.plans, self.costs, self.forms, self.sums = {}, {}, {}, {}, {}
+        self.pretests = {}  # comparison node: (its bound test, the comparison itself)
 
     def decided(self, plan: int | tuple) -> object:
         """A plan of :func:`vcbmodel.builders.symbolic.lean_expression`: a node, or (condition, plan if
@@ -96,7 +97,12 @@ class Writer:
             return self.tree(plan)
         if id(plan) not in self.plans:  # a plan reached by two decisions is written once (a shared subtree)
             c, if_true, if_false = plan
-            self.plans[id(plan)] = self.es.IfThenElse(self.tree(c), self.decided(if_true), self.decided(if_false))
+            condition, if_true, if_false = self.tree(c), self.decided(if_true), self.decided(if_false)
+            if c in self.pretests:  # the bound decides false first: no if-then-else inside the condition
+                above, compared = self.pretests[c]
+                self.plans[id(plan)] = self.es.IfThenElse(above, if_false, self.es.IfThenElse(compared, if_true, if_false))
+            else:
+                self.plans[id(plan)] = self.es.IfThenElse(condition, if_true, if_false)
         return self.plans[id(plan)]
 
     def tree(self, i: int) -> object:
@@ -124,11 +130,11 @@ class Writer:
         if norm is not None:
             return norm
         if op in ("lt", "le", "gt", "ge"):
-            return self._comparison(op, args)
+            return self._comparison(op, args, i)
         a = [self.tree(j) for j in args]
         return _WRITE[op](es, *a)
 
-    def _comparison(self, op: str, args: tuple):
+    def _comparison(self, op: str, args: tuple, i: int):
         """A comparison: as a merged difference (:func:`_difference`), or both sides divided by a
         positive number where that saves multiplications, or as it is."""
         es = self.es
@@ -152,7 +158,9 @@ class Writer:
         if bound is None:
             return compared
         # x above a bound of N that reads no sin or cos (|sin|, |cos| <= 1) decides the comparison false
-        return es.IfThenElse(written[1 - big] > self._sum(*bound), es.Real(0.0), compared)
+        above = written[1 - big] > self._sum(*bound)
+        self.pretests[i] = (above, compared)
+        return es.IfThenElse(above, es.Real(0.0), compared)
 
     def _norm_bound(self, side: tuple, s: float) -> tuple[float, dict] | None:
         """An upper bound of a norm side divided by ``s`` (the sum of its parts' bounds, each with
