@@ -146,6 +146,24 @@ def test_a_law_is_planned_once_per_distinct_trace(monkeypatch):
     assert planned
 
 
+def test_laws_that_differ_in_one_operation_are_not_confused():
+    """The cache's fingerprint tells apart laws whose only difference is an operation or a number
+    (a wrong hit would run another law's expression)."""
+    es = exudyn_modules()[0].symbolic
+    t, x, y = es.Real("t", 0.0), es.Real("x", 0.0), es.Real("y", 0.0)
+    laws = [lambda t, x, y, ops: ops.where(x < y, 1.0, 2.0) * x,
+            lambda t, x, y, ops: ops.where(x <= y, 1.0, 2.0) * x,
+            lambda t, x, y, ops: ops.where(x == y, 1.0, 2.0) * x,
+            lambda t, x, y, ops: ops.where(x <= y, 1.0, 2.0000000000000004) * x,
+            lambda t, x, y, ops: ops.where(False, 1.0, 2.0) * x]  # what x == y is, were == not recorded
+    for xv, yv in ((0.5, 0.5), (0.5, 0.25), (0.5, 0.75)):
+        x.SetValue(xv)
+        y.SetValue(yv)
+        for _ in range(2):  # the second time from the cache
+            assert [lean_expression(law, (t, x, y)).Evaluate() for law in laws] == [
+                law(0.0, xv, yv, NumericOps) for law in laws], (xv, yv)
+
+
 def test_writer_rules_keep_the_value():
     """max/min patterns, a square and a product of conditions, against the law evaluated in Python."""
     es = exudyn_modules()[0].symbolic

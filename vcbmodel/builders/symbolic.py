@@ -22,10 +22,11 @@ they multiply fold. The branch-free arithmetic is then written by
 forms of sums and products, magnitudes as ``NormL2``, comparisons merged): the decisions are the
 law's, the values the law's to rounding.
 
-The written expression is kept per distinct traced graph as construction steps
-(:class:`~vcbmodel.builders.symbolic_writer.Tape`): a model rebuilt with the same law and numbers (a
-benchmark's repeats, a fit's runs with the same values) traces again and builds the expression on its
-own arguments, but plans and writes nothing.
+The written expression is kept as construction steps (:class:`~vcbmodel.builders.symbolic_writer.Tape`),
+keyed by the law's fingerprint: the operations it applies to its arguments, in order, with every
+number it brings in (the trace is a function of them; recording them costs a quarter of the trace). A
+model rebuilt with the same law and numbers (a benchmark's repeats, a fit's runs with the same values)
+builds the expression on its own arguments but traces, plans and writes nothing.
 """
 from __future__ import annotations
 
@@ -64,21 +65,94 @@ def lean_expression(law: Callable, args: Sequence) -> object:
 
 
 def _planned(law: Callable, n_args: int) -> Tape:
-    """``law`` traced, planned and written once per distinct traced graph (planning and writing cost
-    ten times the trace): the written expression as a :class:`Tape` to build for any arguments."""
-    graph, root, leaves = trace_law(law, n_args)
-    key = (tuple(graph.nodes), tuple(map(repr, graph.values)), root, tuple(leaves))
-    if key in _plans:
+    """``law`` traced, planned and written once per distinct sequence of operations (planning and
+    writing cost ten times the trace, the trace four times the fingerprint): the written expression
+    as a :class:`Tape` to build for any arguments."""
+    key = _fingerprint(law, n_args)
+    if key is not None and key in _plans:
         _plans.move_to_end(key)
         return _plans[key]
+    graph, root, leaves = trace_law(law, n_args)
     plan = _decisions(graph, root, [MAX_LEAVES])
     tape = Tape()
     writer = Writer(graph, tape.es, {leaf: tape.argument(k) for k, leaf in enumerate(leaves)})
     tape.root = writer.tree(root) if plan is None else writer.decided(plan)
-    _plans[key] = tape
-    if len(_plans) > _PLANS_KEPT:
-        _plans.popitem(last=False)
+    if key is not None:
+        _plans[key] = tape
+        if len(_plans) > _PLANS_KEPT:
+            _plans.popitem(last=False)
     return tape
+
+
+def _fingerprint(law: Callable, n_args: int) -> tuple | None:
+    """The operations ``law`` applies to its arguments, in order, with every number it brings in
+    (its ``repr``): the trace is a function of them, so equal fingerprints trace to one graph. None
+    where the law does something the fingerprint does not record (it is then traced every time)."""
+    steps: list[tuple] = []
+    try:
+        result = law(*(_Step(steps, -1 - k) for k in range(n_args)), _FingerprintOps(steps))
+    except Exception:  # noqa: BLE001 (the trace then says what is wrong, or plans without a key)
+        return None
+    return (n_args, tuple(steps), _Step.mark(result))
+
+
+class _Step:
+    """A value in a fingerprint: operations on it record steps."""
+
+    __slots__ = ("steps", "index")
+
+    def __init__(self, steps: list, index: int):
+        self.steps, self.index = steps, index
+
+    @staticmethod
+    def mark(x: object) -> object:
+        return ("step", x.index) if isinstance(x, _Step) else repr(x)
+
+    def _op(self, name: str, *others: object) -> _Step:
+        self.steps.append((name, self.index) + tuple(_Step.mark(o) for o in others))
+        return _Step(self.steps, len(self.steps) - 1)
+
+    def _rop(self, name: str, other: object) -> _Step:
+        self.steps.append((name, _Step.mark(other), self.index))
+        return _Step(self.steps, len(self.steps) - 1)
+
+    __add__ = lambda s, o: s._op("add", o)  # noqa: E731
+    __radd__ = lambda s, o: s._rop("add", o)  # noqa: E731
+    __sub__ = lambda s, o: s._op("sub", o)  # noqa: E731
+    __rsub__ = lambda s, o: s._rop("sub", o)  # noqa: E731
+    __mul__ = lambda s, o: s._op("mul", o)  # noqa: E731
+    __rmul__ = lambda s, o: s._rop("mul", o)  # noqa: E731
+    __truediv__ = lambda s, o: s._op("div", o)  # noqa: E731
+    __rtruediv__ = lambda s, o: s._rop("div", o)  # noqa: E731
+    __pow__ = lambda s, o: s._op("pow", o)  # noqa: E731
+    __lt__ = lambda s, o: s._op("lt", o)  # noqa: E731
+    __le__ = lambda s, o: s._op("le", o)  # noqa: E731
+    __gt__ = lambda s, o: s._op("gt", o)  # noqa: E731
+    __ge__ = lambda s, o: s._op("ge", o)  # noqa: E731
+    __eq__ = lambda s, o: s._op("eq", o)  # noqa: E731
+    __ne__ = lambda s, o: s._op("ne", o)  # noqa: E731
+    __neg__ = lambda s: s._op("neg")  # noqa: E731
+    __pos__ = lambda s: s._op("pos")  # noqa: E731
+    __abs__ = lambda s: s._op("abs")  # noqa: E731
+    __hash__ = object.__hash__
+
+    def __bool__(self):
+        raise TypeError("a fingerprint cannot branch on the state")
+
+
+class _FingerprintOps:
+    """The ``ops`` of a fingerprint: every operation (any name) is recorded with its arguments."""
+
+    def __init__(self, steps: list):
+        self._steps = steps
+
+    def __getattr__(self, name: str) -> Callable:
+        steps = self._steps
+
+        def record(*args):
+            steps.append((name,) + tuple(_Step.mark(a) for a in args))
+            return _Step(steps, len(steps) - 1)
+        return record
 
 
 def _decisions(graph: Graph, root: int, budget: list[int], nonzero: frozenset = frozenset()):
