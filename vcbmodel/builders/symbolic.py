@@ -30,7 +30,6 @@ builds the expression on its own arguments but traces, plans and writes nothing.
 """
 from __future__ import annotations
 
-from collections import OrderedDict
 from collections.abc import Callable, Sequence
 
 from ..compiled.trace import CONST, Expr, Graph, TraceOps
@@ -42,9 +41,9 @@ COMPARISONS = ("lt", "le", "gt", "ge", "eq", "ne")
 MAX_LEAVES = 256
 #: State values at the trace (any: no Python ``if`` may read the state, and nothing is folded with it).
 _TRACE_STATE = 0.3
-#: Plans kept (a model rebuilt with the same law and numbers traces to the same graph and reuses its plan).
+#: Written laws kept ({fingerprint: Tape}; a model rebuilt with the same law and numbers reuses its tape).
 _PLANS_KEPT = 32
-_plans: OrderedDict = OrderedDict()
+_plans: dict = {}
 
 
 def trace_law(law: Callable, n_args: int) -> tuple[Graph, int, list[int]]:
@@ -69,9 +68,9 @@ def _planned(law: Callable, n_args: int) -> Tape:
     writing cost ten times the trace, the trace four times the fingerprint): the written expression
     as a :class:`Tape` to build for any arguments."""
     key = _fingerprint(law, n_args)
-    if key is not None and key in _plans:
-        _plans.move_to_end(key)
-        return _plans[key]
+    tape = None if key is None else _plans.get(key)
+    if tape is not None:
+        return tape
     graph, root, leaves = trace_law(law, n_args)
     plan = _decisions(graph, root, [MAX_LEAVES])
     tape = Tape()
@@ -79,8 +78,8 @@ def _planned(law: Callable, n_args: int) -> Tape:
     tape.root = writer.tree(root) if plan is None else writer.decided(plan)
     if key is not None:
         _plans[key] = tape
-        if len(_plans) > _PLANS_KEPT:
-            _plans.popitem(last=False)
+        while len(_plans) > _PLANS_KEPT:  # the oldest first (a tape is never changed: threads may share one)
+            _plans.pop(next(iter(_plans)), None)
     return tape
 
 
