@@ -165,7 +165,8 @@ def test_laws_that_differ_in_one_operation_are_not_confused():
 
 
 def test_writer_rules_keep_the_value():
-    """max/min patterns, a square and a product of conditions, against the law evaluated in Python."""
+    """max/min patterns, a square, a product of conditions, the sign of an argument, a magnitude compared
+    with a cheap side (bound first), against the law evaluated in Python."""
     es = exudyn_modules()[0].symbolic
 
     def toy(t, x, y, ops):
@@ -173,12 +174,14 @@ def test_writer_rules_keep_the_value():
         small = ops.where(ops.abs(y) < x, ops.abs(y), x)  # min(|y|, x)
         sq = (ops.sin(x) + y) * (ops.sin(x) + y)
         both = (x > 0.0) * (y < 1.0)
-        return ops.where(both, big + sq, small - sq) + ops.where(y > 2.0, 1.0, ops.sign(y) * 3.0)
+        # a magnitude (NormL2) a cheap side is compared with, its bound without sin and cos a constant
+        held = ops.where(ops.abs(y) <= 0.5 * ops.sqrt(ops.cos(x) * ops.cos(x) + 4.0 * ops.sin(x) * ops.sin(x)), 1.0, -1.0)
+        return ops.where(both, big + sq, small - sq) + ops.where(y > 2.0, 1.0, ops.sign(y) * 3.0) + held * y
 
     t, x, y = es.Real("t", 0.0), es.Real("x", 0.0), es.Real("y", 0.0)
     lean = lean_expression(toy, (t, x, y))
     text = str(lean)
-    assert "max(" in text and "min(" in text and "pow(" in text
+    assert "max(" in text and "min(" in text and "pow(" in text and "NormL2(" in text
     for xv in (-1.5, -0.3, 0.0, 0.4, 2.0):
         for yv in (-3.0, -0.5, 0.0, 0.7, 1.0, 2.5):
             x.SetValue(xv)

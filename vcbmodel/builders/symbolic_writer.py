@@ -228,6 +228,8 @@ class Writer:
         subtracted with their coefficient's magnitude."""
         es = self.es
         items = sorted(terms.items(), key=lambda kv: (kv[1] < 0, kv[0]))
+        if not items:
+            return es.Real(c0)
         total = es.Real(c0) if c0 > 0.0 and items[0][1] < 0 else None
         for factors, coeff in items:
             norm = self._norm(factors[0][1], abs(coeff)) if len(factors) == 1 and factors[0][0] == "n" else None
