@@ -130,6 +130,26 @@ def test_lean_expression_is_the_law_at_every_branch_and_evaluates_a_fraction_of_
         assert n_lean <= 105 and dear_lean <= 9, (th, w, n_lean, dear_lean)  # 58-100 nodes, 4-8 dear ones
 
 
+@pytest.mark.parametrize("law", [
+    FrictionLaw(mu_s=0.2, mu_k=0.13, stick_velocity=1e-3, stribeck_velocity=0.1, viscous=0.6, sticking="literal"),
+    FrictionLaw(mu_s=0.13, mu_k=0.13, stick_velocity=1e-3, stribeck_velocity=0.0, viscous=0.0, step=5e-4),
+    FrictionLaw(mu_s=0.2, mu_k=0.13, stick_velocity=2e-3, stribeck_velocity=0.05, viscous=0.0, step=0.0),
+    FrictionLaw(mu_s=0.0, mu_k=0.0, stick_velocity=1e-3, stribeck_velocity=0.0, viscous=0.6, step=5e-4)],
+    ids=["literal", "coulomb", "no-step", "viscous"])
+def test_every_law_variant_keeps_its_values(law):
+    """The other shapes of the law (literal band, no Stribeck, no viscous, adaptive step, viscous only)
+    written lean: the law's value at states across every branch, both directions, at rest."""
+    es = exudyn_modules()[0].symbolic
+    f = pendulum_friction(law)
+    t, theta, omega = es.Real("t", 0.0), es.Real("theta", 0.0), es.Real("omega", 0.0)
+    lean = lean_expression(f, (t, theta, omega))
+    for th in (-2.5, -0.2, 0.0, 0.01, 0.3, 1.2, 3.0):
+        for w in (-3.0, -0.07, -0.0015, -5e-4, -1e-10, 0.0, 1e-10, 5e-4, 0.0015, 0.07, 3.0):
+            theta.SetValue(th)
+            omega.SetValue(w)
+            assert math.isclose(lean.Evaluate(), f(0.0, th, w, NumericOps), rel_tol=1e-13, abs_tol=1e-14), (th, w)
+
+
 def test_a_law_is_planned_once_per_distinct_trace(monkeypatch):
     """Rebuilding a model with the same law and numbers reuses the plan (the planning costs ten times
     the trace); other numbers are planned anew."""
