@@ -126,9 +126,8 @@ class Writer:
             c0, terms = form(self.graph, i, self.forms)
             if terms and (c0, terms) != (0.0, {(("n", i),): 1.0}):
                 return self._sum(c0, terms)
-        norm = self._norm(i)
-        if norm is not None:
-            return norm
+        if self._normable(i):
+            return self._norm(i)
         if op in ("lt", "le", "gt", "ge"):
             return self._comparison(op, args, i)
         a = [self.tree(j) for j in args]
@@ -210,7 +209,7 @@ class Writer:
         c0, terms = form(self.graph, i, self.forms)
         if c0 == 0.0 and len(terms) == 1:
             (f, v), = terms.items()
-            if v > 0.0 and len(f) == 1 and f[0][0] == "n" and self._norm(f[0][1]) is not None:
+            if v > 0.0 and len(f) == 1 and f[0][0] == "n" and self._normable(f[0][1]):
                 return ("norm", (f[0][1], {(): v}))
         if terms == {(("n", i),): 1.0}:
             return None
@@ -232,7 +231,8 @@ class Writer:
             return es.Real(c0)
         total = es.Real(c0) if c0 > 0.0 and items[0][1] < 0 else None
         for factors, coeff in items:
-            norm = self._norm(factors[0][1], abs(coeff)) if len(factors) == 1 and factors[0][0] == "n" else None
+            single = len(factors) == 1 and factors[0][0] == "n" and self._normable(factors[0][1])
+            norm = self._norm(factors[0][1], abs(coeff)) if single else None
             m = norm if norm is not None else self._product(factors)
             term = m if abs(coeff) == 1.0 or norm is not None else es.Real(abs(coeff)) * m
             if total is None:
@@ -247,16 +247,21 @@ class Writer:
         """``scale * sqrt(q)`` for a node ``i = sqrt(q)`` whose q is a sum of squares with positive
         coefficients (a reaction's magnitude) as Exudyn's NormL2 of the vector of ``scale sqrt(c) f``
         (each component evaluated once: no pow, no sqrt of a sum); None for another node."""
-        op, args = self.graph.nodes[i]
-        if op != "sqrt":
+        if not self._normable(i):
             return None
-        c0, terms = form(self.graph, args[0], self.forms)
-        if c0 < 0.0 or not terms or any(v <= 0.0 or len(f) != 2 or f[0] != f[1] for f, v in terms.items()):
-            return None
+        c0, terms = form(self.graph, self.graph.nodes[i][1][0], self.forms)
         parts = [self._scaled_factor(f[0], scale * math.sqrt(v)) for f, v in sorted(terms.items())]
         if c0 > 0.0:
             parts.append(self.es.Real(scale * math.sqrt(c0)))
         return self.es.Vector(parts).NormL2()
+
+    def _normable(self, i: int) -> bool:
+        """Node ``i`` is the square root of a sum of squares with positive coefficients."""
+        op, args = self.graph.nodes[i]
+        if op != "sqrt":
+            return False
+        c0, terms = form(self.graph, args[0], self.forms)
+        return c0 >= 0.0 and bool(terms) and all(v > 0.0 and len(f) == 2 and f[0] == f[1] for f, v in terms.items())
 
     def _scaled_factor(self, key: tuple, k: float):
         """``k`` times a factor: a sum's coefficients absorb k."""
@@ -453,12 +458,13 @@ class Tape:
 
     def add(self, kind: str, name: object, *refs: _Ref) -> _Ref:
         """A step (an equal step recorded before is reused: one Exudyn object, shared)."""
-        step = (kind, name, tuple(r.index for r in refs))
-        key = (kind, repr(name), step[2])  # repr: -0.0 is not 0.0
-        if key not in self._seen:
-            self.steps.append(step)
-            self._seen[key] = len(self.steps) - 1
-        return _Ref(self, self._seen[key])
+        indices = tuple([r.index for r in refs])
+        key = (kind, repr(name) if kind == "real" else name, indices)  # repr: -0.0 is not 0.0
+        index = self._seen.get(key)
+        if index is None:
+            index = self._seen[key] = len(self.steps)
+            self.steps.append((kind, name, indices))
+        return _Ref(self, index)
 
     def replay(self, es: object, args: Sequence) -> object:
         """The recorded expression built with Exudyn's symbolic module ``es`` on ``args``."""
