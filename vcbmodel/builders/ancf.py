@@ -35,7 +35,8 @@ from .. import parameters as P
 from ..laws.coil import coil_bending_stiffness
 from ..laws.mechanics import cam_pin
 from ..laws.springs import kelvin_voigt_time
-from .core import ExudynModel, add_cam_body, add_cam_friction, exudyn_modules
+from .core import ExudynModel, add_cam_body, add_cam_friction
+from .exudyn_loader import exudyn_modules
 
 if TYPE_CHECKING:
     from ..laws.friction import FrictionLaw

@@ -45,7 +45,8 @@ import numpy as np
 from ..laws.breaker import BreakerLaws, massless_pull, pin_weight_torque, push_rod_force
 from ..laws.cycle import CycleLaws, closed_state
 from .cam_drop import build_cam_drop
-from .core import ExudynModel, exudyn_modules
+from .core import ExudynModel
+from .exudyn_loader import exudyn_modules
 
 if TYPE_CHECKING:
     from ..laws.friction import FrictionLaw

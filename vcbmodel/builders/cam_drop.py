@@ -14,7 +14,8 @@ from typing import TYPE_CHECKING
 from ..laws.mechanics import cam_pin, cam_pin_velocity, link_pull, massless_spring_force
 from ..laws.springs import kelvin_voigt_time
 from .ancf import build_cam_drop_ancf
-from .core import ExudynModel, add_cam_body, add_cam_friction, exudyn_modules
+from .core import ExudynModel, add_cam_body, add_cam_friction
+from .exudyn_loader import exudyn_modules
 
 if TYPE_CHECKING:
     from ..laws.friction import FrictionLaw

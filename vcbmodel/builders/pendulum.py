@@ -6,7 +6,8 @@ from typing import TYPE_CHECKING
 from ..laws.discovered import discovered_torque
 from ..laws.friction import shaft_friction
 from ..laws.mechanics import aerodynamic_drag_torque, pendulum_loads
-from .core import ExudynModel, add_discovered_torque, add_drag_torque, add_friction_connector, add_shaft, exudyn_modules
+from .core import ExudynModel, add_discovered_torque, add_drag_torque, add_friction_connector, add_shaft
+from .exudyn_loader import exudyn_modules
 
 if TYPE_CHECKING:
     from ..laws.friction import FrictionLaw

@@ -33,6 +33,7 @@ from __future__ import annotations
 from collections.abc import Callable, Sequence
 
 from ..compiled.trace import CONST, Expr, Graph, TraceOps
+from .exudyn_loader import exudyn_modules
 from .symbolic_writer import Tape, Writer, min_max, tree_cost
 
 #: Comparison operations: their value is exactly 1.0 or 0.0
@@ -57,8 +58,6 @@ def trace_law(law: Callable, n_args: int) -> tuple[Graph, int, list[int]]:
 def lean_expression(law: Callable, args: Sequence) -> object:
     """The Exudyn symbolic expression of ``law(*args, ops)`` (``args``: Exudyn symbolic reals, e.g.
     a user function's arguments), its branches chosen first (module docstring)."""
-    from .core import exudyn_modules
-
     exu, _ = exudyn_modules()
     return _planned(law, len(args)).replay(exu.symbolic, args)
 

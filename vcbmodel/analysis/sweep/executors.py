@@ -25,7 +25,7 @@ from concurrent.futures import FIRST_COMPLETED, ProcessPoolExecutor, wait
 from typing import Any
 
 from ... import __version__
-from ...builders.core import exudyn_modules
+from ...builders.exudyn_loader import exudyn_modules
 from ...compiled import compiler_problem
 from ...errors import InputError
 from .runs import SweepJob, one_line, run_chunk
