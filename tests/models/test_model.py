@@ -1,11 +1,12 @@
 """The model layer: one spring-model value, the one rule for model values, the result type."""
+from dataclasses import replace
 
 import numpy as np
 import pytest
 
 from vcbmodel.errors import InputError
 from vcbmodel.experiments.simulation import model_spec, simulate
-from vcbmodel.model.effects import consistent_effects
+from vcbmodel.model.choice import choose, consistent_effects
 from vcbmodel.model.values import model_values
 from vcbmodel.rig.spring_model import SpringModel
 
@@ -30,6 +31,26 @@ def test_bad_spring_models_are_refused(text):
 def test_spring_mass_follows_the_spring_model():
     assert consistent_effects(("coulomb_friction",), SpringModel.parse("lumped-2")) == ("coulomb_friction", "spring_mass")
     assert consistent_effects(("spring_mass", "stribeck"), SpringModel()) == ("stribeck",)
+
+
+def test_the_model_choice_is_made_by_one_rule(cam_rig):
+    """The rig's lumped-2 cam drop: a named spring model decides spring_mass (keeping the rig's
+    convention unless it names one); effects named alone decide whether the spring has mass; a
+    spring's mass listed on a massless spring is refused, never given a default mass model."""
+    assert choose(cam_rig) is cam_rig.model
+    named = choose(cam_rig, ("coulomb_friction",), "lumped-3")
+    assert named.effects == ("coulomb_friction", "spring_mass") and named.spring_model == SpringModel("lumped", 3, "exact")
+    assert choose(cam_rig, spring_model="massless").spring_model.is_massless
+    assert "spring_mass" not in choose(cam_rig, spring_model="massless").effects
+    alone = choose(cam_rig, ("stribeck", "coulomb_friction"))
+    assert alone.effects == ("stribeck", "coulomb_friction") and alone.spring_model == SpringModel("massless", 0, "exact")
+    assert choose(cam_rig, ("coulomb_friction", "spring_mass")).spring_model == cam_rig.model.spring_model
+    massless = choose(cam_rig, ("coulomb_friction",))
+    rig = replace(cam_rig, model=massless)
+    with pytest.raises(ValueError, match="spring_mass.*massless"):
+        choose(rig, ("coulomb_friction", "spring_mass"))
+    with pytest.raises(ValueError, match="spring_mass.*massless"):
+        simulate(rig, ("coulomb_friction", "spring_mass"), t_end=0.001)
 
 
 def test_values_given_over_rig_and_missing_values_refused(cam_rig, tmp_path):

@@ -17,8 +17,8 @@ from typing import TYPE_CHECKING
 from ..errors import InputError
 from ..laws.discovered import term
 from ..laws.friction import FrictionLaw, effective_static, viscous_from_zeta
-from ..parameters import DEFAULT_SPRING_MASS_MODEL, DEFAULT_STICK_VELOCITY
-from ..rig.spring_model import SpringModel
+from ..parameters import DEFAULT_STICK_VELOCITY
+from ..rig.spring_model import MASS_VARIANTS, SpringModel
 
 if TYPE_CHECKING:
     from ..rig.data import Rig
@@ -41,7 +41,8 @@ class ParameterSpec:
 @dataclass
 class ModelSpec:
     """What one simulation runs with beyond the rig: the effects, the friction law's values,
-    the spring model and the breaker's effect values."""
+    the spring model (the run's :class:`~vcbmodel.rig.data.ModelChoice`'s, as it is) and the
+    breaker's effect values."""
 
     effects: tuple = ()
     mu_s: float = 0.0  # -
@@ -49,7 +50,7 @@ class ModelSpec:
     stick_velocity: float = DEFAULT_STICK_VELOCITY  # rad/s
     stribeck_velocity: float = 0.0  # rad/s
     viscous: float = 0.0  # N m s/rad
-    spring_model: SpringModel = field(default_factory=SpringModel)
+    spring_model: SpringModel = field(kw_only=True)  # the run's model choice's, never a default
     sticking: str = "passive"  # passive | literal (spec "Sticking is passive")
     restitution: float = 1.0  # whole breaker: contacts' coefficient of restitution (1: elastic)
     bellows_force: float = 0.0  # whole breaker: atmospheric force on each pole's bellows (N)
@@ -213,19 +214,14 @@ class SpringMass(Effect):
     parameters = ()
     extra_rig_fields = ("closing_spring.mass",)
     experiments = ("cam_drop", "vcb_closing")
-    #: mass models the diagnosis tries when adding this effect (a discrete choice, no fitted
-    #: parameter); the best by BIC is kept. Cheapest first: a candidate that explains the data
-    #: within the noise stops the rest.
-    variants = tuple(SpringModel.parse(s) for s in ("lumped-1", "lumped-2", "lumped-3", "lumped-1:paper",
-                                                     "lumped-2:paper", "lumped-3:paper", "ancf"))
+    variants = MASS_VARIANTS  # the mass models the diagnosis tries when adding this effect
 
     def on(self, spec: ModelSpec, values: dict, rig: Rig) -> None:
-        chosen = rig.model.spring_model
-        spec.spring_model = chosen if not chosen.is_massless else SpringModel.parse(
-            DEFAULT_SPRING_MASS_MODEL, chosen.convention)
+        """Nothing to set: the spring model is the run's model choice's (:mod:`.choice`), listed with
+        ``spring_mass`` exactly when it has mass."""
 
     def off(self, spec: ModelSpec, values: dict, rig: Rig) -> None:
-        spec.spring_model = SpringModel("massless", 0, rig.model.spring_model.convention)
+        """Nothing to set (as :meth:`on`)."""
 
 
 class BreakerScalarEffect(Effect):
@@ -315,16 +311,11 @@ def parameter_specs(effects: Iterable[str], registry: dict[str, Effect] | None =
     return [p for name, e in (registry or EFFECTS).items() if name in effects for p in e.parameters]
 
 
-def consistent_effects(effects, spring_model: SpringModel):
-    """``effects`` with ``spring_mass`` listed exactly when the spring model is not massless
-    (spec "Effect names"), in registry order."""
-    wanted = set(effects) - {"spring_mass"} | ({"spring_mass"} if not spring_model.is_massless else set())
-    return tuple(e for e in EFFECTS if e in wanted) + tuple(e for e in effects if e not in EFFECTS)
-
-
-def assemble(rig, effects, values) -> ModelSpec:
-    """Visit every registered effect; the on/off variant contributes its part."""
-    spec = ModelSpec(effects=tuple(effects), sticking=rig.friction.get("sticking", "passive"))
+def assemble(rig, choice, values) -> ModelSpec:
+    """The model of a run with model choice ``choice`` (:class:`~vcbmodel.rig.data.ModelChoice`):
+    every registered effect's on/off variant contributes its part."""
+    effects = choice.effects
+    spec = ModelSpec(effects=tuple(effects), spring_model=choice.spring_model, sticking=rig.friction.get("sticking", "passive"))
     for name, effect in EFFECTS.items():
         (effect.on if name in effects else effect.off)(spec, values, rig)
     for name, machinery in MACHINERY.items():

@@ -7,8 +7,7 @@ and the experiment's own sections by name (``pendulum``; ``cam`` and ``closing_s
 """
 from __future__ import annotations
 
-from collections.abc import Sequence
-from dataclasses import dataclass, field, replace
+from dataclasses import dataclass, field
 
 from .. import parameters as P
 from ..laws.breaker import CamRollerLaw, EndStop, HoldLatch, LatchPoint, MainShaft
@@ -160,10 +159,11 @@ class Breaker:
 
 @dataclass(frozen=True)
 class ModelChoice:
-    """The analyst's model: effect names and the closing-spring model."""
+    """The analyst's model: effect names and the closing-spring model (with its lumped
+    convention), decided once (:mod:`vcbmodel.model.choice`) and read as it is by every layer."""
 
     effects: tuple
-    spring_model: SpringModel = SpringModel()
+    spring_model: SpringModel
 
 
 @dataclass(frozen=True)
@@ -205,10 +205,3 @@ class Rig:
     @property
     def breaker(self) -> Breaker | None:
         return self.sections.get("breaker")
-
-    def with_model(self, effects: Sequence[str] | None = None, spring_model: str | SpringModel | None = None) -> Rig:
-        """A copy with other effects and/or spring model (text or :class:`SpringModel`; text
-        without a convention keeps the rig's)."""
-        m = self.model
-        spring = m.spring_model if spring_model is None else SpringModel.parse(spring_model, m.spring_model.convention)
-        return replace(self, model=ModelChoice(tuple(m.effects if effects is None else effects), spring))

@@ -64,3 +64,10 @@ class SpringModel:
 
     def __str__(self):
         return self.name
+
+
+#: The mass models the diagnosis tries when it adds the spring's inertia (effect ``spring_mass``: a
+#: discrete choice, no fitted parameter; the best by BIC is kept). Cheapest first: a candidate that
+#: explains the record within the noise stops the rest.
+MASS_VARIANTS = tuple(SpringModel.parse(s) for s in ("lumped-1", "lumped-2", "lumped-3", "lumped-1:paper",
+                                                     "lumped-2:paper", "lumped-3:paper", "ancf"))
