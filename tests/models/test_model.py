@@ -74,3 +74,45 @@ def test_result_carries_units_model_and_a_dataframe(cam_rig):
     assert frame.index.name == "t [s]" and "cam_angle [rad]" in frame.columns
     np.testing.assert_array_equal(frame["cam_angle [rad]"].to_numpy(), r.measured)
     assert model_spec(cam_rig).spring_model == SpringModel.parse("lumped-2")  # the rig's own model
+
+
+def test_the_model_is_the_same_in_any_registry_order(cam_rig, monkeypatch):
+    """Effects declare the fields they set and read: Stribeck friction's static coefficient falls
+    to the kinetic one, so it is assembled after Coulomb friction whatever the registry's order."""
+    from vcbmodel.model import effects as E
+    cases = [(("coulomb_friction", "stribeck"), {"mu_k": 0.12, "mu_s": 0.2, "stribeck_velocity": 0.05}),
+             (("stribeck",), {"mu_s": 0.2, "stribeck_velocity": 0.05}), (("coulomb_friction",), {"mu_k": 0.12}), ((), {}),
+             (("coulomb_friction", "viscous_friction", "spring_mass", "spring_damping"),
+              {"mu_k": 0.12, "viscous": 0.3, "damping_ratio": 0.02})]
+    expected = [model_spec(cam_rig, effects, values) for effects, values in cases]
+    assert expected[0].mu_s == 0.2 and expected[2].mu_s == 0.12 and expected[1].mu_k == 0.0
+    registry = dict(E.EFFECTS)
+    for seed in range(6):
+        names = list(registry)
+        np.random.default_rng(seed).shuffle(names)
+        monkeypatch.setattr(E, "EFFECTS", {n: registry[n] for n in names})
+        order = [e.name for e in E.assembly_order(E.EFFECTS)]
+        assert order.index("coulomb_friction") < order.index("stribeck")
+        assert [model_spec(cam_rig, effects, values) for effects, values in cases] == expected
+
+
+def test_an_effect_that_breaks_the_assembly_contract_is_refused():
+    from vcbmodel.model import effects as E
+
+    class Twice(E.Effect):
+        name, sets = "twice", ("mu_k",)
+
+    class Reader(E.Effect):
+        name, sets, reads = "reader", ("drag",), ("nowhere",)
+
+    class A(E.Effect):
+        name, sets, reads = "a", ("x",), ("y",)
+
+    class B(E.Effect):
+        name, sets, reads = "b", ("y",), ("x",)
+    with pytest.raises(ValueError, match="'mu_k' is set by two effects"):
+        E.assembly_order(dict(E.EFFECTS, twice=Twice()))
+    with pytest.raises(ValueError, match="reads model field 'nowhere'"):
+        E.assembly_order({"reader": Reader()})
+    with pytest.raises(ValueError, match="circle"):
+        E.assembly_order({"a": A(), "b": B()})

@@ -169,7 +169,7 @@ def cmd_simulate(args: argparse.Namespace) -> int:
     if args.sequence is not None:
         return simulate_sequence(rig, args)
     record = experiment_of(rig.experiment)
-    effects = None if args.effects is None else parse_effects_option(args.effects, rig.experiment)
+    effects = None if args.effects is None else parse_effects_option(args.effects, record)
     try:  # the spring model (the rig's unless --spring-model) decides spring_mass, whatever --effects says
         choice = choose(rig, effects, args.spring_model or rig.model.spring_model)
     except ValueError as e:

@@ -66,6 +66,12 @@ class Experiment:
 
     - ``read_sections(reader, data) -> {section name: dataclass}``: the rig sections it needs
       (``sections`` lists their top-level keys);
+    - ``provides``: what its model carries that effects act on (each effect says what it needs,
+      :class:`vcbmodel.model.effects.Effect`): ``journal`` (a shaft in a journal bearing: the
+      friction law), ``swinging_body`` (a body swinging through air), ``closing_spring`` (the closing
+      springs as bodies), ``breaker`` (the whole breaker's contacts and poles), ``shaft_torque`` (its
+      equations carry a further torque on the shaft: a discovered one); an effect applies to it exactly
+      when it provides all the effect needs;
     - ``build(rig, spec, law, chain, user_function, ancf_elements) -> ExudynModel``;
     - ``channels(data, rig, spec, info) -> {name: array}`` from the sensors' rows (t, values...)
       of any backend (Exudyn, compiled, or the record's ``reference`` solve);
@@ -109,6 +115,7 @@ class Experiment:
     step: Callable
     figures_of_merit: Callable
     has_closing_spring: bool = False
+    provides: tuple = ()  # what its model carries that effects act on (above); (): no effect applies
     start_guesses: Callable = no_guesses
     swinging_part: Callable = whole_record
     signature: Callable = no_signature

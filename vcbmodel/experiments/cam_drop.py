@@ -84,6 +84,7 @@ def spring_signature(rig: Rig, measurement: Measurement, model_curve: np.ndarray
 CAM_DROP = Experiment(
     name="cam_drop", description="cam released and turned by the closing springs (paper section 3, eq. 7-13)",
     measured_channel="cam_angle", unit="rad", sections=("cam", "closing_spring"), read_sections=read_cam_and_spring,
+    provides=("journal", "closing_spring", "shaft_torque"),
     # high-speed camera at 12000 frames/s, sigma 2 mrad (the example data's sensor)
     sample_rate=12000.0, noise_sigma=2e-3, default_duration=P.CAM_T_END, max_duration=1.0,
     # a drop shorter than 2 ms barely moves the cam; cam angles beyond two turns are degrees

@@ -65,7 +65,7 @@ def rig_from_data(data: dict, path: str = "(rig)") -> Rig:
     gravity = rd.number(data, "gravity", nonnegative=True, default=9.81)
     radius = rd.number(rd.section(data, "shaft", known=("radius",)), "radius", "shaft.", nonnegative=True)
     friction = read_friction(rd, data)
-    model = read_model(rd, data, name)
+    model = read_model(rd, data, record)
     if not record.has_closing_spring and not model.spring_model.is_massless:
         rd.fail("model.spring_model", f"a {name} test has no closing spring: use 'massless'")
     warnings = plausibility(rd, data)  # a unit slip first: it would mislead the sections' own checks
@@ -76,7 +76,7 @@ def rig_from_data(data: dict, path: str = "(rig)") -> Rig:
         rd.fail("name", "must be a string")
     rig = Rig(path=path, name=title, experiment=name, gravity=gravity, shaft_radius=radius, friction=friction,
               model=model, sections=sections, data=data, record=read_record(rd, data),
-              uncertain=read_uncertain(rd, data), warnings=warnings)
+              uncertain=read_uncertain(rd, data), warnings=warnings, provides=record.provides)
     rig_values(rig)  # the effects check the values the rig gives (e.g. zeta on a pendulum only)
     step_limits(rig, model.spring_model, record.step(rig))  # a spring or damper too stiff for the step
     return rig

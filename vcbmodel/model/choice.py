@@ -17,25 +17,26 @@ from .effects import EFFECTS
 MODEL_KEYS = ("effects", "spring_model", "lumped_convention")
 
 
-def check_effect_names(effects: Sequence[str], experiment: str, fail: Callable[[str], None]) -> None:
-    """Refuse unknown, inapplicable or repeated effect names through ``fail(message)``."""
+def check_effect_names(effects: Sequence[str], record: object, fail: Callable[[str], None]) -> None:
+    """Refuse unknown, inapplicable (the experiment ``record`` does not provide what the effect
+    needs) or repeated effect names through ``fail(message)``."""
     for e in effects:
         if e not in EFFECTS:
             fail(f"unknown effect {e!r}{did_you_mean(e, EFFECTS)} (known: {', '.join(EFFECTS)})")
-        if experiment not in EFFECTS[e].experiments:
-            fail(f"effect {e!r} does not apply to a {experiment} test")
+        if not EFFECTS[e].acts_on(record.provides):
+            fail(f"effect {e!r} does not apply to a {record.name} test")
     if len(set(effects)) != len(effects):
         fail("lists an effect twice")
 
 
-def read_model(rd: Reader, data: dict, experiment: str) -> ModelChoice:
-    """The rig's ``model``: a :class:`vcbmodel.rig.data.ModelChoice`."""
+def read_model(rd: Reader, data: dict, record: object) -> ModelChoice:
+    """The rig's ``model`` (for an experiment of kind ``record``): a :class:`vcbmodel.rig.data.ModelChoice`."""
     m = rd.section(data, "model")
     rd.known_keys(m, MODEL_KEYS, "model.")
     effects = m.get("effects", [])
     if not isinstance(effects, list) or not all(isinstance(e, str) for e in effects):
         rd.fail("model.effects", "must be a list of effect names")
-    check_effect_names(effects, experiment, lambda msg: rd.fail("model.effects", msg))
+    check_effect_names(effects, record, lambda msg: rd.fail("model.effects", msg))
     convention = m.get("lumped_convention", "exact")
     if not isinstance(convention, str) or ":" in convention:
         rd.fail("model.lumped_convention", f"must be exact, paper or uniform, got {json.dumps(convention)}")
@@ -55,14 +56,14 @@ def read_model(rd: Reader, data: dict, experiment: str) -> ModelChoice:
     return ModelChoice(tuple(effects), spring_model)
 
 
-def parse_effects_option(text: str, experiment: str, source: str = "--effects") -> tuple[str, ...]:
-    """Effects given on the command line: comma-separated, spaces allowed."""
+def parse_effects_option(text: str, record: object, source: str = "--effects") -> tuple[str, ...]:
+    """Effects given on the command line for an experiment of kind ``record``: comma-separated, spaces allowed."""
     effects = [e.strip() for e in text.split(",") if e.strip()]
 
     def fail(message):
         raise InputError(source, "effects", message)
 
-    check_effect_names(effects, experiment, fail)
+    check_effect_names(effects, record, fail)
     return tuple(effects)
 
 

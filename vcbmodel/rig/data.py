@@ -189,6 +189,9 @@ class Rig:
     uncertain: dict = field(default_factory=dict)
     #: values that are unusual but possible, one line each (``FIELD: ...``; vcbmodel.rig.plausibility)
     warnings: tuple = ()
+    #: what the experiment's model carries that effects act on (its record's ``provides``; an effect
+    #: applies when all it needs is there)
+    provides: tuple = ()
 
     @property
     def pendulum(self) -> Pendulum | None:
