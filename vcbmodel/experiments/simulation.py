@@ -70,7 +70,7 @@ def output_times(rig: Rig, t_end: float) -> np.ndarray:
     return np.arange(n + 1) * dt
 
 
-def simulate(rig: Rig, effects: Sequence[str] | None = None, values: dict[str, float] | None = None, *, spring_model: str | SpringModel | None = None,
+def simulate(rig: Rig, effects: Sequence[str] | None = None, values: dict[str, float] | None = None, *, spring_model: str | SpringModel | None = None,  # noqa: PLR0913 (the front door's documented keyword options)
              t_end: float | None = None, sample_times: np.ndarray | None = None, backend: str = "exudyn", user_function: str = "auto",
              step: float | None = None, method: str = "DOP853", ancf_elements: int | None = None, ancf_tie_stiffness: float | None = None,
              ancf: AncfOptions | None = None, sticking: str | None = None) -> SimulationResult:
