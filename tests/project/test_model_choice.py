@@ -11,8 +11,8 @@ PACKAGE = Path(vcbmodel.__file__).resolve().parent
 
 #: Where the spring model may be decided, and why there.
 DECIDERS = {
-    "rig/spring_model.py": "the value and its parser (and the mass models the diagnosis tries)",
-    "model/choice.py": "the rig's model section and a run's overrides: the one rule",
+    "rig/spring_model.py": "the value, its parser, the rig file's model section (and the mass models the diagnosis tries)",
+    "model/choice.py": "a run's overrides of the rig's model: the one rule",
     "analysis/identify.py": "the friction identification's pendulum: a massless spring, a constant",
 }
 

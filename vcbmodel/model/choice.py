@@ -1,59 +1,23 @@
-"""The model choice (effects, spring model, lumped convention), decided here and nowhere else:
-the rig's ``model`` section (:func:`read_model`) and a run's overrides (:func:`choose`: the command
-line's ``--effects`` / ``--spring-model`` and :func:`vcbmodel.experiments.simulation.simulate`'s
-arguments) become one :class:`~vcbmodel.rig.data.ModelChoice` that every layer below reads as it is.
+"""The model choice (effects, spring model, lumped convention) of a run: the rig's
+(:func:`vcbmodel.rig.spring_model.read_model` read it from the rig file) unless a run overrides it,
+by one rule (:func:`choose`: the command line's ``--effects`` / ``--spring-model`` and
+:func:`vcbmodel.experiments.simulation.simulate`'s arguments). The result is one
+:class:`~vcbmodel.rig.spring_model.ModelChoice` that every layer below reads as it is.
 """
 from __future__ import annotations
 
-import json
-from collections.abc import Callable, Sequence
+from collections.abc import Sequence
 
 from ..errors import InputError
-from ..rig.data import ModelChoice, Rig
-from ..rig.reader import Reader, did_you_mean
-from ..rig.spring_model import SpringModel
+from ..rig.data import Rig
+from ..rig.spring_model import ModelChoice, SpringModel, check_effect_names
 from .effects import EFFECTS
 
-MODEL_KEYS = ("effects", "spring_model", "lumped_convention")
 
-
-def check_effect_names(effects: Sequence[str], record: object, fail: Callable[[str], None]) -> None:
-    """Refuse unknown, inapplicable (the experiment ``record`` does not provide what the effect
-    needs) or repeated effect names through ``fail(message)``."""
-    for e in effects:
-        if e not in EFFECTS:
-            fail(f"unknown effect {e!r}{did_you_mean(e, EFFECTS)} (known: {', '.join(EFFECTS)})")
-        if not EFFECTS[e].acts_on(record.provides):
-            fail(f"effect {e!r} does not apply to a {record.name} test")
-    if len(set(effects)) != len(effects):
-        fail("lists an effect twice")
-
-
-def read_model(rd: Reader, data: dict, record: object) -> ModelChoice:
-    """The rig's ``model`` (for an experiment of kind ``record``): a :class:`vcbmodel.rig.data.ModelChoice`."""
-    m = rd.section(data, "model")
-    rd.known_keys(m, MODEL_KEYS, "model.")
-    effects = m.get("effects", [])
-    if not isinstance(effects, list) or not all(isinstance(e, str) for e in effects):
-        rd.fail("model.effects", "must be a list of effect names")
-    check_effect_names(effects, record, lambda msg: rd.fail("model.effects", msg))
-    convention = m.get("lumped_convention", "exact")
-    if not isinstance(convention, str) or ":" in convention:
-        rd.fail("model.lumped_convention", f"must be exact, paper or uniform, got {json.dumps(convention)}")
-    try:
-        SpringModel.parse("massless", convention)
-    except ValueError:
-        rd.fail("model.lumped_convention", f"must be exact, paper or uniform, got {json.dumps(convention)}")
-    text = m.get("spring_model", "massless")
-    try:
-        if not isinstance(text, str) or ":" in text:
-            raise ValueError(f"must be massless, lumped-N (N = 1..99) or ancf, got {json.dumps(text)}")
-        spring_model = SpringModel.parse(text, convention)
-    except ValueError as e:
-        rd.fail("model.spring_model", str(e))
-    if ("spring_mass" in effects) != (not spring_model.is_massless):
-        rd.fail("model.effects", "'spring_mass' must be listed exactly when spring_model is not 'massless'")
-    return ModelChoice(tuple(effects), spring_model)
+def applicable(record: object) -> dict[str, bool]:
+    """Every registered effect's name (in the registry's order) and whether it applies to an
+    experiment of kind ``record``: the record provides all the effect needs."""
+    return {name: effect.acts_on(record.provides) for name, effect in EFFECTS.items()}
 
 
 def parse_effects_option(text: str, record: object, source: str = "--effects") -> tuple[str, ...]:
@@ -63,7 +27,7 @@ def parse_effects_option(text: str, record: object, source: str = "--effects") -
     def fail(message):
         raise InputError(source, "effects", message)
 
-    check_effect_names(effects, record, fail)
+    check_effect_names(effects, applicable(record), record.name, fail)
     return tuple(effects)
 
 

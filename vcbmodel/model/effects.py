@@ -42,7 +42,7 @@ class ParameterSpec:
 @dataclass
 class ModelSpec:
     """What one simulation runs with beyond the rig: the effects, the friction law's values,
-    the spring model (the run's :class:`~vcbmodel.rig.data.ModelChoice`'s, as it is) and the
+    the spring model (the run's :class:`~vcbmodel.rig.spring_model.ModelChoice`'s, as it is) and the
     breaker's effect values."""
 
     effects: tuple = ()
@@ -372,7 +372,7 @@ def assembly_order(registry: dict[str, Effect]) -> tuple[Effect, ...]:
 
 
 def assemble(rig, choice, values) -> ModelSpec:
-    """The model of a run with model choice ``choice`` (:class:`~vcbmodel.rig.data.ModelChoice`):
+    """The model of a run with model choice ``choice`` (:class:`~vcbmodel.rig.spring_model.ModelChoice`):
     every registered effect contributes its on or off part (the fields it declares it ``sets``),
     in :func:`assembly_order`; then the machinery the run lists (a discovered torque)."""
     effects = choice.effects

@@ -14,7 +14,7 @@ from ..laws.breaker import CamRollerLaw, EndStop, HoldLatch, LatchPoint, MainSha
 from ..laws.making_current import MakingCurrent
 from ..laws.opening import Commands, OpeningDashpot, TripLatch
 from ..laws.release import Release
-from .spring_model import SpringModel
+from .spring_model import ModelChoice
 
 
 @dataclass(frozen=True)
@@ -156,15 +156,6 @@ class Breaker:
 
 
 # --- the rig ------------------------------------------------------------------------------------
-
-@dataclass(frozen=True)
-class ModelChoice:
-    """The analyst's model: effect names and the closing-spring model (with its lumped
-    convention), decided once (:mod:`vcbmodel.model.choice`) and read as it is by every layer."""
-
-    effects: tuple
-    spring_model: SpringModel
-
 
 @dataclass(frozen=True)
 class Rig:
