@@ -114,7 +114,6 @@ class Experiment:
     channels: Callable
     step: Callable
     figures_of_merit: Callable
-    has_closing_spring: bool = False
     provides: tuple = ()  # what its model carries that effects act on (above); (): no effect applies
     start_guesses: Callable = no_guesses
     swinging_part: Callable = whole_record
@@ -141,6 +140,11 @@ class Experiment:
     reference: Callable | None = None  # (rig, spec, law, chain, t_end, method, step) -> (data, info): the solve without Exudyn
     sensor: str = ""  # the usual sensor's kind: potentiometer | camera (synthetic records' complications follow it)
     random_rig: Callable | None = None  # (rng, friction, start, variant) -> rig JSON: randomised rigs (random_rigs.py)
+
+    @property
+    def has_closing_spring(self) -> bool:
+        """Whether its model carries the closing springs (``closing_spring`` among ``provides``)."""
+        return "closing_spring" in self.provides
 
     @property
     def figure_columns(self) -> tuple:

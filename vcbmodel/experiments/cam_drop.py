@@ -90,7 +90,7 @@ CAM_DROP = Experiment(
     # a drop shorter than 2 ms barely moves the cam; cam angles beyond two turns are degrees
     min_duration=2e-3, max_magnitude=4 * math.pi, unit_hint=": is it in degrees? cam_angle must be in rad",
     build=build, channels=channels, step=default_step, figures_of_merit=figures_of_merit,
-    has_closing_spring=True, signature=spring_signature, initial_angle_field="cam.initial_angle",
+    signature=spring_signature, initial_angle_field="cam.initial_angle",
     figure_units=(("cam_angle_end_rad", "rad"), ("peak_shaft_velocity_rad_s", "rad/s")), summary=cam_drop_summary,
     # fits run the compiled path (ode_model) where a C compiler works; on Exudyn (no compiler) they use the Python
     # friction function: a 35 ms massless drop takes 0.15 s with it, 0.6-1.1 s with Exudyn's symbolic one (the

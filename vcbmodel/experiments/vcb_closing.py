@@ -91,7 +91,7 @@ VCB_CLOSING = Experiment(
     # the follower moves a few centimetres at most: a value above 0.5 is millimetres
     min_duration=2e-3, max_magnitude=0.5, unit_hint=": is it in millimetres? follower_displacement must be in m",
     build=build, channels=closing_channels, step=default_step, figures_of_merit=figures_of_merit,
-    has_closing_spring=True, signature=spring_signature,
+    signature=spring_signature,
     # a breaker analyser's timing and travel channels (vcbmodel.records.analyser), fitted when present
     extra_channels=(r"pole_\d+_contact", r"pole_\d+_travel"),
     figure_units=(("closing_time_s", "s"), ("touch_speed_m_s", "m/s"), ("closing_speed_m_s", "m/s"), ("pole_spread_s", "s"), ("bounce_count", "-"),
