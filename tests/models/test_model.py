@@ -116,3 +116,19 @@ def test_an_effect_that_breaks_the_assembly_contract_is_refused():
         E.assembly_order({"reader": Reader()})
     with pytest.raises(ValueError, match="circle"):
         E.assembly_order({"a": A(), "b": B()})
+
+
+def test_an_effect_sets_only_the_fields_it_declares(cam_rig, monkeypatch):
+    from vcbmodel.model import effects as E
+
+    class Sneaky(E.Effect):
+        name, sets = "sneaky", ("drag",)
+
+        def on(self, values, model):
+            return {"drag": 0.0, "viscous": 1.0}  # viscous is viscous friction's
+
+        def off(self, model):
+            return self.on({}, model)
+    monkeypatch.setattr(E, "EFFECTS", {n: e for n, e in E.EFFECTS.items() if n != "aerodynamic_drag"} | {"sneaky": Sneaky()})
+    with pytest.raises(ValueError, match="'sneaky' set \\['drag', 'viscous'\\], not the fields it declares \\['drag'\\]"):
+        model_spec(cam_rig, ("coulomb_friction",), {"mu_k": 0.1})
