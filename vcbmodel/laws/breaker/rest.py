@@ -29,7 +29,9 @@ class InitialState:
 
 
 class AtRest:
-    """The rest state of :class:`~.forces.BreakerLaws` (a part of it: it uses the laws' torques)."""
+    """The rest state of :class:`~.forces.BreakerLaws`, a part of it: it reads the laws' ``b``,
+    ``cam``, ``gravity``, ``geometry``, ``pole_load``, ``pin_rest`` and ``free_levers`` and balances
+    their own torques (:meth:`~.forces.BreakerLaws.lever_torques`, ``lever_angles``)."""
 
     def rod_rest_compression(self) -> float:
         """Compression (m) of a rod holding its pole at rest: force m g - bellows."""
