@@ -17,11 +17,6 @@ DEFAULT_STICK_VELOCITY = 1e-3
 STICK_TIME = 2e-3
 
 # --- spring models ----------------------------------------------------------------------
-#: Mass model chosen when the diagnosis adds ``spring_mass`` to a massless model: three
-#: lumped masses reproduce the first three fixed-fixed modes (paper Fig. 9(b): two masses
-#: capture the behaviour, three are not much better, so three is the safe choice).
-DEFAULT_SPRING_MASS_MODEL = "lumped-3"
-
 #: Coil geometry for the ANCF spring's bending stiffness when a rig gives none: derived from k0
 #: and m0 (vcbmodel/laws/coil.py) with spring index C = D/d = 4, the smallest commonly coiled
 #: (Shigley, Mechanical Engineering Design, ch. 10), steel (G 79.3 GPa, E 206 GPa, 7850 kg/m^3).

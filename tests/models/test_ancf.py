@@ -135,7 +135,8 @@ def test_fit_step_of_the_continuum_is_accurate(heavy_cam):
     """Fits run the continuum at its stability-bounded step (1.7x the studies' for 1 kg): the
     cam angle stays within 0.01 mrad of the studies' step, far below any sensor's noise."""
     from vcbmodel.analysis.fit import fit_step
-    h = fit_step(heavy_cam, "ancf")
+    from vcbmodel.rig.spring_model import SpringModel
+    h = fit_step(heavy_cam, SpringModel.parse("ancf"))
     assert h > 1.5 * P.ANCF_STEP
     fine = simulate(heavy_cam, EFFECTS, spring_model="ancf", sample_times=T).measured
     fast = simulate(heavy_cam, EFFECTS, spring_model="ancf", sample_times=T, step=h).measured

@@ -78,9 +78,10 @@ def test_a_new_experiment_runs_through_every_layer(oscillator, tmp_path, capsys)
     assert load_record(meas.path, rig).channels["oscillator_position"].size == meas.t.size
     assert main(["simulate", str(oscillator), "-o", str(tmp_path / "sim.csv")]) == 0
     assert "t,oscillator_position" in (tmp_path / "sim.csv").read_text()
+    assert main(["check", str(oscillator)]) == 0
 
 
-def test_a_new_experiment_gets_the_front_door_checks(oscillator, tmp_path):
+def test_a_new_experiment_gets_the_front_door_checks(oscillator, tmp_path, capsys):
     data = json.loads(oscillator.read_text())
     data["oscillator"]["masss"] = 1.0
     bad = tmp_path / "bad.rig.json"
@@ -88,10 +89,15 @@ def test_a_new_experiment_gets_the_front_door_checks(oscillator, tmp_path):
     with pytest.raises(InputError, match="oscillator.masss.*did you mean 'mass'"):
         load_rig(bad)
     data["oscillator"].pop("masss")
-    data["model"]["effects"] = ["spring_mass"]
-    bad.write_text(json.dumps(data))
-    with pytest.raises(InputError, match="model.effects"):  # spring_mass applies to spring experiments only
-        load_rig(bad)
+    # which effects apply is asked of the record (what it provides), not of a list in the effects' module
+    assert OSCILLATOR.provides == ()
+    for effect in ("spring_mass", "viscous_friction", "aerodynamic_drag"):
+        data["model"]["effects"] = [effect]
+        bad.write_text(json.dumps(data))
+        with pytest.raises(InputError, match=f"model.effects.*{effect}' does not apply to an? oscillator test"):
+            load_rig(bad)
+    assert main(["simulate", str(oscillator), "--effects", "coulomb_friction", "-o", str(tmp_path / "sim.csv")]) == 2
+    assert "--effects: effects: effect 'coulomb_friction' does not apply" in capsys.readouterr().err
 
 
 def test_every_registered_experiment_is_complete():

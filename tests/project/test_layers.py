@@ -1,11 +1,13 @@
 """The package's layer table, as ``vcbmodel/__init__.py`` states it, holds in the code: no module
-imports from a layer after its own, and the folders' imports form no cycle (an import contract,
-checked with ``ast``; no import is executed)."""
+imports from a layer after its own, and the folders' imports form no cycle; inside ``analysis/``
+the same for its folders and modules, in the order ``vcbmodel/analysis/__init__.py`` states (an
+import contract, checked with ``ast``; no import is executed)."""
 import ast
 import re
 from pathlib import Path
 
 import vcbmodel
+import vcbmodel.analysis
 
 PACKAGE = Path(vcbmodel.__file__).resolve().parent
 BASE = {"errors", "parameters"}
@@ -109,3 +111,62 @@ def test_the_check_catches_an_upward_import_and_a_cycle():
     assert cycles({"a": {"b"}, "b": {"a"}}) and not cycles({"a": {"b"}, "b": set()})
     rel = imports_of(PACKAGE / "analysis" / "sweep" / "runs.py", ["vcbmodel", "analysis", "sweep"])
     assert {"errors", "experiments", "model", "rig"} <= rel  # three-dot imports resolve to the top folders
+
+
+ANALYSIS = PACKAGE / "analysis"
+
+
+def stated_analysis_layers(doc=vcbmodel.analysis.__doc__):
+    """[[folder or module, ...], ...] in order, from the docstring's ``Inside`` chain."""
+    chain = doc.split("Inside", 1)[1]
+    return [re.findall(r"``(\w+)``", part) for part in chain.split("->")]
+
+
+def analysis_imports(package=ANALYSIS):
+    """{analysis folder or module: {analysis folder or module it imports}}."""
+    graph = {}
+    for path in package.rglob("*.py"):
+        rel = path.relative_to(package).parts
+        unit = rel[0] if len(rel) > 1 else path.stem
+        if unit == "__init__":
+            continue
+        targets = imports_of_analysis(path, ["vcbmodel", "analysis", *rel[:-1]])
+        graph.setdefault(unit, set()).update(targets - {unit})
+    return graph
+
+
+def imports_of_analysis(path, package_parts):
+    """The analysis folders or modules a module imports (relative or absolute imports)."""
+    out = set()
+    for node in ast.walk(ast.parse(path.read_text(encoding="utf-8"))):
+        if not isinstance(node, ast.ImportFrom):
+            continue
+        if node.level:
+            target = package_parts[: len(package_parts) - node.level + 1] + (node.module.split(".") if node.module else [])
+            if not node.module:
+                target = target + [alias.name for alias in node.names][:1]
+        elif node.module and node.module.startswith("vcbmodel."):
+            target = node.module.split(".")
+        else:
+            continue
+        if len(target) > 2 and target[1] == "analysis":
+            out.add(target[2])
+    return out
+
+
+def test_analysis_keeps_its_inner_order():
+    layers = stated_analysis_layers()
+    assert layers[0][0] == "progress" and "diagnose" in layers[-1]
+    graph = analysis_imports()
+    stated = {name for names in layers for name in names}
+    assert set(graph) - stated == set(), "an analysis module or folder without a place in analysis/__init__.py's order"
+    assert violations(graph, layers) == []
+    assert cycles(graph) == []
+
+
+def test_the_inner_check_catches_an_import_against_the_order():
+    layers = stated_analysis_layers()
+    graph = {name: set(targets) for name, targets in analysis_imports().items()}
+    assert "fit" in graph["diagnosis"] and "discovery" in graph["diagnosis"]  # read from today's imports
+    graph["fit"].add("diagnosis")
+    assert violations(graph, layers) == ["fit (layer 2) imports diagnosis (layer 4)"]

@@ -94,10 +94,10 @@ def test_registering_an_effect_makes_it_a_candidate(monkeypatch, tmp_path):
     class Backlash(effects_module.Effect):
         name = "shaft_backlash"
         parameters = ()
-        def on(self, spec, values, rig):
-            pass
-        def off(self, spec, values, rig):
-            pass
+        def on(self, values, model):
+            return {}
+        def off(self, model):
+            return {}
     registry = dict(effects_module.EFFECTS, shaft_backlash=Backlash())
     monkeypatch.setattr("vcbmodel.analysis.diagnosis.candidates.EFFECTS", registry)
     rig_path, meas_path, _ = random_case("cam_none", 3, tmp_path)

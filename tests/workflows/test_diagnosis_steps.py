@@ -37,6 +37,7 @@ from vcbmodel.analysis.diagnosis.state import Candidate, SelectionStep, State, V
 from vcbmodel.analysis.fit import FitAborted, FitResult, Parameter, SimulationPool
 from vcbmodel.analysis.noise import NoiseModel
 from vcbmodel.analysis.synthetic import random_case
+from vcbmodel.experiments.cam_drop import CAM_DROP
 from vcbmodel.experiments.loading import load_record, load_rig
 from vcbmodel.experiments.pendulum import decay_split_guesses, start_guesses
 from vcbmodel.model.effects import parameter_specs
@@ -75,7 +76,7 @@ def ctx_of(**kw):
     out = SimpleNamespace(sigma_hf=SIGMA, quantisation=0.0, over=lambda f=0.8: False, search=search,
                           skipped=[], say=lambda m: None, valley=[], record=record_of(),
                           stop=SimpleNamespace(is_set=lambda: False), options=DEFAULT_OPTIONS, held_out=(),
-                          dataset=SimpleNamespace(t=T), rig=SimpleNamespace(experiment="cam_drop", record={}),
+                          dataset=SimpleNamespace(t=T), rig=SimpleNamespace(experiment="cam_drop", provides=CAM_DROP.provides, record={}),
                           setup=SimpleNamespace(release=0.0, still_start=False, hand_start=False),
                           measurement=SimpleNamespace(t=T, channel=lambda name: np.zeros_like(T)))
     out.__dict__.update(kw)

@@ -30,8 +30,7 @@ from ..experiments.loading import load_pair, load_rig, require_experiment
 from ..experiments.sequence import run_sequence, sequence_lines
 from ..experiments.run_checks import require_motion
 from ..experiments.simulation import compiled_path_has, model_spec, output_times, simulate
-from ..model.choice import parse_effects_option
-from ..rig.spring_model import SpringModel
+from ..model.choice import choose, parse_effects_option
 from .outputs import check_distinct, check_output, protected_inputs, write_file
 from .templates import TEMPLATES, explain, template
 from .closing_plot import plot_closing
@@ -170,13 +169,13 @@ def cmd_simulate(args: argparse.Namespace) -> int:
     if args.sequence is not None:
         return simulate_sequence(rig, args)
     record = experiment_of(rig.experiment)
-    effects = rig.model.effects
-    if args.effects is not None:
-        effects = parse_effects_option(args.effects, rig.experiment)
-    try:
-        spring_model = SpringModel.parse(args.spring_model or rig.model.spring_model, rig.model.spring_model.convention)
+    effects = None if args.effects is None else parse_effects_option(args.effects, record)
+    try:  # the spring model (the rig's unless --spring-model) decides spring_mass, whatever --effects says
+        choice = choose(rig, effects, args.spring_model or rig.model.spring_model)
     except ValueError as e:
         raise InputError("--spring-model", "spring_model", str(e)) from None
+    rig = replace(rig, model=choice)  # the run's model, decided once: every layer below reads it
+    spring_model = choice.spring_model
     if not record.has_closing_spring and not spring_model.is_massless:
         raise InputError("--spring-model", "spring_model", f"a {rig.experiment} test has no closing spring")
     if args.t_end is not None:
@@ -190,13 +189,13 @@ def cmd_simulate(args: argparse.Namespace) -> int:
     check_output(args.output, "-o", inputs=inputs, force=args.force)
     check_output(args.plot, "--plot", inputs=inputs, force=args.force, formats=supported_image_formats())
     t_end = args.t_end or record.default_duration
-    model_spec(rig, effects, spring_model=spring_model)  # a value the model needs but the rig lacks: bad input, first
+    model_spec(rig)  # a value the model needs but the rig lacks: bad input, first
     if args.backend == "compiled" and not compiled_path_has(record, spring_model):
         raise InputError("--backend compiled", "--spring-model", f"the compiled path does not cover the "
                          f"{spring_model.label} spring (massless and lumped springs only): use --backend exudyn or fast")
     log.info("simulate %s: %s, %g s of %s", rig.name, spring_model.label, t_end, rig.experiment)
     # the figures of merit from every step (as sweeps and studies compute them); the file at the sensor's rate
-    full = simulate(rig, effects, spring_model=spring_model, t_end=t_end, backend=args.backend)
+    full = simulate(rig, t_end=t_end, backend=args.backend)
     require_motion(full, rig)  # a cam that never moved: said plainly, not a summary of nothing
     result = full.resample(output_times(rig, t_end))
     channels = record.record_channels(result, rig)

@@ -64,7 +64,19 @@ def check_output(path: str | os.PathLike | None, argname: str, *, inputs: Iterab
     """
     if path is None:
         return
-    inputs = list(inputs)
+    _refuse_an_input(path, argname, list(inputs))
+    folder = os.path.dirname(os.path.abspath(path))
+    if not os.path.isdir(folder):
+        raise InputError(path, argname, "the folder does not exist")
+    if formats is not None:
+        suffix = os.path.splitext(path)[1].lstrip(".").lower()
+        if suffix not in formats:
+            raise InputError(path, argname, f"unknown image format {suffix or '(none)'!r} (known: {', '.join(formats)})")
+    _check_writable(path, argname, folder, force or keep, resumable)
+
+
+def _refuse_an_input(path: str | os.PathLike, argname: str, inputs: list) -> None:
+    """Refuse an output that is one of the command's ``inputs``, a folder, a test's record, or named as a rig."""
     for source in inputs:
         if source is not None and os.path.exists(path) and same_file(path, source):
             raise InputError(path, argname, f"is an input of this command ({source}): an input is never replaced, "
@@ -78,19 +90,16 @@ def check_output(path: str | os.PathLike | None, argname: str, *, inputs: Iterab
     if inputs and str(path).endswith(".rig.json") and is_regular_or_absent(path):  # a command reading a rig writes none
         raise InputError(path, argname, "is named as a rig file (NAME.rig.json): an output is never a rig; give "
                          "another name")
-    folder = os.path.dirname(os.path.abspath(path))
-    if not os.path.isdir(folder):
-        raise InputError(path, argname, "the folder does not exist")
-    if formats is not None:
-        suffix = os.path.splitext(path)[1].lstrip(".").lower()
-        if suffix not in formats:
-            raise InputError(path, argname, f"unknown image format {suffix or '(none)'!r} (known: {', '.join(formats)})")
+
+
+def _check_writable(path: str | os.PathLike, argname: str, folder: str, replace: bool, resumable: bool) -> None:
+    """Refuse an existing file unless it may be replaced (or continued), and a file or folder that cannot be written."""
     if not is_regular_or_absent(path):
         if not os.access(path, os.W_OK):
             raise InputError(path, argname, "cannot be written (permission denied)")
         return  # a device: written directly
     if os.path.exists(path):
-        if not (force or keep):
+        if not replace:
             raise InputError(path, argname, "exists already: give --force to replace it"
                              + (" (or --resume to continue it)" if resumable else ""))
         if not os.access(path, os.W_OK):

@@ -298,7 +298,7 @@ def explain(rig: Rig) -> list[str]:
         source = "rig" if p.name in from_rig else "documented default"
         lines.append(f"    {p.name} = {getattr(spec, p.name, from_rig.get(p.name, p.default))!s} {p.unit} "
                      f"({source}; effect {next(e for e in EFFECTS if p in EFFECTS[e].parameters)})")
-    off = [name for name, e in EFFECTS.items() if rig.experiment in e.experiments and name not in spec.effects]
+    off = [name for name, e in EFFECTS.items() if e.acts_on(rig.provides) and name not in spec.effects]
     if off:
         lines.append(f"  effects left out (candidates for vcbmodel diagnose): {', '.join(off)}")
     if record.has_closing_spring:

@@ -24,6 +24,13 @@ CONST, PARAM, STATE = 0, 1, 2
 
 _C_BINARY = {"add": "+", "sub": "-", "mul": "*", "div": "/"}
 _C_COMPARE = {"lt": "<", "le": "<=", "gt": ">", "ge": ">=", "eq": "==", "ne": "!="}
+#: C of an operation on its arguments ({0}, {1}, {2}: the names of their values); a comparison gives
+#: 1.0 or 0.0; an operation not here is a C function of one argument (sqrt, sin, cos, acos, floor)
+_C_FORMS = {**{op: "{0} " + c + " {1}" for op, c in _C_BINARY.items()},
+            **{op: "({0} " + c + " {1}) ? 1.0 : 0.0" for op, c in _C_COMPARE.items()},
+            "neg": "-{0}", "abs": "fabs({0})", "sign": "({0} > 0.0) ? 1.0 : (({0} < 0.0) ? -1.0 : 0.0)",
+            "min": "({0} < {1}) ? {0} : {1}", "max": "({0} > {1}) ? {0} : {1}", "atan2": "atan2({0}, {1})",
+            "pow": "pow({0}, {1})", "where": "({0} != 0.0) ? {1} : {2}"}
 
 
 def _div(a, b):
@@ -184,7 +191,6 @@ class Graph:
 
     def _c_expr(self, i, prefix):
         op, args = self.nodes[i]
-        a = [f"{prefix}{j}" for j in args] if op not in ("const", "param", "state") and not op.startswith("take:") else []
         if op == "const":
             v = self.values[i]
             return repr(v) if math.isfinite(v) else ("NAN" if v != v else ("INFINITY" if v > 0 else "-INFINITY"))
@@ -195,25 +201,7 @@ class Graph:
             return f"p[{base} + ((((long){prefix}{args[0]}) % {n}) + {n}) % {n}]"
         if op == "state":
             return args[0]
-        if op in _C_BINARY:
-            return f"{a[0]} {_C_BINARY[op]} {a[1]}"
-        if op in _C_COMPARE:
-            return f"({a[0]} {_C_COMPARE[op]} {a[1]}) ? 1.0 : 0.0"
-        if op == "neg":
-            return f"-{a[0]}"
-        if op == "abs":
-            return f"fabs({a[0]})"
-        if op == "sign":
-            return f"({a[0]} > 0.0) ? 1.0 : (({a[0]} < 0.0) ? -1.0 : 0.0)"
-        if op == "min":
-            return f"({a[0]} < {a[1]}) ? {a[0]} : {a[1]}"
-        if op == "max":
-            return f"({a[0]} > {a[1]}) ? {a[0]} : {a[1]}"
-        if op in ("atan2", "pow"):
-            return f"{op}({a[0]}, {a[1]})"
-        if op == "where":
-            return f"({a[0]} != 0.0) ? {a[1]} : {a[2]}"
-        return f"{op}({a[0]})"  # sqrt, sin, cos, acos, floor
+        return _C_FORMS.get(op, op + "({0})").format(*(f"{prefix}{j}" for j in args))
 
     def c_guards(self, prefix: str = "g") -> list[str]:
         """C lines setting ``ok`` to 0 when the parameters ``p`` take another branch than the trace."""

@@ -66,6 +66,12 @@ class Experiment:
 
     - ``read_sections(reader, data) -> {section name: dataclass}``: the rig sections it needs
       (``sections`` lists their top-level keys);
+    - ``provides``: what its model carries that effects act on (each effect says what it needs,
+      :class:`vcbmodel.model.effects.Effect`): ``journal`` (a shaft in a journal bearing: the
+      friction law), ``swinging_body`` (a body swinging through air), ``closing_spring`` (the closing
+      springs as bodies), ``breaker`` (the whole breaker's contacts and poles), ``shaft_torque`` (its
+      equations carry a further torque on the shaft: a discovered one); an effect applies to it exactly
+      when it provides all the effect needs;
     - ``build(rig, spec, law, chain, user_function, ancf_elements) -> ExudynModel``;
     - ``channels(data, rig, spec, info) -> {name: array}`` from the sensors' rows (t, values...)
       of any backend (Exudyn, compiled, or the record's ``reference`` solve);
@@ -108,7 +114,7 @@ class Experiment:
     channels: Callable
     step: Callable
     figures_of_merit: Callable
-    has_closing_spring: bool = False
+    provides: tuple = ()  # what its model carries that effects act on (above); (): no effect applies
     start_guesses: Callable = no_guesses
     swinging_part: Callable = whole_record
     signature: Callable = no_signature
@@ -134,6 +140,11 @@ class Experiment:
     reference: Callable | None = None  # (rig, spec, law, chain, t_end, method, step) -> (data, info): the solve without Exudyn
     sensor: str = ""  # the usual sensor's kind: potentiometer | camera (synthetic records' complications follow it)
     random_rig: Callable | None = None  # (rng, friction, start, variant) -> rig JSON: randomised rigs (random_rigs.py)
+
+    @property
+    def has_closing_spring(self) -> bool:
+        """Whether its model carries the closing springs (``closing_spring`` among ``provides``)."""
+        return "closing_spring" in self.provides
 
     @property
     def figure_columns(self) -> tuple:

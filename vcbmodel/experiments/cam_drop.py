@@ -84,12 +84,13 @@ def spring_signature(rig: Rig, measurement: Measurement, model_curve: np.ndarray
 CAM_DROP = Experiment(
     name="cam_drop", description="cam released and turned by the closing springs (paper section 3, eq. 7-13)",
     measured_channel="cam_angle", unit="rad", sections=("cam", "closing_spring"), read_sections=read_cam_and_spring,
+    provides=("journal", "closing_spring", "shaft_torque"),
     # high-speed camera at 12000 frames/s, sigma 2 mrad (the example data's sensor)
     sample_rate=12000.0, noise_sigma=2e-3, default_duration=P.CAM_T_END, max_duration=1.0,
     # a drop shorter than 2 ms barely moves the cam; cam angles beyond two turns are degrees
     min_duration=2e-3, max_magnitude=4 * math.pi, unit_hint=": is it in degrees? cam_angle must be in rad",
     build=build, channels=channels, step=default_step, figures_of_merit=figures_of_merit,
-    has_closing_spring=True, signature=spring_signature, initial_angle_field="cam.initial_angle",
+    signature=spring_signature, initial_angle_field="cam.initial_angle",
     figure_units=(("cam_angle_end_rad", "rad"), ("peak_shaft_velocity_rad_s", "rad/s")), summary=cam_drop_summary,
     # fits run the compiled path (ode_model) where a C compiler works; on Exudyn (no compiler) they use the Python
     # friction function: a 35 ms massless drop takes 0.15 s with it, 0.6-1.1 s with Exudyn's symbolic one (the

@@ -11,7 +11,7 @@ from pathlib import Path
 from typing import TYPE_CHECKING
 
 from ..errors import InputError
-from ..model.choice import read_model
+from ..model.choice import applicable
 from ..model.result import unit_of
 from ..model.values import rig_values
 from ..records.analyser import analyser_channels, check_contacts, simulated_channels
@@ -20,6 +20,7 @@ from ..rig.data import Rig
 from ..rig.plausibility import check_rig, plausibility, step_limits
 from ..rig.reader import Reader, read_json
 from ..rig.sections import read_friction, read_record, read_uncertain
+from ..rig.spring_model import read_model
 from .base import EXPERIMENTS
 
 if TYPE_CHECKING:
@@ -65,7 +66,7 @@ def rig_from_data(data: dict, path: str = "(rig)") -> Rig:
     gravity = rd.number(data, "gravity", nonnegative=True, default=9.81)
     radius = rd.number(rd.section(data, "shaft", known=("radius",)), "radius", "shaft.", nonnegative=True)
     friction = read_friction(rd, data)
-    model = read_model(rd, data, name)
+    model = read_model(rd, data, applicable(record), name)
     if not record.has_closing_spring and not model.spring_model.is_massless:
         rd.fail("model.spring_model", f"a {name} test has no closing spring: use 'massless'")
     warnings = plausibility(rd, data)  # a unit slip first: it would mislead the sections' own checks
@@ -76,7 +77,7 @@ def rig_from_data(data: dict, path: str = "(rig)") -> Rig:
         rd.fail("name", "must be a string")
     rig = Rig(path=path, name=title, experiment=name, gravity=gravity, shaft_radius=radius, friction=friction,
               model=model, sections=sections, data=data, record=read_record(rd, data),
-              uncertain=read_uncertain(rd, data), warnings=warnings)
+              uncertain=read_uncertain(rd, data), warnings=warnings, provides=record.provides)
     rig_values(rig)  # the effects check the values the rig gives (e.g. zeta on a pendulum only)
     step_limits(rig, model.spring_model, record.step(rig))  # a spring or damper too stiff for the step
     return rig

@@ -147,6 +147,8 @@ def signature(rig: Rig, measurement: Measurement, model_curve: np.ndarray, resid
 PENDULUM = Experiment(
     name="pendulum", description="pendulum free swing on the cam shaft (paper section 2, eq. 1-6)",
     measured_channel="pendulum_angle", unit="rad", sections=("pendulum",), read_sections=read_pendulum,
+    # the body swings on the cam shaft's journal through air; its equation carries a further shaft torque
+    provides=("journal", "swinging_body", "shaft_torque"),
     # potentiometer at 1 kHz, sigma 0.5 mrad (the example data's sensor)
     sample_rate=1000.0, noise_sigma=0.5e-3, default_duration=P.PENDULUM_T_END, max_duration=600.0,
     # a swing is at least a quarter period (about 0.25 s); a pendulum angle beyond half a turn is degrees

@@ -13,7 +13,8 @@ from .. import parameters as P
 from ..builders.ancf import AncfOptions
 from ..compiled import BACKEND_NAME, compiler_works, solve_ode_model
 from ..laws.springs import chain_for
-from ..model.effects import ModelSpec, assemble, consistent_effects
+from ..model.choice import choose
+from ..model.effects import ModelSpec, assemble
 from ..model.result import SimulationResult
 from ..model.values import model_values
 from ..rig.data import Rig
@@ -29,8 +30,9 @@ if TYPE_CHECKING:
 def model_spec(rig: Rig, effects: Sequence[str] | None = None, values: dict[str, float] | None = None,
                spring_model: str | SpringModel | None = None) -> ModelSpec:
     """The model of a run: the rig's ``model`` unless ``effects`` / ``spring_model`` (text or
-    :class:`~vcbmodel.rig.spring_model.SpringModel`) override it; values given > rig; a value
-    the effects need that neither gives is refused (:func:`vcbmodel.model.values.model_values`).
+    :class:`~vcbmodel.rig.spring_model.SpringModel`) override it, by the one rule of
+    :func:`vcbmodel.model.choice.choose`; values given > rig; a value the effects need that neither
+    gives is refused (:func:`vcbmodel.model.values.model_values`).
 
     Parameters
     ----------
@@ -38,19 +40,16 @@ def model_spec(rig: Rig, effects: Sequence[str] | None = None, values: dict[str,
     effects : effect names (default: the rig's ``model.effects``).
     values : effect parameter values, each in its parameter's unit (``mu_k`` -, ``stick_velocity``
         rad/s, ``viscous`` N m s/rad, ``bellows_force`` N, ...), overriding the rig's.
-    spring_model : override of the rig's spring model (text such as ``lumped-2:paper``).
+    spring_model : override of the rig's spring model (text such as ``lumped-2:paper``); it
+        decides ``spring_mass``.
 
     Returns
     -------
     ModelSpec
         Effects, friction values (SI units, as above) and spring model of the run.
     """
-    if spring_model is not None:
-        rig = rig.with_model(spring_model=spring_model)
-    effects = tuple(rig.model.effects if effects is None else effects)
-    if spring_model is not None:
-        effects = consistent_effects(effects, rig.model.spring_model)
-    return assemble(rig, effects, model_values(rig, effects, values))
+    choice = choose(rig, effects, spring_model)
+    return assemble(rig, choice, model_values(rig, choice.effects, values))
 
 
 def output_times(rig: Rig, t_end: float) -> np.ndarray:
@@ -71,7 +70,7 @@ def output_times(rig: Rig, t_end: float) -> np.ndarray:
     return np.arange(n + 1) * dt
 
 
-def simulate(rig: Rig, effects: Sequence[str] | None = None, values: dict[str, float] | None = None, *, spring_model: str | SpringModel | None = None,
+def simulate(rig: Rig, effects: Sequence[str] | None = None, values: dict[str, float] | None = None, *, spring_model: str | SpringModel | None = None,  # noqa: PLR0913 (the front door's documented keyword options)
              t_end: float | None = None, sample_times: np.ndarray | None = None, backend: str = "exudyn", user_function: str = "auto",
              step: float | None = None, method: str = "DOP853", ancf_elements: int | None = None, ancf_tie_stiffness: float | None = None,
              ancf: AncfOptions | None = None, sticking: str | None = None) -> SimulationResult:

@@ -85,13 +85,13 @@ def fit_step(rig: Rig, spring_kind: str) -> float | None:
 VCB_CLOSING = Experiment(
     name="vcb_closing", description="whole-breaker closing: cam, roller follower, push rods, poles (paper section 4)",
     measured_channel="follower_displacement", unit="m", sections=("cam", "closing_spring", "breaker"),
-    read_sections=read_closing,
+    read_sections=read_closing, provides=("journal", "closing_spring", "breaker"),
     # the cam drop's camera (12 kHz) filming the follower: about 0.1 mm resolved over a 100 mm field
     sample_rate=12000.0, noise_sigma=5e-5, default_duration=P.BREAKER_T_END, max_duration=1.0,
     # the follower moves a few centimetres at most: a value above 0.5 is millimetres
     min_duration=2e-3, max_magnitude=0.5, unit_hint=": is it in millimetres? follower_displacement must be in m",
     build=build, channels=closing_channels, step=default_step, figures_of_merit=figures_of_merit,
-    has_closing_spring=True, signature=spring_signature,
+    signature=spring_signature,
     # a breaker analyser's timing and travel channels (vcbmodel.records.analyser), fitted when present
     extra_channels=(r"pole_\d+_contact", r"pole_\d+_travel"),
     figure_units=(("closing_time_s", "s"), ("touch_speed_m_s", "m/s"), ("closing_speed_m_s", "m/s"), ("pole_spread_s", "s"), ("bounce_count", "-"),

@@ -258,3 +258,16 @@ def pressure_angle_curve(breaker, geometry: Geometry, thetas):
 def follower_displacement(phi: float | np.ndarray, follower, phi0: float) -> np.ndarray:
     """Travel (m) of the output point F along the poles' closing direction (+y) from rest."""
     return np.array([output_point(p, follower)[1] for p in np.atleast_1d(phi)]) - output_point(phi0, follower)[1]
+
+
+@dataclass(frozen=True)
+class CamRollerLaw:
+    """How the cam-roller contact is modelled (rig fields ``breaker.contact.cam_roller_law``,
+    ``roller_width``, ``cam_roller_damping``, ``cam_roller_damping_factor``; see
+    :mod:`vcbmodel.laws.contact`). The defaults are the original model: Hertz point contact with
+    ``cam_roller_stiffness`` and ``exponent``, Lankarani-Nikravesh damping."""
+
+    law: str = "hertz_point"  # hertz_point | line (Palmgren, exponent 10/9, K from roller_width)
+    roller_width: float | None = None  # m, the roller's effective contact length (line law)
+    damping: str = "lankarani_nikravesh"  # lankarani_nikravesh | hunt_crossley
+    damping_factor: float = 0.0  # s/m, Hunt-Crossley alpha

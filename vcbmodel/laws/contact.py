@@ -34,6 +34,7 @@ Damping part (both clipped so that the contact never pulls):
 from __future__ import annotations
 
 import math
+from collections.abc import Iterable
 
 from .friction import NumericOps
 from .types import Ops, Scalar
@@ -84,3 +85,25 @@ def johnson_line_approach(force: float, length: float, radius_1: float, radius_2
     a = math.sqrt(4.0 * p * r / (math.pi * e_star))
     return p * (1.0 - poisson**2) / (math.pi * youngs_modulus) * (
         2.0 * math.log(4.0 * radius_1 / a) - 1.0 + 2.0 * math.log(4.0 * radius_2 / a) - 1.0)
+
+
+# --- a contact's force and energy at a state, and its impact speed ------------------------------------
+
+def contact_force(penetration: Scalar, rate: Scalar, stiffness: Scalar, exponent: Scalar, restitution: Scalar, impact_speed: Scalar,
+                  min_impact_speed: Scalar, ops: Ops = NumericOps) -> Scalar:
+    """Hertz force with Lankarani-Nikravesh damping (N); the impact speed (m/s) is the approach
+    speed at the start of the contact, floored at ``min_impact_speed`` for resting contacts."""
+    return hertz_contact_force(penetration, rate, stiffness, restitution, ops.max(impact_speed, min_impact_speed),
+                               exponent, ops)
+
+
+def contact_energy(penetration: Scalar, stiffness: float, exponent: float, ops: Ops = NumericOps) -> Scalar:
+    """Elastic energy (J) stored in a Hertz contact: K delta^(n+1) / (n+1)."""
+    return stiffness * ops.max(penetration, 0.0) ** (exponent + 1.0) / (exponent + 1.0)
+
+
+def update_impact_speeds(impact: list, state: Iterable[tuple[Scalar, Scalar]], ops: Ops = NumericOps) -> None:
+    """While contact k is open (penetration <= 0) its impact speed follows the approach speed
+    (m/s); once it penetrates, the last open value is kept: the speed at impact."""
+    for k, (penetration, rate) in enumerate(state):
+        impact[k] = ops.where(penetration <= 0.0, ops.max(rate, 0.0), impact[k])

@@ -1,12 +1,13 @@
 """The registry of model effects (spec "Effect names").
 
-Each effect is a component with an *on* and an *off* variant; the model is assembled by
-visiting every registered effect in order and letting the chosen variant contribute its
-part (PyBaMM-style: "off" is a real component that contributes zero, not an ``if`` in a
-builder). Each effect owns its contract: the experiments it applies to, its parameters
-(:class:`ParameterSpec`: fit bounds and start, and the rig field a value may come from),
-and, for ``spring_mass``, the variants the diagnosis tries. The diagnosis loops over
-:data:`EFFECTS`, so a new effect is one entry here.
+Each effect is a component with an *on* and an *off* variant that contributes its part of the
+model (PyBaMM-style: "off" is a real component that contributes zero, not an ``if`` in a
+builder). Each effect owns its contract (:class:`Effect`): what of an experiment's model it needs
+(an experiment record says what it provides), its parameters (:class:`ParameterSpec`: fit bounds
+and start, and the rig field a value may come from), the model fields it sets and those of other
+effects it reads (so the model is assembled in no particular order), and, for ``spring_mass``, the
+variants the diagnosis tries. The diagnosis loops over :data:`EFFECTS`, so a new effect is one
+entry here.
 """
 from __future__ import annotations
 
@@ -17,8 +18,8 @@ from typing import TYPE_CHECKING
 from ..errors import InputError
 from ..laws.discovered import term
 from ..laws.friction import FrictionLaw, effective_static, viscous_from_zeta
-from ..parameters import DEFAULT_SPRING_MASS_MODEL, DEFAULT_STICK_VELOCITY
-from ..rig.spring_model import SpringModel
+from ..parameters import DEFAULT_STICK_VELOCITY
+from ..rig.spring_model import MASS_VARIANTS, SpringModel
 
 if TYPE_CHECKING:
     from ..rig.data import Rig
@@ -41,7 +42,8 @@ class ParameterSpec:
 @dataclass
 class ModelSpec:
     """What one simulation runs with beyond the rig: the effects, the friction law's values,
-    the spring model and the breaker's effect values."""
+    the spring model (the run's :class:`~vcbmodel.rig.spring_model.ModelChoice`'s, as it is) and the
+    breaker's effect values."""
 
     effects: tuple = ()
     mu_s: float = 0.0  # -
@@ -49,7 +51,7 @@ class ModelSpec:
     stick_velocity: float = DEFAULT_STICK_VELOCITY  # rad/s
     stribeck_velocity: float = 0.0  # rad/s
     viscous: float = 0.0  # N m s/rad
-    spring_model: SpringModel = field(default_factory=SpringModel)
+    spring_model: SpringModel = field(kw_only=True)  # the run's model choice's, never a default
     sticking: str = "passive"  # passive | literal (spec "Sticking is passive")
     restitution: float = 1.0  # whole breaker: contacts' coefficient of restitution (1: elastic)
     bellows_force: float = 0.0  # whole breaker: atmospheric force on each pole's bellows (N)
@@ -69,23 +71,44 @@ class ModelSpec:
 
 
 class Effect:
-    """An effect component: ``parameters`` it owns, the ``experiments`` it applies to, what
-    it contributes when on/off, and which of its values a rig gives."""
+    """An effect component. It declares what it needs and what it sets, so that the model is
+    assembled in no particular order (:func:`assemble`):
+
+    - ``needs``: what of an experiment's model it acts on; it applies to an experiment whose record
+      provides them all (``Experiment.provides``, carried by the loaded rig as ``Rig.provides``):
+      ``journal`` (a shaft turning in a journal bearing: the friction law acts there),
+      ``swinging_body`` (a body swinging through air), ``closing_spring`` (the closing springs as
+      modelled bodies), ``breaker`` (the whole breaker's contacts and poles);
+    - ``parameters``: the values it owns (:class:`ParameterSpec`: fit bounds and start, the rig field a
+      value may come from);
+    - ``sets``: the :class:`ModelSpec` fields it sets, on and off; ``reads``: the fields set by other
+      effects that its part depends on (Stribeck friction's static coefficient falls to the kinetic one);
+    - :meth:`on` / :meth:`off`: its part, ``{field: value}`` for every field of ``sets``.
+    """
 
     name = ""
     description = ""
     parameters: tuple = ()
-    experiments = ("pendulum", "cam_drop", "vcb_closing")
+    needs: tuple = ("journal",)
+    sets: tuple = ()
+    reads: tuple = ()
     variants: tuple = ()  # alternative model structures the diagnosis tries (spring models)
 
-    def applies_to(self, experiment: str, spring_model: SpringModel) -> bool:
-        """Whether the diagnosis may propose this effect for a model of ``experiment`` with ``spring_model``."""
-        return experiment in self.experiments
+    def acts_on(self, provides) -> bool:
+        """Whether an experiment that provides ``provides`` carries this effect."""
+        return set(self.needs) <= set(provides)
 
-    def on(self, spec: ModelSpec, values: dict, rig) -> None:
+    def applies_to(self, provides, spring_model: SpringModel) -> bool:
+        """Whether the diagnosis may propose this effect for a model of an experiment that provides
+        ``provides``, with ``spring_model``."""
+        return self.acts_on(provides)
+
+    def on(self, values: dict, model: dict) -> dict:
+        """Its part when on, from its ``values`` and the fields it ``reads`` (``model``)."""
         raise NotImplementedError
 
-    def off(self, spec: ModelSpec, values: dict, rig) -> None:
+    def off(self, model: dict) -> dict:
+        """Its part when off (a real component that contributes nothing)."""
         raise NotImplementedError
 
     @property
@@ -115,13 +138,13 @@ class CoulombFriction(Effect):
     parameters = (_friction("mu_k", 0.1, 0.0, 1.0, "-", scan=(0.03, 0.08, 0.15, 0.3)),
                   _friction("stick_velocity", DEFAULT_STICK_VELOCITY, 2e-4, 0.02, "rad/s", vary=False, log=True,
                             default=DEFAULT_STICK_VELOCITY))
+    sets = ("mu_k", "stick_velocity")
 
-    def on(self, spec: ModelSpec, values: dict, rig: Rig) -> None:
-        spec.mu_k = spec.mu_s = values["mu_k"]
-        spec.stick_velocity = values["stick_velocity"]
+    def on(self, values: dict, model: dict) -> dict:
+        return {"mu_k": values["mu_k"], "stick_velocity": values["stick_velocity"]}
 
-    def off(self, spec: ModelSpec, values: dict, rig: Rig) -> None:
-        spec.mu_k = spec.mu_s = 0.0
+    def off(self, model: dict) -> dict:
+        return {"mu_k": 0.0, "stick_velocity": DEFAULT_STICK_VELOCITY}
 
 
 class Stribeck(Effect):
@@ -129,14 +152,14 @@ class Stribeck(Effect):
     description = "static friction mu_s > mu_k, falling linearly to mu_k at the Stribeck velocity"
     parameters = (_friction("mu_s", 0.2, 0.0, 1.5, "-", scan=(0.15, 0.25, 0.4)),
                   _friction("stribeck_velocity", 0.1, 0.003, 2.0, "rad/s", log=True, scan=(0.03, 0.1, 0.3)))
+    sets = ("mu_s", "stribeck_velocity")
+    reads = ("mu_k",)
 
-    def on(self, spec: ModelSpec, values: dict, rig: Rig) -> None:
-        spec.mu_s = effective_static(values["mu_s"], spec.mu_k)
-        spec.stribeck_velocity = values["stribeck_velocity"]
+    def on(self, values: dict, model: dict) -> dict:
+        return {"mu_s": effective_static(values["mu_s"], model["mu_k"]), "stribeck_velocity": values["stribeck_velocity"]}
 
-    def off(self, spec: ModelSpec, values: dict, rig: Rig) -> None:
-        spec.mu_s = spec.mu_k
-        spec.stribeck_velocity = 0.0
+    def off(self, model: dict) -> dict:
+        return {"mu_s": model["mu_k"], "stribeck_velocity": 0.0}
 
 
 class ViscousFriction(Effect):
@@ -144,12 +167,13 @@ class ViscousFriction(Effect):
     description = "viscous shaft torque Cv w"
     parameters = (_friction("viscous", 0.3, 0.0, 20.0, "N m s/rad", scan=(0.1, 0.4, 1.2, 4.0)),)
     extra_rig_fields = ("friction.zeta",)
+    sets = ("viscous",)
 
-    def on(self, spec: ModelSpec, values: dict, rig: Rig) -> None:
-        spec.viscous = values["viscous"]
+    def on(self, values: dict, model: dict) -> dict:
+        return {"viscous": values["viscous"]}
 
-    def off(self, spec: ModelSpec, values: dict, rig: Rig) -> None:
-        spec.viscous = 0.0
+    def off(self, model: dict) -> dict:
+        return {"viscous": 0.0}
 
     def rig_values(self, rig: Rig) -> dict:
         """``viscous``, or for a pendulum its damping ratio ``zeta`` (Cv = 2 zeta sqrt(I M g L))."""
@@ -169,15 +193,16 @@ class AerodynamicDrag(Effect):
                    "for a paddle of area A at radius R")
     # c_d from 0 (no drag) to 1 N m s^2/rad^2 (a 0.1 m^2 plate at 1.2 m); a 0.02 m^2 paddle at 0.3 m: 3.8e-4
     parameters = (_friction("drag", 1e-3, 0.0, 1.0, "N m s^2/rad^2", scan=(1e-4, 1e-3, 1e-2)),)
-    #: the pendulum only: a cam's windage is orders below its friction (a 0.1 m cam of 5e-3 m^2 has
-    #: c_d ~ 3e-6 N m s^2/rad^2: 0.03 N m at 100 rad/s against tens of N m of journal friction)
-    experiments = ("pendulum",)
+    #: a swinging body only (the pendulum): a cam's windage is orders below its friction (a 0.1 m cam
+    #: of 5e-3 m^2 has c_d ~ 3e-6 N m s^2/rad^2: 0.03 N m at 100 rad/s against tens of N m of journal friction)
+    needs = ("swinging_body",)
+    sets = ("drag",)
 
-    def on(self, spec: ModelSpec, values: dict, rig: Rig) -> None:
-        spec.drag = values["drag"]
+    def on(self, values: dict, model: dict) -> dict:
+        return {"drag": values["drag"]}
 
-    def off(self, spec: ModelSpec, values: dict, rig: Rig) -> None:
-        spec.drag = 0.0
+    def off(self, model: dict) -> dict:
+        return {"drag": 0.0}
 
 
 class SpringDamping(Effect):
@@ -186,20 +211,21 @@ class SpringDamping(Effect):
                    "material: a damper beta k on every part of stiffness k, the first surge mode's damping ratio zeta")
     parameters = (ParameterSpec("damping_ratio", 0.01, 0.0, 0.3, "-", "closing_spring.damping_ratio",
                                 scan=(0.003, 0.01, 0.03, 0.1)),)
-    experiments = ("cam_drop", "vcb_closing")
+    needs = ("closing_spring",)
+    sets = ("spring_damping",)
 
-    def applies_to(self, experiment: str, spring_model: SpringModel) -> bool:
+    def applies_to(self, provides, spring_model: SpringModel) -> bool:
         """Proposed only where the springs have mass: its signature is the surge's decay. On massless
         springs it is a dashpot along the spring, whose force in phase with the pin's speed a viscous
         term or a bent friction value mimics (on a massless cam drop with a profile torque it was named
         with zeta 0.12, above any spring's, mu_k 0.01 for 0.13). A rig may still list it there."""
-        return experiment in self.experiments and not spring_model.is_massless
+        return self.acts_on(provides) and not spring_model.is_massless
 
-    def on(self, spec: ModelSpec, values: dict, rig: Rig) -> None:
-        spec.spring_damping = values["damping_ratio"]
+    def on(self, values: dict, model: dict) -> dict:
+        return {"spring_damping": values["damping_ratio"]}
 
-    def off(self, spec: ModelSpec, values: dict, rig: Rig) -> None:
-        spec.spring_damping = 0.0
+    def off(self, model: dict) -> dict:
+        return {"spring_damping": 0.0}
 
     def rig_values(self, rig: Rig) -> dict:
         spring = rig.closing_spring
@@ -208,24 +234,21 @@ class SpringDamping(Effect):
 
 
 class SpringMass(Effect):
+    """The spring's inertia. It sets no field: the spring model is the run's model choice's
+    (:mod:`.choice`), and ``spring_mass`` is listed exactly when that model has mass."""
+
     name = "spring_mass"
     description = "the closing spring's own inertia (surge, lateral motion) as a mass model"
     parameters = ()
     extra_rig_fields = ("closing_spring.mass",)
-    experiments = ("cam_drop", "vcb_closing")
-    #: mass models the diagnosis tries when adding this effect (a discrete choice, no fitted
-    #: parameter); the best by BIC is kept. Cheapest first: a candidate that explains the data
-    #: within the noise stops the rest.
-    variants = tuple(SpringModel.parse(s) for s in ("lumped-1", "lumped-2", "lumped-3", "lumped-1:paper",
-                                                     "lumped-2:paper", "lumped-3:paper", "ancf"))
+    needs = ("closing_spring",)
+    variants = MASS_VARIANTS  # the mass models the diagnosis tries when adding this effect
 
-    def on(self, spec: ModelSpec, values: dict, rig: Rig) -> None:
-        chosen = rig.model.spring_model
-        spec.spring_model = chosen if not chosen.is_massless else SpringModel.parse(
-            DEFAULT_SPRING_MASS_MODEL, chosen.convention)
+    def on(self, values: dict, model: dict) -> dict:
+        return {}
 
-    def off(self, spec: ModelSpec, values: dict, rig: Rig) -> None:
-        spec.spring_model = SpringModel("massless", 0, rig.model.spring_model.convention)
+    def off(self, model: dict) -> dict:
+        return {}
 
 
 class BreakerScalarEffect(Effect):
@@ -234,13 +257,17 @@ class BreakerScalarEffect(Effect):
 
     field = ""
     off_value = 0.0
-    experiments = ("vcb_closing",)
+    needs = ("breaker",)
 
-    def on(self, spec: ModelSpec, values: dict, rig: Rig) -> None:
-        setattr(spec, self.field, values[self.field])
+    @property
+    def sets(self) -> tuple:
+        return (self.field,)
 
-    def off(self, spec: ModelSpec, values: dict, rig: Rig) -> None:
-        setattr(spec, self.field, self.off_value)
+    def on(self, values: dict, model: dict) -> dict:
+        return {self.field: values[self.field]}
+
+    def off(self, model: dict) -> dict:
+        return {self.field: self.off_value}
 
     def rig_values(self, rig: Rig) -> dict:
         obj = rig.breaker
@@ -266,7 +293,8 @@ class BellowsForce(BreakerScalarEffect):
     field = "bellows_force"
 
 
-# Order matters: Stribeck's "off" copies mu_k, so Coulomb comes first.
+#: The registry, in the order reports and the diagnosis list effects (the model's assembly does not
+#: depend on it: :func:`assembly_order`).
 EFFECTS = {e.name: e for e in (CoulombFriction(), Stribeck(), ViscousFriction(), AerodynamicDrag(), SpringMass(),
                                SpringDamping(), ContactDamping(), BellowsForce())}
 
@@ -279,7 +307,11 @@ class DiscoveredTorque:
 
     name = "discovered_torque"
     prefix = "discovered:"
-    experiments = ("pendulum", "cam_drop")  # the experiments whose equations carry the torque (on the shaft)
+    needs = ("shaft_torque",)  # an experiment whose equations carry a further torque on the shaft
+
+    def acts_on(self, provides) -> bool:
+        """Whether an experiment that provides ``provides`` carries the torque."""
+        return set(self.needs) <= set(provides)
 
     def terms(self, values: dict) -> tuple:
         """((term name, coefficient), ...) from ``values``' ``discovered:<term>`` entries, sorted."""
@@ -292,8 +324,8 @@ class DiscoveredTorque:
         return tuple(out)
 
     def on(self, spec: ModelSpec, values: dict, rig: Rig) -> None:
-        if rig.experiment not in self.experiments:
-            raise ValueError(f"a discovered torque applies to {', '.join(self.experiments)} tests only, "
+        if not self.acts_on(rig.provides):
+            raise ValueError(f"a discovered torque needs equations that carry a torque on the shaft: "
                              f"not a {rig.experiment} test")
         spec.discovered = self.terms(values)
 
@@ -315,18 +347,44 @@ def parameter_specs(effects: Iterable[str], registry: dict[str, Effect] | None =
     return [p for name, e in (registry or EFFECTS).items() if name in effects for p in e.parameters]
 
 
-def consistent_effects(effects, spring_model: SpringModel):
-    """``effects`` with ``spring_mass`` listed exactly when the spring model is not massless
-    (spec "Effect names"), in registry order."""
-    wanted = set(effects) - {"spring_mass"} | ({"spring_mass"} if not spring_model.is_massless else set())
-    return tuple(e for e in EFFECTS if e in wanted) + tuple(e for e in effects if e not in EFFECTS)
+def assembly_order(registry: dict[str, Effect]) -> tuple[Effect, ...]:
+    """The effects so that each comes after those that set the fields it reads; whatever the
+    registry's order, the model is the same. Refuses (ValueError) a field two effects set, a field
+    read that no effect sets, and effects that read each other's fields in a circle."""
+    setter = {}
+    for effect in registry.values():
+        for f in effect.sets:
+            if f in setter:
+                raise ValueError(f"model field {f!r} is set by two effects: {setter[f]!r} and {effect.name!r}")
+            setter[f] = effect.name
+    unset = [(e.name, f) for e in registry.values() for f in e.reads if f not in setter]
+    if unset:
+        raise ValueError(f"effect {unset[0][0]!r} reads model field {unset[0][1]!r}, which no effect sets")
+    order, placed, pending = [], set(), list(registry.values())
+    while pending:
+        ready = [e for e in pending if all(setter[f] in placed for f in e.reads)]
+        if not ready:
+            raise ValueError(f"effects read each other's fields in a circle: {', '.join(e.name for e in pending)}")
+        order += ready
+        placed |= {e.name for e in ready}
+        pending = [e for e in pending if e.name not in placed]
+    return tuple(order)
 
 
-def assemble(rig, effects, values) -> ModelSpec:
-    """Visit every registered effect; the on/off variant contributes its part."""
-    spec = ModelSpec(effects=tuple(effects), sticking=rig.friction.get("sticking", "passive"))
-    for name, effect in EFFECTS.items():
-        (effect.on if name in effects else effect.off)(spec, values, rig)
+def assemble(rig, choice, values) -> ModelSpec:
+    """The model of a run with model choice ``choice`` (:class:`~vcbmodel.rig.spring_model.ModelChoice`):
+    every registered effect contributes its on or off part (the fields it declares it ``sets``),
+    in :func:`assembly_order`; then the machinery the run lists (a discovered torque)."""
+    effects = choice.effects
+    fields = {}
+    for effect in assembly_order(EFFECTS):
+        model = {f: fields[f] for f in effect.reads}
+        part = effect.on(values, model) if effect.name in effects else effect.off(model)
+        if set(part) != set(effect.sets):
+            raise ValueError(f"effect {effect.name!r} set {sorted(part)}, not the fields it declares {sorted(effect.sets)}")
+        fields.update(part)
+    spec = ModelSpec(effects=tuple(effects), spring_model=choice.spring_model, sticking=rig.friction.get("sticking", "passive"),
+                     **fields)
     for name, machinery in MACHINERY.items():
         if name in effects:
             machinery.on(spec, values, rig)

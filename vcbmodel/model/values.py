@@ -15,7 +15,7 @@ def rig_values(rig) -> dict:
     """Every effect parameter value the rig gives (whichever effects the model lists)."""
     out = {}
     for effect in EFFECTS.values():
-        if rig.experiment in effect.experiments:
+        if effect.acts_on(rig.provides):
             out.update(effect.rig_values(rig))
     return out
 

@@ -179,22 +179,10 @@ def load_measurement(path: str | Path, channel: str | None = None, known: Iterab
         if not rows and units_row is None:
             units_row = _units_row(cells, header, path, i, units)
             if units_row is not None:  # a logger's units row under the header, read like units in the header
-                for name, a, b in zip(header, factors, units_row):
-                    if a is not None and b is not None and a != b:
-                        raise InputError(path, f"line {i}, column {name!r}", "the units row and the header state "
-                                         "different units: keep one")
-                factors = [b if a is None else a for a, b in zip(factors, units_row)]
+                factors = _merge_units(header, factors, units_row, path, i)
                 continue
             units_row = []
-        if len(cells) != len(header):
-            raise InputError(path, f"line {i}", f"has {len(cells)} values, the header has {len(header)}"
-                             + (" (a decimal comma in a comma-separated file? use ';' between values)"
-                                if dialect[0] == "," and len(cells) > len(header) else ""))
-        values = [_number(c, path, i) for c in cells]
-        for col, v in zip(header, values):
-            if not math.isfinite(v):
-                raise InputError(path, f"line {i}, column {col!r}", "value is not finite (NaN or inf)")
-        rows.append(values)
+        rows.append(_data_row(cells, header, dialect, path, i))
     if header is None:
         raise InputError(path, "header", "missing (no line other than comments)")
     if len(rows) < 3:
@@ -208,6 +196,28 @@ def load_measurement(path: str | Path, channel: str | None = None, known: Iterab
     if channel is not None and channel not in channels:
         raise InputError(path, f"line {header_line}", f"this record needs the column {channel!r}")
     return Measurement(path=path, t=t, channels=channels, comments=tuple(comments))
+
+
+def _merge_units(header: list, factors: list, units_row: list, path: str, line: int) -> list:
+    """The header's unit factors completed by a units row's (line ``line``); refused where the two differ."""
+    for name, a, b in zip(header, factors, units_row):
+        if a is not None and b is not None and a != b:
+            raise InputError(path, f"line {line}, column {name!r}", "the units row and the header state "
+                             "different units: keep one")
+    return [b if a is None else a for a, b in zip(factors, units_row)]
+
+
+def _data_row(cells: list, header: list, dialect: tuple, path: str, line: int) -> list[float]:
+    """One row's values: as many as the header's columns, each a finite number."""
+    if len(cells) != len(header):
+        raise InputError(path, f"line {line}", f"has {len(cells)} values, the header has {len(header)}"
+                         + (" (a decimal comma in a comma-separated file? use ';' between values)"
+                            if dialect[0] == "," and len(cells) > len(header) else ""))
+    values = [_number(c, path, line) for c in cells]
+    for col, v in zip(header, values):
+        if not math.isfinite(v):
+            raise InputError(path, f"line {line}, column {col!r}", "value is not finite (NaN or inf)")
+    return values
 
 
 def _check_header(header, path, line, known):

@@ -7,15 +7,14 @@ and the experiment's own sections by name (``pendulum``; ``cam`` and ``closing_s
 """
 from __future__ import annotations
 
-from collections.abc import Sequence
-from dataclasses import dataclass, field, replace
+from dataclasses import dataclass, field
 
 from .. import parameters as P
 from ..laws.breaker import CamRollerLaw, EndStop, HoldLatch, LatchPoint, MainShaft
 from ..laws.making_current import MakingCurrent
 from ..laws.opening import Commands, OpeningDashpot, TripLatch
 from ..laws.release import Release
-from .spring_model import SpringModel
+from .spring_model import ModelChoice
 
 
 @dataclass(frozen=True)
@@ -159,14 +158,6 @@ class Breaker:
 # --- the rig ------------------------------------------------------------------------------------
 
 @dataclass(frozen=True)
-class ModelChoice:
-    """The analyst's model: effect names and the closing-spring model."""
-
-    effects: tuple
-    spring_model: SpringModel = SpringModel()
-
-
-@dataclass(frozen=True)
 class Rig:
     """A loaded, checked rig file. ``friction``: the friction values the rig gives (N m s/rad
     for ``viscous``, rad/s for the velocities); ``sections``: the experiment's own sections
@@ -189,6 +180,9 @@ class Rig:
     uncertain: dict = field(default_factory=dict)
     #: values that are unusual but possible, one line each (``FIELD: ...``; vcbmodel.rig.plausibility)
     warnings: tuple = ()
+    #: what the experiment's model carries that effects act on (its record's ``provides``; an effect
+    #: applies when all it needs is there)
+    provides: tuple = ()
 
     @property
     def pendulum(self) -> Pendulum | None:
@@ -205,10 +199,3 @@ class Rig:
     @property
     def breaker(self) -> Breaker | None:
         return self.sections.get("breaker")
-
-    def with_model(self, effects: Sequence[str] | None = None, spring_model: str | SpringModel | None = None) -> Rig:
-        """A copy with other effects and/or spring model (text or :class:`SpringModel`; text
-        without a convention keeps the rig's)."""
-        m = self.model
-        spring = m.spring_model if spring_model is None else SpringModel.parse(spring_model, m.spring_model.convention)
-        return replace(self, model=ModelChoice(tuple(m.effects if effects is None else effects), spring))

@@ -409,14 +409,7 @@ def read_point_profile(rd, cp, p, roller_radius) -> CamProfile:
     if "points_file" in cp:
         key, raw = read_points_file(rd, cp, p)
     field = p + ("points_file" if "points_file" in cp else key)
-    if not isinstance(raw, list) or len(raw) < 8:
-        rd.fail(field, "must be a list of at least 8 [angle, value] pairs")
-    pairs = []
-    for i, item in enumerate(raw):
-        if not isinstance(item, list) or len(item) != 2:
-            rd.fail(f"{field}.{i}", "must be a pair [angle in rad, value in m]")
-        pairs.append((rd.value(item[0], f"{field}.{i}.0"), rd.value(item[1], f"{field}.{i}.1")))
-    pairs = check_point_pairs(rd, pairs, field)
+    pairs = check_point_pairs(rd, _point_pairs(rd, raw, field), field)
     angles = [a for a, _ in pairs]
     if key == "points":
         base = rd.number(cp, "base_radius", p, positive=True)
@@ -435,14 +428,31 @@ def read_point_profile(rd, cp, p, roller_radius) -> CamProfile:
     elif min(v for _, v in pairs) < -(3.0 * rd.number(cp, "smoothing", p) if "smoothing" in cp else 1e-9):
         rd.fail(field, "a lift below the base circle (negative, beyond 3 x smoothing): lifts are measured from the base circle")
     spline = profile_spline(angles, radii)
+    _refuse_undercut(rd, spline, roller_radius, field)
+    lift = max(radii) - min(radii)
+    return CamProfile(base_radius=base, lift=lift, rise_start=math.nan, rise_end=math.nan, return_start=math.nan,
+                      return_end=math.nan, table=profile_table(spline))
+
+
+def _point_pairs(rd: Reader, raw: object, field: str) -> list[tuple[float, float]]:
+    """A profile's points as (angle rad, value m) pairs: a list of at least 8 [angle, value]."""
+    if not isinstance(raw, list) or len(raw) < 8:
+        rd.fail(field, "must be a list of at least 8 [angle, value] pairs")
+    pairs = []
+    for i, item in enumerate(raw):
+        if not isinstance(item, list) or len(item) != 2:
+            rd.fail(f"{field}.{i}", "must be a pair [angle in rad, value in m]")
+        pairs.append((rd.value(item[0], f"{field}.{i}.0"), rd.value(item[1], f"{field}.{i}.1")))
+    return pairs
+
+
+def _refuse_undercut(rd: Reader, spline: object, roller_radius: float, field: str) -> None:
+    """Refuse a pitch curve that bends tighter than the roller (m) anywhere: the cam surface would undercut."""
     cut = undercut(spline, roller_radius)
     if cut is not None:
         rd.fail(field, f"the roller cannot follow this profile: at {math.degrees(cut[0]):.1f} deg the pitch curve "
                 f"bends with a radius of {1e3 * cut[1]:.2f} mm, below the {1e3 * roller_radius:g} mm roller (the cam "
                 "surface would undercut); smooth the profile there or use a smaller roller")
-    lift = max(radii) - min(radii)
-    return CamProfile(base_radius=base, lift=lift, rise_start=math.nan, rise_end=math.nan, return_start=math.nan,
-                      return_end=math.nan, table=profile_table(spline))
 
 
 def check_pressure_angle(rd: Reader, breaker: Breaker, cam: Cam) -> None:

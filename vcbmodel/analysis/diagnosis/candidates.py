@@ -28,7 +28,7 @@ def candidate_jobs(rig: object, measurement: object, baseline: object, guesses: 
     given = rig_values(rig)
     jobs = []
     for name, effect in EFFECTS.items():
-        if name in baseline.effects or not effect.applies_to(rig.experiment, baseline.spring_model):
+        if name in baseline.effects or not effect.applies_to(rig.provides, baseline.spring_model):
             continue
         effects = tuple(e for e in EFFECTS if e in baseline.effects or e == name)
         new = [p for p in effect.parameters if p.vary and p.name not in given]

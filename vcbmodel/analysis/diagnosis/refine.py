@@ -68,7 +68,7 @@ def _swap_pairs(ctx, state):
     current = state.current
     kept = [s.effect for s in state.path if EFFECTS[s.effect].parameters and not EFFECTS[s.effect].variants]
     others = [name for name, e in EFFECTS.items() if name not in current.effects
-              and e.applies_to(ctx.rig.experiment, current.spring_model) and e.parameters and not e.variants]
+              and e.applies_to(ctx.rig.provides, current.spring_model) and e.parameters and not e.variants]
     return [(old, new) for old in kept for new in others]
 
 

@@ -22,7 +22,7 @@ from collections.abc import Sequence
 from dataclasses import dataclass, field
 
 from ...errors import SimulationError
-from ...experiments import experiment_of
+from ...experiments import EXPERIMENTS, experiment_of
 from ...model.effects import MACHINERY as MODEL_MACHINERY
 from ...records.signals import noise_estimate_floored, quantisation_step
 from ..fit import Dataset, FitAborted, FitResult
@@ -140,7 +140,12 @@ def _nothing(fit, noise, unit_, message, **kw) -> Discovery:
 
 def covers(experiment: str) -> bool:
     """Whether discovery can search this experiment's records (its equations carry a discovered torque)."""
-    return experiment in MODEL_MACHINERY[MACHINERY].experiments
+    return MODEL_MACHINERY[MACHINERY].acts_on(experiment_of(experiment).provides)
+
+
+def covered() -> list[str]:
+    """The experiments whose records discovery can search."""
+    return [name for name in EXPERIMENTS if covers(name)]
 
 
 def discover(rig, measurement, fit: FitResult, *, bic_margin: float, min_gain: float, dataset: Dataset | None = None,
@@ -159,7 +164,7 @@ def discover(rig, measurement, fit: FitResult, *, bic_margin: float, min_gain: f
     quantisation = quantisation or 0.0
     kw = {"bic_margin": bic_margin, "min_gain": min_gain, "given": fit}
     if not covers(rig.experiment):
-        return _nothing(fit, sigma, rec.unit, f"not tried: discovery covers {', '.join(MODEL_MACHINERY[MACHINERY].experiments)} "
+        return _nothing(fit, sigma, rec.unit, f"not tried: discovery covers {', '.join(covered())} "
                         f"tests, not a {rig.experiment} test", **kw)
     why = unread(rig, fit)
     if why:

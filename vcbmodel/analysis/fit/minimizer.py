@@ -9,7 +9,6 @@ from dataclasses import dataclass, replace
 import numpy as np
 
 from ...experiments import experiment_of
-from ...rig.spring_model import SpringModel
 from ..progress import progress
 from .objective import Objective
 from .optimisers import levenberg_marquardt, nelder_mead
@@ -28,7 +27,7 @@ def fit(datasets, effects, spring_model=None, params: dict | None = None, *, opt
     ----------
     datasets : sequence of Dataset
     effects : sequence of str
-    spring_model : SpringModel or str, optional
+    spring_model : SpringModel, optional
         Default: the first dataset's rig's.
     params : dict of str to Parameter, optional
         Default: :func:`~.parameters.make_parameters` of the first rig.
@@ -44,7 +43,7 @@ def fit(datasets, effects, spring_model=None, params: dict | None = None, *, opt
     opts = FitOptions.build(options, **keywords)
     datasets = list(datasets)
     rig0 = datasets[0].rig
-    spring_model = SpringModel.parse(spring_model or rig0.model.spring_model, rig0.model.spring_model.convention)
+    spring_model = rig0.model.spring_model if spring_model is None else spring_model  # a SpringModel: decided by the caller
     params = params or make_parameters(rig0, effects)
     if opts.sigma is None:
         opts = replace(opts, sigma=pooled_noise(datasets))

@@ -15,7 +15,6 @@ import numpy as np
 from ...errors import SimulationError
 from ...experiments import experiment_of
 from ...experiments.simulation import simulate
-from ...rig.spring_model import SpringModel
 
 
 @dataclass(frozen=True)
@@ -132,7 +131,7 @@ def scan_step(rig) -> float | None:
 def fit_step(rig, spring_model) -> float | None:
     """The integration step (s) fits use (None: the experiment's default): the experiment's
     choice for the spring model (``Experiment.fit_step``)."""
-    return experiment_of(rig.experiment).fit_step(rig, SpringModel.parse(spring_model).kind)
+    return experiment_of(rig.experiment).fit_step(rig, spring_model.kind)
 
 
 def user_function_for(rig) -> str:

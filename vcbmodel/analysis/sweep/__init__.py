@@ -163,7 +163,7 @@ def plan(rig: str | Path | dict | Rig, vary: Iterable[str | tuple[str, str] | Va
                      backend, inline_data_files(data, rig_path))
 
 
-def sweep(rig: str | Path | dict | Rig, vary: Iterable[str | tuple[str, str] | Vary] | dict[str, str] = (), *,
+def sweep(rig: str | Path | dict | Rig, vary: Iterable[str | tuple[str, str] | Vary] | dict[str, str] = (), *,  # noqa: PLR0913 (the front door's documented keyword options)
           runs: pd.DataFrame | Sequence[dict[str, float]] | None = None, samples: int | None = None, seed: int | None = None, sampling: str = "lhs",
           workers: int | None = None, scheduler: Any = None, output: str | None = None, stream: TextIO | None = None, resume: bool = False,
           force: bool = False, evaluate: Callable | None = None, columns: Sequence[str] | None = None, t_end: float | None = None,

@@ -70,34 +70,45 @@ def parse_vary(item, source="--vary") -> Vary:
     if not path:
         raise InputError(source, f"{path}={spec}", "PATH is empty")
     parts = spec.split(":")
-
-    def number(s, what):
-        try:
-            v = float(s)
-        except ValueError:
-            raise InputError(source, path, f"{what} {s!r} in {spec!r} is not a number") from None
-        if not math.isfinite(v):
-            raise InputError(source, path, f"{what} in {spec!r} must be finite")
-        return v
-
     if parts[0] in DISTRIBUTIONS:
-        if len(parts) != 3:
-            raise InputError(source, path, f"{parts[0]} needs two numbers: {parts[0]}:"
-                             f"{'MEAN:SD' if parts[0] == 'normal' else 'LO:HI'}, got {spec!r}")
-        first, second = ("MEAN", "SD") if parts[0] == "normal" else ("LO", "HI")
-        a, b = number(parts[1], first), number(parts[2], second)
-        if parts[0] == "normal" and not b > 0:
-            raise InputError(source, path, f"the standard deviation must be positive, got {b:g}")
-        if parts[0] == "uniform" and not b > a:
-            raise InputError(source, path, f"uniform:LO:HI needs LO < HI, got {spec!r}")
-        return Vary(path, parts[0], a, b)
+        return _distribution(path, spec, parts, source)
+    return _grid(path, spec, parts, source)
+
+
+def _spec_number(s: str, what: str, path: str, spec: str, source: str) -> float:
+    """One number of a SPEC (``what``: LO, HI, N, MEAN, SD), finite."""
+    try:
+        v = float(s)
+    except ValueError:
+        raise InputError(source, path, f"{what} {s!r} in {spec!r} is not a number") from None
+    if not math.isfinite(v):
+        raise InputError(source, path, f"{what} in {spec!r} must be finite")
+    return v
+
+
+def _distribution(path: str, spec: str, parts: list[str], source: str) -> Vary:
+    """``normal:MEAN:SD`` or ``uniform:LO:HI``."""
+    if len(parts) != 3:
+        raise InputError(source, path, f"{parts[0]} needs two numbers: {parts[0]}:"
+                         f"{'MEAN:SD' if parts[0] == 'normal' else 'LO:HI'}, got {spec!r}")
+    first, second = ("MEAN", "SD") if parts[0] == "normal" else ("LO", "HI")
+    a, b = _spec_number(parts[1], first, path, spec, source), _spec_number(parts[2], second, path, spec, source)
+    if parts[0] == "normal" and not b > 0:
+        raise InputError(source, path, f"the standard deviation must be positive, got {b:g}")
+    if parts[0] == "uniform" and not b > a:
+        raise InputError(source, path, f"uniform:LO:HI needs LO < HI, got {spec!r}")
+    return Vary(path, parts[0], a, b)
+
+
+def _grid(path: str, spec: str, parts: list[str], source: str) -> Vary:
+    """``LO:HI:N``: N values from LO to HI."""
     if len(parts) != 3:
         raise InputError(source, path, f"SPEC must be LO:HI:N, normal:MEAN:SD or uniform:LO:HI, got {spec!r}")
     if parts[0].strip().isalpha() and parts[0].lower() not in ("nan", "inf", "infinity"):
         raise InputError(source, path, f"unknown distribution {parts[0]!r}: SPEC must be LO:HI:N, normal:MEAN:SD "
                          "or uniform:LO:HI")
-    lo, hi = number(parts[0], "LO"), number(parts[1], "HI")
-    n = number(parts[2], "N")
+    lo, hi = _spec_number(parts[0], "LO", path, spec, source), _spec_number(parts[1], "HI", path, spec, source)
+    n = _spec_number(parts[2], "N", path, spec, source)
     if n != int(n) or n < 1:
         raise InputError(source, path, f"N must be a whole number >= 1, got {parts[2]!r}")
     if n == 1 and lo != hi:
