@@ -23,6 +23,7 @@ from pathlib import Path
 import pytest
 
 from vcbmodel import parameters as P
+from vcbmodel.experiments.loading import rig_from_data
 
 ROOT = Path(__file__).resolve().parents[2]
 PAGES = ("docs/cli.md", "docs/your-breaker.md")
@@ -145,3 +146,13 @@ def test_the_matcher_checks_every_digit_and_keeps_the_order():
     assert missing_lines(["a 1.28 1.275"], real) != []  # a digit fewer is another number
     assert missing_lines(["a 1.280 1.275", "c 3"], real) != []  # consecutive unless elided
     assert missing_lines(["c 3", "...", "a 1.280 1.275"], real) != []  # in order
+
+
+def test_rig_format_s_example_rigs_load_and_its_breaker_is_the_reference():
+    """Every complete rig printed in docs/rig-format.md loads as printed; section 8.3's is REFERENCE_BREAKER."""
+    page = (ROOT / "docs" / "rig-format.md").read_text(encoding="utf-8")
+    rigs = [json.loads(b) for b in re.findall(r"```json\n(.*?)```", page, re.S) if '"experiment"' in b]
+    assert len(rigs) >= 4
+    for data in rigs:
+        rig_from_data(data, "docs/rig-format.md")
+    assert P.REFERENCE_BREAKER in rigs
