@@ -178,3 +178,10 @@ def test_the_docs_index_lists_every_page_and_every_link_resolves():
             if anchor and linked.suffix == ".md":
                 headings = re.findall(r"^#+ (.+)$", linked.read_text(encoding="utf-8"), re.M)
                 assert anchor in {_slug(h) for h in headings}, f"{page.name}: {target}#{anchor}"
+
+
+def test_findings_lists_every_study():
+    """docs/findings.md's table of studies names every script of studies/ (run_all.py runs them)."""
+    table = (ROOT / "docs" / "findings.md").read_text(encoding="utf-8").split("## The studies", 1)[1].split("\n## ", 1)[0]
+    scripts = {p.name for p in (ROOT / "studies").glob("*.py")} - {"_common.py", "run_all.py"}
+    assert {s for s in scripts if f"`studies/{s}`" not in table} == set()
