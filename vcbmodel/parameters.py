@@ -596,7 +596,7 @@ DAHL_SIGMA0 = 3e4
 POSITION_TORQUE_FRACTION = (0.2, 0.4)
 POSITION_TORQUE_WAVENUMBER = (20, 40)
 
-# --- plausibility of a rig's values (vcbmodel/rig/plausibility.py, docs/rig-format.md 3.10) ---------
+# --- plausibility of a rig's values (vcbmodel/rig/plausibility.py, docs/rig-format.md 3.11) ---------
 #: Each field: (refused below, warned below, warned above, refused above, unit, what a value too small
 #: most likely is, what a value too large most likely is); None: no limit that side. A value is
 #: REFUSED where no breaker mechanism or test rig can have it and a unit slip (grams for kg, mm for m,

@@ -1,4 +1,4 @@
-"""`check` as a designer's check, and what every run must satisfy (docs/rig-format.md 3.10, docs/cli.md):
+"""`check` as a designer's check, and what every run must satisfy (docs/rig-format.md 3.11, docs/cli.md):
 values a unit slip gives are refused naming the field and the slip, unusual ones warned; a spring or
 damper too stiff for the fixed step is refused before the run; a run that creates energy fails; a cam
 that never moved is said plainly; the templates are commented everywhere and within their allowables."""

@@ -1,9 +1,13 @@
-"""docs/your-breaker.md's walk-through (a cam from points, a spring from its datasheet) runs as written."""
+"""docs/your-breaker.md's walk-through (a cam from points, a spring from its datasheet) runs as written and
+prints the lines the page shows (the block marked ``<!-- doctest: walk-through -->``, matched as
+test_doc_examples.py matches an example)."""
 import os
 import re
 import subprocess
 import sys
 from pathlib import Path
+
+from test_doc_examples import missing_lines
 
 ROOT = Path(__file__).resolve().parents[2]
 PAGE = (ROOT / "docs" / "your-breaker.md").read_text(encoding="utf-8")
@@ -25,3 +29,5 @@ def test_walkthrough_runs_as_written(tmp_path):
     assert "follower_displacement" in csv_text and "pole_3_contact" in csv_text
     touch_row = run.stdout.split("closing time (touch)", 1)[1].splitlines()[0].split()
     assert touch_row[0] == "ms" and all(float(v) > 0 for v in touch_row[1:4])  # a closing time on each pole
+    shown = PAGE.split("<!-- doctest: walk-through -->\n```\n", 1)[1].split("```", 1)[0].splitlines()
+    assert missing_lines(shown, run.stdout.splitlines()) == []

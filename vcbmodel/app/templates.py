@@ -281,7 +281,7 @@ def value_lines(rig: Rig) -> list[str]:
     unusual value (its unit to check), or that all lie in their usual ranges; and that every run's
     energy balance is checked."""
     head = (f"  values: {len(rig.warnings)} unusual (possible, but check the unit):" if rig.warnings else
-            "  values: every one within its usual range (docs/rig-format.md 3.10)")
+            "  values: every one within its usual range (docs/rig-format.md 3.11)")
     return ([head] + [f"    {w}" for w in rig.warnings]
             + ["  every run's energy balance is checked: a run that creates energy fails (exit 1)"])
 

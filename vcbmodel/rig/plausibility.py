@@ -1,5 +1,5 @@
 """A rig's values against what a breaker mechanism or its test rig can have: the designer's and the
-typist's check (docs/rig-format.md 3.10).
+typist's check (docs/rig-format.md 3.11).
 
 Three kinds of check, each naming the rig file and the field:
 
