@@ -53,6 +53,7 @@ def heavy_cam(tmp_path_factory):
     return load_rig(path)
 
 
+@pytest.mark.slow  # a convergence sweep (what the slow marker is for)
 def test_cam_drop_converges_under_mesh_refinement(heavy_cam):
     runs = {n: simulate(heavy_cam, EFFECTS, spring_model="ancf", ancf_elements=n, sample_times=T, step=1.25e-6)
             for n in (4, 8, 16)}
@@ -62,6 +63,7 @@ def test_cam_drop_converges_under_mesh_refinement(heavy_cam):
     assert all(np.all(np.isfinite(r.measured)) for r in runs.values())
 
 
+@pytest.mark.slow  # a convergence sweep (what the slow marker is for)
 def test_uniform_chains_approach_the_ancf_continuum(heavy_cam):
     """Two independent discretisations of the same coil meet: uniform chains (with half a
     segment's mass on the pin) approach the rigid-tie ANCF continuum, to 0.3 mrad rms at 20

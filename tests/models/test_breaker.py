@@ -330,6 +330,7 @@ def test_energy_balance_of_the_whole_closing(rig, full, spring):
         assert np.max(pin_kinetic) > 300 * np.max(np.abs(e["residual"][before_stop]))  # 11.5 J: 600 x the residual
 
 
+@pytest.mark.slow  # a convergence sweep (what the slow marker is for)
 def test_step_refinement_converges(rig, full, fom):
     """Halving the step. With the literal stick band: measured 0.04 us in closing time and
     0.06 um in follower displacement. With the default passive band, widened in proportion to the

@@ -113,6 +113,7 @@ def test_rest_balances_every_lever_and_twists_as_the_static_shaft(rig, spec, dri
     assert min(abs(x) for i, x in enumerate(expected) if i != drive - 1) > 1e-4  # rad: a twist to see
 
 
+@pytest.mark.slow  # a convergence sweep (what the slow marker is for)
 def test_a_stiff_shaft_tends_to_the_rigid_one(rig, spec, times, rigid):
     """The difference to the rigid shaft falls as 1/k: measured at the real shaft / 100 / 1000 times
     its stiffness (massless springs), touches moved by 245 / 2.4 / 0.28 us (poles 2 and 3 earlier:

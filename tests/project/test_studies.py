@@ -37,9 +37,11 @@ EXPECTED = {
 }
 
 
-#: Smoke runs over a minute each on 2 cores: run with plain `python -m pytest` (CI keeps its 10-minute
-#: budget; the sweep machinery itself is tested in test_sweep.py, the conclusion map stays in CI).
-SLOW = {"design_sensitivity.py", "design_tolerance.py", "design_optimum.py", "benchmark.py"}
+#: Smoke runs over half a minute each on 2 cores: run with plain `python -m pytest` (CI keeps the default
+#: suite within 4 minutes; `studies/run_all.py` runs every study, the sweep machinery is tested in
+#: test_sweep.py, the spring models and the closing by tests/models, discovery by tests/workflows).
+SLOW = {"design_sensitivity.py", "design_tolerance.py", "design_optimum.py", "benchmark.py", "spring_models.py",
+        "vcb_closing.py", "discovery_demo.py"}
 
 
 @pytest.mark.parametrize("script", [pytest.param(s, marks=pytest.mark.slow) if s in SLOW else s for s in sorted(EXPECTED)])

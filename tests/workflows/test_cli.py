@@ -49,10 +49,13 @@ def test_solver_failure_exits_1_with_one_line(monkeypatch, capsys, tmp_path):
     assert not (tmp_path / "x.csv").exists()
 
 
-def test_help_everywhere():
-    for args in ([], ["simulate"], ["identify"], ["diagnose"]):
-        p = subprocess.run([sys.executable, "-m", "vcbmodel", *args, "--help"], capture_output=True, text=True)
-        assert p.returncode == 0 and "usage" in p.stdout
+def test_help_everywhere(capsys):
+    p = subprocess.run([sys.executable, "-m", "vcbmodel", "--help"], capture_output=True, text=True)
+    assert p.returncode == 0 and "usage" in p.stdout  # the module runs as a program
+    for command in ("simulate", "identify", "diagnose", "sweep", "check", "init", "plot"):
+        with pytest.raises(SystemExit) as e:
+            main([command, "--help"])
+        assert e.value.code == 0 and f"usage: vcbmodel {command}" in capsys.readouterr().out
 
 
 @pytest.mark.skipif(not examples_available(), reason="shared example data not present")
