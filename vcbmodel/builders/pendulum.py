@@ -32,7 +32,7 @@ def build_pendulum(rig: Rig, law: FrictionLaw, user_function: str = "symbolic", 
         Tc, R0x, R0y, R1x, R1y = pendulum_loads(theta, omega, p.mass, p.com_distance, g, ops)
         if discovered:
             Tc = Tc + discovered_torque(t, theta, omega, discovered, ops)
-        return shaft_friction(omega, Tc, R0x, R0y, R1x, R1y, p.inertia, law, ops)[0]
+        return shaft_friction(omega, Tc, R0x, R0y, R1x, R1y, p.inertia, law, ops, t)[0]
 
     add_discovered_torque(model, shaft, discovered, kind)
     add_friction_connector(model, shaft, friction_of_state, kind)
