@@ -9,6 +9,7 @@ import time
 from ...records.signals import disagreement_window
 from ..diagnosis_report import describe_signature, evidence_text, nuisance_report
 from ..fit.dataset import time_scale_name
+from ..model_forms import diagnosis_model_forms
 from ..time_base import time_base_report
 from ..verdict_evidence import sensor_nuisance, strip_private, verdict_sentences
 from .period import period_fields_fitted
@@ -50,6 +51,7 @@ def report(ctx, state) -> None:
     if pinned:
         nuisance["pinned_sensitivity"] = [pinned]
         evidence += (" " + pinned_caveat(pinned)) if pinned_caveat(pinned) else ""
+    forms = diagnosis_model_forms(ctx, final, pinned)
     state.verdict = strip_private(state.verdict)
     spent = timing(ctx)
     ctx.say(f"missing effects: {', '.join(state.missing) or 'none'}; rms {baseline.rms:.3g} -> {final.rms:.3g} "
@@ -57,4 +59,4 @@ def report(ctx, state) -> None:
             f"{spent['simulations']} simulations")
     state.diagnosis = Diagnosis(ctx.rig, ctx.measurement, ctx.noise, baseline, state.candidates, state.missing, final,
                                 where, signature, evidence, stopped, state.verdict, nuisance, spent, state.selection,
-                                state.own_alignment, state.discovery, state.discovered)
+                                state.own_alignment, state.discovery, state.discovered, forms)

@@ -36,6 +36,8 @@ class Diagnosis:
     #: the discover step's report (:mod:`.discover`): a torque outside the registry, or why none
     discovered: dict = field(default_factory=dict)
     discovery: object = None  # its Discovery (vcbmodel.analysis.discovery), when it searched
+    #: the forms the record cannot tell apart and every quantity over them (..model_forms.ModelForms)
+    model_forms: object = None
 
     @property
     def missing_effect(self) -> str | None:
@@ -91,6 +93,7 @@ class Diagnosis:
             "nuisance": self.nuisance, "verdict": self.verdict,
             "signature": self.signature, "evidence": self.evidence, "timing": self.timing,
             "discovered": {k: v for k, v in self.discovered.items() if k != "report"},
+            "model_forms": self.model_forms.to_json() if self.model_forms is not None else None,
         }
 
     def report(self) -> str:
@@ -119,4 +122,6 @@ class Diagnosis:
         if self.discovered.get("report"):
             lines.append(self.discovered["report"])
         lines.append(self.final.report())
+        if self.model_forms is not None:
+            lines.append(self.model_forms.report(u))
         return "\n".join(lines)

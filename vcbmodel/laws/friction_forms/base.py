@@ -25,8 +25,9 @@ from ...parameters import STICK_TIME
 
 @dataclass(frozen=True)
 class FormParameter:
-    """A value a form has beyond the hybrid law's: name, fit start, bounds, unit, and whether a fit
-    varies it on a log scale."""
+    """A value a form has beyond the hybrid law's: name, fit start, bounds, unit, what it is, and
+    further fit starts (``scan``: a fit from the start alone can stop in a valley the form shares
+    with the other friction values)."""
 
     name: str
     initial: float
@@ -34,6 +35,7 @@ class FormParameter:
     max: float
     unit: str
     description: str = ""
+    scan: tuple = ()
 
 
 @dataclass(frozen=True)

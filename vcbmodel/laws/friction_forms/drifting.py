@@ -13,7 +13,7 @@ from ..types import Ops, Scalar
 from .base import FormParameter, FrictionForm, register, FormLaw
 
 DRIFT = FormParameter("mu_k_drift", 0.0, -0.01, 0.01, "1/s",
-                      "rate of change of the friction levels mu_k and mu_s with time")
+                      "rate of change of the friction levels mu_k and mu_s with time", scan=(-1e-3, 1e-3))
 
 
 def instant(law: FormLaw, w: Scalar, t: Scalar, ops: Ops) -> dict:

@@ -1,0 +1,364 @@
+"""Model-form uncertainty: the forms a record cannot tell apart, fitted beside the selected model,
+and every physical quantity with an interval that spans them.
+
+A fit's stated errors are those of its own model: when another law would fit the record as well
+(Tustin's exponential Stribeck curve for the hybrid law's linear one, a drifting Coulomb level, air
+drag for viscous friction), the values can sit many stated errors from the truth while the residual
+is white at the noise. So beside the selected model this module fits its *alternatives*
+(:func:`alternatives`): the friction forms of :mod:`vcbmodel.laws.friction_forms` (each with the
+Stribeck fall it needs), and registered effects named in :data:`ALTERNATIVE_EFFECTS` that the
+record might hold instead (aerodynamic drag), each from the selected model's values.
+
+Multi-model inference (Burnham & Anderson, *Model Selection and Multimodel Inference*, 2nd ed.
+2002, ch. 4 and 6.4), with BIC weights w_i = exp(-dBIC_i / 2) / sum_j exp(-dBIC_j / 2):
+
+- the model-averaged estimate  theta = sum_i w_i theta_i;
+- its unconditional variance   var = sum_i w_i (var_i + (theta_i - theta)^2)  (their eq. 6.12);
+- the 95 % interval theta +- 1.96 sqrt(var), widened to hold each form within the evidence margin
+  (dBIC <= :data:`EVIDENCE_MARGIN`) at its own 95 % interval: those are the forms the record does
+  not tell apart (a BIC difference of 10 is "very strong" evidence, Kass & Raftery, JASA 90, 1995),
+  and a form the record cannot reject must not fall outside what is reported.
+
+BIC rather than AIC: the diagnosis selects effects by BIC, the weights approximate the forms'
+posterior probabilities (equal priors, unit-information prior on the parameters), and on records of
+thousands of samples AIC's lighter penalty puts weight on every extra parameter that lowers chi^2 by
+2, which the records' slightly non-white noise does by itself. A Bayesian model average with
+sampled posteriors would cost thousands of simulations per form; the weights need one fit each.
+
+A quantity's value in a form that lacks it is its physical value there: 0 for an additive effect
+(viscous, drag, drift), the kinetic level for ``mu_s`` (no Stribeck fall: the static level is the
+kinetic one). ``mu_k`` is put on one meaning across forms, the Coulomb level at speed (the friction
+torque at speed less C_v w, over r F): the hybrid law's shifted viscous term C_v (w - w_s) makes its
+``mu_k`` that level plus C_v w_s / (r F), with F the journal's static load (pendulum: M g); the
+shift's own error is left out. ``stribeck_velocity`` has another meaning in each form (the end of a
+linear fall, an exponential or a Gaussian decay speed): it is listed per form, not averaged.
+
+A quantity is *determined by the record* when every form within the margin states a finite error
+and its 95 % interval is narrower than its plausible range (:mod:`.plausibility`); otherwise it is
+reported as not determined, with the range the forms span.
+"""
+from __future__ import annotations
+
+import math
+import time
+from collections.abc import Callable, Sequence
+from dataclasses import dataclass, field, replace
+
+import numpy as np
+
+from ..errors import SimulationError
+from ..laws.friction import effective_static
+from ..laws.friction_forms import FORMS
+from ..model.effects import EFFECTS
+from . import fit as fitting
+from .fit import FitAborted, FitResult, Parameter, make_parameters
+from .plausibility import findings_of, plausible_range
+
+#: Forms whose BIC is within this of the best are ones the record does not tell apart (Kass &
+#: Raftery 1995: a difference above 10 is very strong evidence; the diagnosis' own BIC margin).
+EVIDENCE_MARGIN = 10.0
+#: The 95 % interval's half-width in standard deviations (normal).
+Z95 = 1.959964
+#: Registered effects tried as alternatives where the record's experiment has them (joined by name:
+#: an effect not in the registry is skipped).
+ALTERNATIVE_EFFECTS = {"pendulum": ("aerodynamic_drag",)}
+#: Experiments whose records the friction forms are tried on. A cam drop's or a closing's shaft
+#: passes the Stribeck range (0.1 rad/s) within its first millisecond and moves 35-70 ms: the forms
+#: differ by less than the noise there, and a drift over 70 ms is nil.
+FORM_EXPERIMENTS = ("pendulum",)
+#: Starting factors of a newly added Stribeck fall: mu_s as multiples of mu_k (identify's own scan).
+MU_S_STARTS = (1.3, 2.0)
+#: Levenberg-Marquardt's chi^2 tolerance and iteration limit for a form's fit: a form trades its
+#: values against each other along a decaying swing (Coulomb, viscous, a drift), a long curved valley
+#: where the fits' usual tolerance stops a few iterations in, short of the floor (as discovery's refit).
+CHI2_TOLERANCE = 1e-3
+MAX_ITERATIONS = 40
+#: Seconds the forms' fits may take together in a diagnosis (each fit starts from the selected
+#: model's values and rarely needs more than a few seconds on the compiled path).
+FORMS_BUDGET_S = 120.0
+#: Why forms of the literature are not fitted (:mod:`vcbmodel.laws.friction_forms`).
+NOT_CARRIED = {"dahl": "its bristle state (micrometres, relaxing at about 1e5-1e6 per second) is too stiff for "
+                       "the fixed-step RK4 of the compiled path and of Exudyn; once sliding Dahl's friction is the "
+                       "Coulomb level the selected model has, and LuGre's is the gaussian form"}
+
+
+@dataclass(frozen=True)
+class Alternative:
+    """A form to fit: its label, effects, the effects it adds to the selected model, and the
+    friction form it switches on (None: registered effects only)."""
+
+    label: str
+    effects: tuple
+    added: tuple
+    form: str | None = None
+
+
+@dataclass
+class FormFit:
+    """One fitted form: its fit and BIC (under the record's noise), weight and BIC distance from
+    the best."""
+
+    alternative: Alternative
+    fit: FitResult
+    bic: float
+    delta_bic: float = 0.0
+    weight: float = 0.0
+
+    @property
+    def within_margin(self) -> bool:
+        return self.delta_bic <= EVIDENCE_MARGIN
+
+
+@dataclass
+class Quantity:
+    """A physical quantity over the forms: the model-averaged estimate, its unconditional 1-sigma,
+    the reported 95 % interval, and each form's (value, stderr)."""
+
+    name: str
+    unit: str
+    estimate: float
+    stderr: float
+    low: float
+    high: float
+    determined: bool
+    by_form: dict
+    meaning: str = ""
+
+    def to_json(self) -> dict:
+        return {"estimate": self.estimate, "stderr": self.stderr, "low": self.low, "high": self.high,
+                "unit": self.unit, "determined": self.determined, "meaning": self.meaning,
+                "by_form": {k: {"value": v, "stderr": s} for k, (v, s) in self.by_form.items()}}
+
+
+@dataclass
+class ModelForms:
+    """The forms fitted beside the selected model and the quantities over them."""
+
+    forms: list
+    quantities: dict
+    not_tried: dict = field(default_factory=dict)
+    form_specific: dict = field(default_factory=dict)  # {form: {stribeck_velocity: value}}
+    findings: list = field(default_factory=list)  # plausibility findings (:mod:`.plausibility`)
+
+    @property
+    def undetermined(self) -> list[str]:
+        return [q.name for q in self.quantities.values() if not q.determined]
+
+    def to_json(self) -> dict:
+        return {"method": "BIC weights over the fitted forms (Burnham & Anderson multi-model inference): estimate "
+                          "sum w_i theta_i, unconditional variance sum w_i (var_i + (theta_i - theta)^2); the 95 % "
+                          f"interval also holds each form within {EVIDENCE_MARGIN:g} of the best BIC at its own",
+                "evidence_margin": EVIDENCE_MARGIN,
+                "forms": [{"form": f.alternative.label, "effects": list(f.fit.effects), "bic": f.bic,
+                           "delta_bic": f.delta_bic, "weight": f.weight, "within_margin": f.within_margin,
+                           "rms": f.fit.rms, "values": {p.name: p.value for p in f.fit.parameters.values()
+                                                        if p.kind == "model"},
+                           "stderr": {p.name: p.stderr for p in f.fit.parameters.values()
+                                      if p.kind == "model" and p.vary}} for f in self.forms],
+                "quantities": {name: q.to_json() for name, q in self.quantities.items()},
+                "not_determined": self.undetermined, "form_specific": self.form_specific,
+                "not_tried": dict(self.not_tried), "plausibility": [f.to_json() for f in self.findings]}
+
+    def report(self, unit: str = "rad") -> str:
+        lines = [f"  Model forms the record cannot tell apart (BIC weights; 95 % intervals span every form within "
+                 f"{EVIDENCE_MARGIN:g} of the best BIC):"]
+        for f in self.forms:
+            lines.append(f"    {f.alternative.label:34s} dBIC {f.delta_bic:8.1f}  weight {f.weight:.3f}  rms "
+                         f"{f.fit.rms:.3g} {unit}" + ("" if f.within_margin else "  (rejected)"))
+        for name, why in self.not_tried.items():
+            lines.append(f"    {name:34s} not fitted: {why}")
+        for q in self.quantities.values():
+            if q.determined:
+                lines.append(f"    {q.name:18s} {q.estimate:.5g} +/- {q.stderr:.2g} {q.unit}, 95 % [{q.low:.5g}, "
+                             f"{q.high:.5g}]" + (f" ({q.meaning})" if q.meaning else ""))
+            else:
+                lines.append(f"    {q.name:18s} not determined by this record: the forms span [{q.low:.4g}, "
+                             f"{q.high:.4g}] {q.unit}")
+        lines += [f"    IMPLAUSIBLE: {f.message}" for f in self.findings]
+        return "\n".join(lines)
+
+
+def alternatives(effects: Sequence[str], experiment: str) -> tuple[list[Alternative], dict]:
+    """The forms to fit beside a model of ``effects`` for a record of ``experiment``, and {form: why
+    not} for those left out."""
+    effects = tuple(effects)
+    out, skipped = [], dict(NOT_CARRIED)
+    friction_forms = experiment in FORM_EXPERIMENTS and "coulomb_friction" in effects
+    if not friction_forms:
+        skipped["friction forms"] = (f"a {experiment} record's shaft passes the Stribeck range within its first "
+                                     "millisecond" if experiment not in FORM_EXPERIMENTS else
+                                     "the model has no Coulomb friction to reshape")
+    else:
+        if "stribeck" not in effects:
+            out.append(Alternative("hybrid + stribeck", effects + ("stribeck",), ("stribeck",)))
+        current = next((f.name for f in FORMS.values() if f.effect and f.effect in effects), "hybrid")
+        for form in FORMS.values():
+            if not form.effect or form.name == current:
+                continue
+            base = tuple(e for e in effects if not any(f.effect == e for f in FORMS.values() if f.effect))
+            needs = tuple(n for n in form.needs if n not in base)
+            out.append(Alternative(form.name + (" + " + " + ".join(needs) if needs else ""), base + needs + (form.effect,),
+                                   needs + (form.effect,), form.name))
+    for name in ALTERNATIVE_EFFECTS.get(experiment, ()):
+        if name in EFFECTS and name not in effects:
+            out.append(Alternative(f"+ {name}", effects + (name,), (name,)))
+    return out, skipped
+
+
+def alternative_parameters(rig, base: FitResult, alt: Alternative) -> tuple[dict, list]:
+    """(parameters, extra starts) of ``alt``: the selected fit's values (nuisance included) and the
+    added effects' and form's own parameters at their registry starts."""
+    params = {k: replace(p, stderr=None, stderr_naive=None) for k, p in base.parameters.items()}
+    registered = tuple(e for e in alt.added if e in EFFECTS)
+    for name, p in make_parameters(rig, registered).items():
+        params.setdefault(name, p)
+    if alt.form is not None:
+        for fp in FORMS[alt.form].parameters:
+            params[fp.name] = Parameter(fp.name, fp.initial, fp.min, fp.max, True, fp.unit)
+    starts = []
+    if alt.form is not None:
+        starts = [{fp.name: v} for fp in FORMS[alt.form].parameters for v in fp.scan]
+    mu_k = params["mu_k"].value if "mu_k" in params else 0.1
+    if "stribeck" in alt.added and params.get("mu_s") is not None and params["mu_s"].vary:
+        starts = [{"mu_s": f * mu_k} for f in MU_S_STARTS]
+    elif alt.form in ("tustin", "gaussian") and params.get("stribeck_velocity") is not None \
+            and params["stribeck_velocity"].vary:  # a decay speed is about a third of a linear fall's end
+        ws = params["stribeck_velocity"]
+        starts = [{"stribeck_velocity": float(np.clip(ws.value / 3, ws.min, ws.max))}]
+    return params, starts
+
+
+#: refit(effects, parameters, extra starts, label) -> FitResult: one fit of the record(s).
+Refit = Callable[[tuple, dict, list, str], FitResult]
+
+
+def fit_forms(rig, base: FitResult, refit: Refit, noise=None, *, label: str = "selected",
+              pinned: dict | None = None, budget_s: float | None = None) -> ModelForms:
+    """Fit the alternatives of ``base`` (the selected model's fit of ``rig``'s record or records)
+    with ``refit`` and return the forms with their weights and the quantities over them.
+
+    ``noise``: the record's noise model for chi^2 (None: white at each fit's sigma). ``pinned``:
+    {parameter: 1-sigma shift} a pinned rig or sensor value's plausible error causes (added to every
+    form's variance). ``budget_s``: seconds after which no further form is fitted."""
+    alts, not_tried = alternatives(base.effects, rig.experiment)
+    fits = [FormFit(Alternative(label, tuple(base.effects), ()), base, base.bic_with(noise))]
+    deadline = None if budget_s is None else time.monotonic() + budget_s
+    for alt in alts:
+        if deadline is not None and time.monotonic() > deadline:
+            not_tried[alt.label] = "the forms' time budget was spent"
+            continue
+        params, starts = alternative_parameters(rig, base, alt)
+        try:
+            r = refit(alt.effects, params, starts, alt.label)
+        except (FitAborted, SimulationError, ValueError) as e:
+            not_tried[alt.label] = f"its fit failed ({e})"
+            continue
+        fits.append(FormFit(alt, r, r.bic_with(noise)))
+    best = min(f.bic for f in fits)
+    raw = [math.exp(-0.5 * (f.bic - best)) for f in fits]
+    for f, w in zip(fits, raw):
+        f.delta_bic, f.weight = f.bic - best, w / sum(raw)
+    quantities, specific = quantities_over(rig, fits, pinned or {})
+    forms = ModelForms(fits, quantities, not_tried, specific)
+    selected = fits[0].fit
+    forms.findings = findings_of(rig, {p.name: p.value for p in selected.parameters.values() if p.kind == "model"},
+                                 {p.name: p.stderr for p in selected.parameters.values() if p.kind == "model" and p.vary},
+                                 forms.quantities)
+    return forms
+
+
+def _static_load(rig) -> float | None:
+    """The journal's static load F (N) the mu_k meaning uses: a pendulum's weight M g (None otherwise)."""
+    return rig.pendulum.mass * rig.gravity if rig.experiment == "pendulum" and rig.pendulum is not None else None
+
+
+def form_values(rig, f: FitResult) -> tuple[dict, dict]:
+    """({quantity: (value, stderr)}, {form-specific name: value}) of one form in the common meanings
+    (module docstring): the model parameters, mu_k as the Coulomb level at speed, mu_s as the level
+    at rest, additive effects the form lacks at 0."""
+    p = {k: v for k, v in f.parameters.items() if v.kind == "model"}
+    out = {}
+    for name, q in p.items():
+        if name in ("stribeck_velocity", "stick_velocity"):
+            continue
+        se = q.stderr if q.vary else 0.0
+        out[name] = (float(q.value), math.inf if se is None or not math.isfinite(se) else float(se))
+    F = _static_load(rig)
+    shifted = {"stribeck", "viscous_friction"} <= set(f.effects) and not any(
+        FORMS[n].effect in f.effects for n in ("tustin", "gaussian"))
+    if "mu_k" in out and shifted and F:
+        v, se = out["mu_k"]
+        out["mu_k"] = (v - p["viscous"].value * p["stribeck_velocity"].value / (rig.shaft_radius * F), se)
+    if "mu_k" in p:  # the level at rest: the static one the law uses (never below mu_k), else mu_k
+        if "mu_s" in p:
+            holds = p["mu_s"].value >= p["mu_k"].value
+            out["mu_s"] = (float(effective_static(p["mu_s"].value, p["mu_k"].value)),
+                           out["mu_s"][1] if holds else out["mu_k"][1])
+        else:
+            out["mu_s"] = (float(p["mu_k"].value), out["mu_k"][1])
+    specific = {"stribeck_velocity": float(p["stribeck_velocity"].value)} if "stribeck_velocity" in p else {}
+    return out, specific
+
+
+def quantities_over(rig, fits: list[FormFit], pinned: dict) -> tuple[dict, dict]:
+    """({name: Quantity}, {form: form-specific values}) over the weighted forms."""
+    per_form = [form_values(rig, f.fit) for f in fits]
+    names = list(dict.fromkeys(n for values, _ in per_form for n in values))
+    units = {p.name: p.unit or "-" for f in fits for p in f.fit.parameters.values()}
+    out = {}
+    for name in names:
+        rows = []
+        for f, (values, _) in zip(fits, per_form):
+            v, se = values.get(name, (0.0, 0.0))
+            rows.append((f, v, math.hypot(se, pinned.get(name, 0.0))))
+        out[name] = _average(rig, name, units.get(name, "-"), rows)
+    return out, {f.alternative.label: s for f, (_, s) in zip(fits, per_form) if s}
+
+
+def _average(rig, name: str, unit: str, rows: list) -> Quantity:
+    """The model average of one quantity over (form fit, value, stderr) rows: over the forms within
+    the evidence margin (the others' weights, below exp(-5) of the best's, are dropped and the rest
+    renormalised: a rejected form whose fit states no error must not make the quantity unknown)."""
+    by_form = {f.alternative.label: (float(x), float(s)) for f, x, s in rows}
+    rows = [row for row in rows if row[0].within_margin]
+    w = np.array([f.weight for f, _, _ in rows])
+    w = w / w.sum()
+    v = np.array([x for _, x, _ in rows])
+    se = np.array([s for _, _, s in rows])
+    mean = float(np.sum(w * v))
+    var = float(np.sum(w * (se**2 + (v - mean) ** 2)))
+    sd = math.sqrt(var) if math.isfinite(var) else math.inf
+    low, high = mean - Z95 * sd, mean + Z95 * sd
+    near = [(x, s) for _, x, s in rows]
+    for x, s in near:
+        low, high = min(low, x - Z95 * s), max(high, x + Z95 * s)
+    finite = math.isfinite(sd) and all(math.isfinite(s) for _, s in near)
+    bounds = plausible_range(name, rig)
+    width = (bounds[1] - bounds[0]) if bounds else 2.0 * abs(mean)
+    determined = bool(finite and (high - low) < width)
+    if not finite:  # the range the forms' values span
+        low, high = min(x for x, _ in near), max(x for x, _ in near)
+    meaning = ("the Coulomb level at speed: the friction at speed less C_v w, over r F" if name == "mu_k" else
+               "the friction level at rest" if name == "mu_s" else "")
+    return Quantity(name, unit, mean, sd, float(low), float(high), determined, by_form, meaning)
+
+
+def diagnosis_model_forms(ctx, final: FitResult, pinned: dict | None = None) -> ModelForms:
+    """The forms around a diagnosis's final fit, fitted to its record as the diagnosis fits it (the
+    record's nuisance free, chi^2 under its noise model ``ctx.noise``); ``pinned``: the report's
+    pinned-gain item (its 1-sigma shifts join every form's variance)."""
+    deadline = time.monotonic() + FORMS_BUDGET_S
+
+    def refit(effects, params, starts, label):
+        return fitting.fit([ctx.dataset], effects, final.spring_model, params, sigma=ctx.sigma_hf, pool=ctx.pool,
+                           processes=1, scales=ctx.scales(), starts=starts, max_starts=2, verbose=False, label=label,
+                           should_stop=lambda: time.monotonic() > deadline, chi2_tolerance=CHI2_TOLERANCE,
+                           max_iterations=MAX_ITERATIONS)
+
+    shifts = {name: row["shift"] for name, row in (pinned or {}).get("shifts", {}).items()}
+    return fit_forms(ctx.rig, final, refit, ctx.noise, label=f"selected ({_form_name(final.effects)})", pinned=shifts,
+                     budget_s=FORMS_BUDGET_S)
+
+
+def _form_name(effects: Sequence[str]) -> str:
+    return next((f.name for f in FORMS.values() if f.effect and f.effect in effects), "hybrid")
