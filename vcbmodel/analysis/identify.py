@@ -35,7 +35,7 @@ from ..records.signals import first_peak_amplitude
 from ..rig.spring_model import SpringModel
 from .fit import Dataset, FitResult, SimulationPool, fit, make_parameters, staged_fit
 from .held_out import HeldOut, held_out_validation
-from .model_forms import CHI2_TOLERANCE, MAX_ITERATIONS, ModelForms, fit_forms
+from .model_forms import CHI2_TOLERANCE, MAX_ITERATIONS, RELATIVE_TOLERANCE, ModelForms, fit_forms
 
 if TYPE_CHECKING:
     from ..records.measurement import Measurement
@@ -248,8 +248,9 @@ def identify(pairs: Sequence[tuple[Rig, Measurement]], law: str = "hybrid", verb
     if forms or (hold_out and len(datasets) > 1):
         with SimulationPool(processes, inline_single=True) as pool:
             def refit(effects, params, starts, label, on=datasets):
-                return fit(on, effects, MASSLESS, params, pool=pool, sigma=result.sigma, starts=starts, max_starts=2,
-                           verbose=False, label=label, chi2_tolerance=CHI2_TOLERANCE, max_iterations=MAX_ITERATIONS)
+                return fit(on, effects, MASSLESS, params, pool=pool, sigma=result.sigma, starts=starts, max_starts=3,
+                           verbose=False, label=label, chi2_tolerance=CHI2_TOLERANCE,
+                           relative_tolerance=RELATIVE_TOLERANCE, max_iterations=MAX_ITERATIONS, every_start=True)
             if forms:
                 out.forms = fit_forms(rig0, result, refit, None, label=law)
             if hold_out and len(datasets) > 1:

@@ -99,14 +99,15 @@ def _run_starts(obj, points, opts: FitOptions) -> _Optimum:
             x, cost, jac, ok, msg = nelder_mead(obj, x0, lo, hi, opts.max_simulations)
         else:
             x, cost, jac, ok, msg = levenberg_marquardt(obj, x0, lo, hi, opts.max_iterations or 10 + 2 * len(x0),
-                                                        opts.chi2_tolerance, opts.final_jacobian)
+                                                        opts.chi2_tolerance, opts.final_jacobian,
+                                                        relative_tolerance=opts.relative_tolerance)
         if opts.verbose:
             progress(f"  fit {opts.label or ', '.join(obj.effects)} start {k + 1}/{len(points)}: "
                      f"rms {obj.measured_rms(x):.3g} {experiment_of(obj.datasets[0].rig.experiment).unit} "
                      f"after {obj.nfev} simulations")
         if cost < best.cost:
             best = _Optimum(x, cost, ok, msg, jac)
-        if obj.measured_rms(best.x) <= 1.05 * opts.sigma:
+        if obj.measured_rms(best.x) <= 1.05 * opts.sigma and not opts.every_start:
             break  # at the noise level: further starts cannot do better
         if opts.enough is not None and k + 1 < len(points) and opts.enough(
                 build_result(obj, best.x, best.jacobian, opts.sigma, best.success, best.message, opts.method)):

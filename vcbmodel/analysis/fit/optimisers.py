@@ -23,7 +23,7 @@ DAMPING_ATTEMPTS = 6
 
 
 def levenberg_marquardt(obj, x0, lo, hi, max_iterations: int, chi2_tolerance: float = 0.1,
-                        final_jacobian: bool = True, jacobian=None) -> tuple:
+                        final_jacobian: bool = True, jacobian=None, relative_tolerance: float | None = None) -> tuple:
     """Bounded Levenberg-Marquardt on the objective's scaled residuals (chi^2 = sum r^2).
 
     Stops when the step the linear model predicts would lower chi^2 by less than a tolerance
@@ -48,6 +48,8 @@ def levenberg_marquardt(obj, x0, lo, hi, max_iterations: int, chi2_tolerance: fl
     final_jacobian : bool
     jacobian : callable, optional
         ``jacobian(x, scale=1.0)`` (default: the objective's, with analytic prior rows).
+    relative_tolerance : float, optional
+        The tolerance's fraction of the noise's chi^2 (default :data:`RELATIVE_TOLERANCE`).
 
     Returns
     -------
@@ -61,10 +63,11 @@ def levenberg_marquardt(obj, x0, lo, hi, max_iterations: int, chi2_tolerance: fl
     J = jacobian(x)
     lam = INITIAL_DAMPING
     widened = False
+    relative = RELATIVE_TOLERANCE if relative_tolerance is None else relative_tolerance
     for it in range(max_iterations):
         # relative to the cost the noise alone would leave (about one per sample), not to the
         # current cost: far from the optimum a small predicted gain means a poor linear model
-        tolerance = max(chi2_tolerance, RELATIVE_TOLERANCE * min(cost, r.size))
+        tolerance = max(chi2_tolerance, relative * min(cost, r.size))
         attempt = _damped_steps(obj, J, r, x, cost, lam, lo, hi, tolerance, it)
         lam = attempt.damping
         if attempt.outcome == "converged":

@@ -44,12 +44,19 @@ class FitOptions:
         Levenberg-Marquardt's iteration limit (default 10 + 2 per varied parameter).
     chi2_tolerance : float
         Levenberg-Marquardt's absolute chi^2 tolerance (dimensionless).
+    relative_tolerance : float, optional
+        Its tolerance as a fraction of the chi^2 noise alone would leave (default
+        ``optimisers.RELATIVE_TOLERANCE``; 0: ``chi2_tolerance`` alone, for fits whose chi^2 is
+        compared with another model's to within a few units).
     final_jacobian : bool
         Whether a converged Levenberg-Marquardt run ends on a fresh Jacobian.
     max_starts : int
         The optimiser runs from this many of the best-ranked starts.
     enough : callable, optional
         A test of a :class:`~.result.FitResult`; once the best so far passes it, no further start runs.
+    every_start : bool
+        Run the optimiser from each of the ``max_starts`` best starts even when one already ends at the
+        noise level (models compared by chi^2 to a few units: a second valley can lie a few units lower).
     """
 
     method: str = "least_squares"
@@ -65,9 +72,11 @@ class FitOptions:
     should_stop: Callable[[], bool] | None = None
     max_iterations: int | None = None
     chi2_tolerance: float = 0.1
+    relative_tolerance: float | None = None
     final_jacobian: bool = True
     max_starts: int = 1
     enough: Callable[[object], bool] | None = None
+    every_start: bool = False
 
     @classmethod
     def build(cls, options: FitOptions | None = None, **keywords) -> FitOptions:
