@@ -35,7 +35,7 @@ from ..records.signals import first_peak_amplitude
 from ..rig.spring_model import SpringModel
 from .fit import Dataset, FitResult, SimulationPool, fit, make_parameters, staged_fit
 from .held_out import HeldOut, held_out_validation
-from .model_forms import CHI2_TOLERANCE, MAX_ITERATIONS, RELATIVE_TOLERANCE, ModelForms, fit_forms
+from .model_forms import ModelForms, fit_forms
 
 if TYPE_CHECKING:
     from ..records.measurement import Measurement
@@ -136,12 +136,14 @@ class IdentifyResult:
     def warning(self) -> str | None:
         """Why the fitted values should not be trusted as they stand, or None."""
         r = self.residual_to_noise
+        implausible = "; ".join(f.message for f in self.forms.findings) if self.forms is not None else ""
         if r <= WARN_RATIO:
-            return None
-        return (f"the residual is {r:.1f} times the records' own noise: the {self.law} law does not describe these "
-                "records to their noise (another friction behaviour, a rig value off, or a sensor artefact); the values "
-                "are those of the best fit of a wrong model, and their stated errors are inflated by the misfit "
-                f"({self.fit.stderr_method}): read them as such. Try vcbmodel diagnose")
+            return f"implausible values: {implausible}" if implausible else None
+        misfit = (f"the residual is {r:.1f} times the records' own noise: the {self.law} law does not describe these "
+                  "records to their noise (another friction behaviour, a rig value off, or a sensor artefact); the "
+                  "values are those of the best fit of a wrong model, and their stated errors are inflated by the "
+                  f"misfit ({self.fit.stderr_method}): read them as such. Try vcbmodel diagnose")
+        return (f"implausible values: {implausible}. " if implausible else "") + misfit
 
     def zeta(self) -> float:
         p, rig = self.datasets[0].rig.pendulum, self.datasets[0].rig
@@ -247,10 +249,9 @@ def identify(pairs: Sequence[tuple[Rig, Measurement]], law: str = "hybrid", verb
     out = IdentifyResult(law, result, datasets, peaks)
     if forms or (hold_out and len(datasets) > 1):
         with SimulationPool(processes, inline_single=True) as pool:
-            def refit(effects, params, starts, label, on=datasets):
-                return fit(on, effects, MASSLESS, params, pool=pool, sigma=result.sigma, starts=starts, max_starts=3,
-                           verbose=False, label=label, chi2_tolerance=CHI2_TOLERANCE,
-                           relative_tolerance=RELATIVE_TOLERANCE, max_iterations=MAX_ITERATIONS, every_start=True)
+            def refit(effects, params, starts, label, on=datasets, **options):
+                return fit(on, effects, MASSLESS, params, pool=pool, sigma=result.sigma, starts=starts, verbose=False,
+                           label=label, **options)
             if forms:
                 out.forms = fit_forms(rig0, result, refit, None, label=law)
             if hold_out and len(datasets) > 1:

@@ -72,11 +72,11 @@ MU_S_STARTS = (1.3, 2.0)
 #: values against each other along a decaying swing (Coulomb, viscous, a drift), a long curved valley
 #: where the fits' usual tolerance (a fraction 2e-3 of the samples: 10 chi^2 units on a 5 s record, the
 #: whole evidence margin) stops at the start. The forms' BICs are compared to within a few units, so
-#: their fits stop on an absolute tolerance of 0.1 (the relative one off); the cost's kinks (a stop
+#: their fits stop on an absolute tolerance of 0.5 (the relative one off); the cost's kinks (a stop
 #: a step earlier or later) end them by "no further descent" instead.
-CHI2_TOLERANCE = 0.1
+CHI2_TOLERANCE = 0.5
 RELATIVE_TOLERANCE = 0.0
-MAX_ITERATIONS = 30
+MAX_ITERATIONS = 15
 #: Seconds the forms' fits may take together in a diagnosis (each fit starts from the selected
 #: model's values and rarely needs more than a few seconds on the compiled path).
 FORMS_BUDGET_S = 120.0
@@ -182,9 +182,11 @@ class ModelForms:
         return "\n".join(lines)
 
 
-def alternatives(effects: Sequence[str], experiment: str) -> tuple[list[Alternative], dict]:
+def alternatives(effects: Sequence[str], experiment: str, searched: bool = False) -> tuple[list[Alternative], dict]:
     """The forms to fit beside a model of ``effects`` for a record of ``experiment``, and {form: why
-    not} for those left out."""
+    not} for those left out. ``searched``: the model was selected by a search that weighed adding
+    the registry's ``stribeck`` (the diagnosis): its linear fall is not fitted again; Tustin's and
+    the Gaussian fall, which no search tried, are."""
     effects = tuple(effects)
     out, skipped = [], dict(NOT_CARRIED)
     friction_forms = experiment in FORM_EXPERIMENTS and "coulomb_friction" in effects
@@ -193,7 +195,7 @@ def alternatives(effects: Sequence[str], experiment: str) -> tuple[list[Alternat
                                      "millisecond" if experiment not in FORM_EXPERIMENTS else
                                      "the model has no Coulomb friction to reshape")
     else:
-        if "stribeck" not in effects:
+        if "stribeck" not in effects and not searched:
             out.append(Alternative("hybrid + stribeck", effects + ("stribeck",), ("stribeck",)))
         current = next((f.name for f in FORMS.values() if f.effect and f.effect in effects), "hybrid")
         for form in FORMS.values():
@@ -226,10 +228,22 @@ def alternative_parameters(rig, base: FitResult, alt: Alternative) -> tuple[dict
     if "stribeck" in alt.added and params.get("mu_s") is not None and params["mu_s"].vary:
         starts = [{"mu_s": f * mu_k} for f in MU_S_STARTS]
     elif alt.form in ("tustin", "gaussian") and params.get("stribeck_velocity") is not None \
-            and params["stribeck_velocity"].vary:  # a decay speed is about a third of a linear fall's end
-        ws = params["stribeck_velocity"]
-        starts = [{"stribeck_velocity": float(np.clip(ws.value / 3, ws.min, ws.max))}]
+            and params["stribeck_velocity"].vary:
+        starts = _curve_starts(rig, base, params)
     return params, starts
+
+
+def _curve_starts(rig, base: FitResult, params: dict) -> list:
+    """Starts of an exponential or Gaussian fall from the selected hybrid fit: mu_k at the hybrid's
+    Coulomb level at speed (its shifted viscous term moves the level by C_v w_s / (r F)), so the swing
+    at speed is the selected fit's, and the decay speed at the linear fall's end and a third of it
+    (an exponential falls to 5 % in three decay speeds). From the hybrid's own mu_k a Tustin fit of a
+    Tustin pendulum stopped at 12 times the noise, its drifting rival winning with a drift of -0.004 /s."""
+    ws = params["stribeck_velocity"]
+    level = form_values(rig, base)[0].get("mu_k", (params["mu_k"].value if "mu_k" in params else 0.1, 0.0))[0]
+    mu_k = {"mu_k": float(np.clip(level, params["mu_k"].min, params["mu_k"].max))} if "mu_k" in params \
+        and params["mu_k"].vary else {}
+    return [{**mu_k, "stribeck_velocity": float(np.clip(ws.value / f, ws.min, ws.max))} for f in (1.0, 3.0)]
 
 
 def _level_neutral(name: str, value: float, mu_k: float, base: FitResult) -> dict:
@@ -243,19 +257,29 @@ def _level_neutral(name: str, value: float, mu_k: float, base: FitResult) -> dic
     return {name: value, "mu_k": max(mu_k - value * t_mean, 0.0)}
 
 
-#: refit(effects, parameters, extra starts, label) -> FitResult: one fit of the record(s).
-Refit = Callable[[tuple, dict, list, str], FitResult]
+#: refit(effects, parameters, extra starts, label, **fit options) -> FitResult: one fit of the record(s)
+#: (the options: :func:`form_fit_options`, keywords of :func:`vcbmodel.analysis.fit.fit`).
+Refit = Callable[..., FitResult]
+
+
+def form_fit_options(alt: Alternative, starts: list) -> dict:
+    """How a form's fit runs: the tolerances above; the optimiser from the best-ranked start, or from
+    every start for a form with a scanned value of its own (a drift: its valleys lie apart)."""
+    every = alt.form is not None and any(p.scan for p in FORMS[alt.form].parameters)
+    return {"max_starts": 1 + len(starts) if every else 1, "every_start": every, "chi2_tolerance": CHI2_TOLERANCE,
+            "relative_tolerance": RELATIVE_TOLERANCE, "max_iterations": MAX_ITERATIONS}
 
 
 def fit_forms(rig, base: FitResult, refit: Refit, noise=None, *, label: str = "selected",
-              pinned: dict | None = None, budget_s: float | None = None) -> ModelForms:
+              pinned: dict | None = None, budget_s: float | None = None, searched: bool = False) -> ModelForms:
     """Fit the alternatives of ``base`` (the selected model's fit of ``rig``'s record or records)
     with ``refit`` and return the forms with their weights and the quantities over them.
 
     ``noise``: the record's noise model for chi^2 (None: white at each fit's sigma). ``pinned``:
     {parameter: 1-sigma shift} a pinned rig or sensor value's plausible error causes (added to every
-    form's variance). ``budget_s``: seconds after which no further form is fitted."""
-    alts, not_tried = alternatives(base.effects, rig.experiment)
+    form's variance). ``budget_s``: seconds after which no further form is fitted. ``searched``:
+    :func:`alternatives`."""
+    alts, not_tried = alternatives(base.effects, rig.experiment, searched)
     fits = [FormFit(Alternative(label, tuple(base.effects), ()), base, base.bic_with(noise))]
     deadline = None if budget_s is None else time.monotonic() + budget_s
     for alt in alts:
@@ -264,7 +288,7 @@ def fit_forms(rig, base: FitResult, refit: Refit, noise=None, *, label: str = "s
             continue
         params, starts = alternative_parameters(rig, base, alt)
         try:
-            r = refit(alt.effects, params, starts, alt.label)
+            r = refit(alt.effects, params, starts, alt.label, **form_fit_options(alt, starts))
         except (FitAborted, SimulationError, ValueError) as e:
             not_tried[alt.label] = f"its fit failed ({e})"
             continue
@@ -318,7 +342,8 @@ def form_values(rig, f: FitResult) -> tuple[dict, dict]:
 def quantities_over(rig, fits: list[FormFit], pinned: dict) -> tuple[dict, dict]:
     """({name: Quantity}, {form: form-specific values}) over the weighted forms."""
     per_form = [form_values(rig, f.fit) for f in fits]
-    names = list(dict.fromkeys(n for values, _ in per_form for n in values))
+    # the quantities of the forms the record does not reject (a drift only a rejected form has is left out)
+    names = list(dict.fromkeys(n for f, (values, _) in zip(fits, per_form) if f.within_margin for n in values))
     units = {p.name: p.unit or "-" for f in fits for p in f.fit.parameters.values()}
     out = {}
     for name in names:
@@ -364,15 +389,14 @@ def diagnosis_model_forms(ctx, final: FitResult, pinned: dict | None = None) -> 
     pinned-gain item (its 1-sigma shifts join every form's variance)."""
     deadline = time.monotonic() + FORMS_BUDGET_S
 
-    def refit(effects, params, starts, label):
+    def refit(effects, params, starts, label, **options):
         return fitting.fit([ctx.dataset], effects, final.spring_model, params, sigma=ctx.sigma_hf, pool=ctx.pool,
-                           processes=1, scales=ctx.scales(), starts=starts, max_starts=3, verbose=False, label=label,
-                           should_stop=lambda: time.monotonic() > deadline, chi2_tolerance=CHI2_TOLERANCE,
-                           relative_tolerance=RELATIVE_TOLERANCE, max_iterations=MAX_ITERATIONS, every_start=True)
+                           processes=1, scales=ctx.scales(), starts=starts, verbose=False, label=label,
+                           should_stop=lambda: time.monotonic() > deadline, **options)
 
     shifts = {name: row["shift"] for name, row in (pinned or {}).get("shifts", {}).items()}
     return fit_forms(ctx.rig, final, refit, ctx.noise, label=f"selected ({_form_name(final.effects)})", pinned=shifts,
-                     budget_s=FORMS_BUDGET_S)
+                     budget_s=FORMS_BUDGET_S, searched=True)
 
 
 def _form_name(effects: Sequence[str]) -> str:

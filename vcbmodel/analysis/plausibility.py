@@ -2,7 +2,7 @@
 sources in :mod:`vcbmodel.parameters`) and the laws' own constraints.
 
 A value outside its range, one that breaks its law's constraint (a static coefficient below the
-kinetic one), or a stated error wider than the whole plausible range (the fit does not determine the
+kinetic one by more than their combined 95 % error), or a stated error wider than the whole plausible range (the fit does not determine the
 value: a flat direction) is an *implausible* finding. The reports say each plainly, and a verdict
 of ``explained`` must not stand with one (:func:`implausible`: a diagnosis's verdict calls it with
 the final fit's values and errors and sets ``explained`` false when it returns any finding).
@@ -20,6 +20,9 @@ from collections.abc import Mapping
 from dataclasses import dataclass
 
 from .. import parameters as P
+
+#: The 95 % interval's half-width in standard deviations (normal).
+Z95 = 1.959964
 
 
 def _viscous_range(rig) -> tuple[float, float]:
@@ -83,7 +86,7 @@ def implausible(rig, values: Mapping[str, float], stderr: Mapping[str, float | N
     range, mu_s below mu_k, or a stated error non-finite or wider than the plausible range. An empty
     list: nothing implausible. This is the check a verdict of ``explained`` must pass."""
     out = []
-    if "mu_s" in values and "mu_k" in values and values["mu_s"] < values["mu_k"] and "mu_s" in stderr:
+    if "mu_s" in values and "mu_k" in values and "mu_s" in stderr and _below(values, stderr):
         out.append(Finding("mu_s", float(values["mu_s"]), "constraint",
                            f"mu_s {values['mu_s']:.3g} is below mu_k {values['mu_k']:.3g}: the law requires the static "
                            "level at or above the kinetic one (the fit put the Stribeck fall where it has no meaning)"))
@@ -101,6 +104,13 @@ def implausible(rig, values: Mapping[str, float], stderr: Mapping[str, float | N
             out.append(Finding(name, float(value), "stderr", f"{name}'s stated error {se:.2g} is wider than its "
                                f"whole plausible range: the record does not determine it"))
     return out
+
+
+def _below(values: Mapping[str, float], stderr: Mapping[str, float | None]) -> bool:
+    """Whether mu_s lies below mu_k by more than their combined 95 % error (a finite one; a fall
+    whose error is unbounded is reported as not determined instead)."""
+    se = math.hypot(stderr.get("mu_s") or 0.0, stderr.get("mu_k") or 0.0)
+    return bool(math.isfinite(se) and values["mu_k"] - values["mu_s"] > Z95 * se)
 
 
 def findings_of(rig, values: Mapping[str, float], stderr: Mapping[str, float | None],
