@@ -127,6 +127,24 @@ REFERENCE_CAM = {
 #: The text's "each spring is heavy (about 1 kg)": the variant with the whole coil mass.
 HEAVY_SPRING_MASS = 1.0
 
+# --- effects outside the paper: air drag, the closing spring's internal damping -----------------
+#: Density of air (kg/m^3) at about 20 degC and sea level (ISO 2533 standard atmosphere: 1.225 at
+#: 15 degC; 1.20 at 20 degC): the air a pendulum's paddle swings through.
+AIR_DENSITY = 1.2
+#: Drag coefficient of a square flat plate broadside to the flow, Cd = 1.17 (Hoerner, Fluid-Dynamic
+#: Drag, 1965, ch. 3; White, Fluid Mechanics, Table 7.3: 1.18 above Re 1e4). A paddle of area A
+#: (m^2) at radius R (m) on a shaft turning at w (rad/s) meets the air at R w: its torque is
+#: 0.5 rho Cd A R^3 w|w| (vcbmodel.laws.mechanics.paddle_drag_coefficient; the speed's spread across
+#: the paddle is neglected, R is the paddle's centre).
+FLAT_PLATE_DRAG_COEFFICIENT = 1.17
+#: Plausible damping ratio of a closing spring's first surge mode (the ``spring_damping`` effect,
+#: Kelvin-Voigt: vcbmodel.laws.springs.kelvin_voigt_time). Low end: the material hysteresis of
+#: quenched and tempered spring steel alone, a loss factor of order 1e-4 to 1e-3 (Lazan, Damping of
+#: Materials and Members in Structural Mechanics, 1968), i.e. zeta = eta / 2 ~ 5e-5 to 5e-4; high
+#: end: a few percent, the surge damping valvetrain models use, where coil contact and the end
+#: coils' rubbing add to the material's. An assumption, not a measured range.
+SPRING_DAMPING_RATIO_RANGE = (5e-5, 0.05)
+
 # --- ANCF spring (vcbmodel/ancf_spring.py) ----------------------------------------------------
 #: Elements of the ANCF closing spring by default (axial modes within 0.1 % at 8, exudyn-notes).
 ANCF_ELEMENTS = 8
@@ -407,10 +425,9 @@ PETROFF_LENGTH_RATIO = (0.5, 2.0)
 PETROFF_CLEARANCE_RATIO = (5e-4, 3e-3)
 #: The range's low end is 0 (a dry journal carries no film): its high end is Petroff's with the
 #: most viscous grease, the longest bearing and the smallest clearance (8 N m s/rad at r = 20 mm).
-#: Air drag on a pendulum, c_d = 0.5 rho Cd A R^3 (N m s^2/rad^2): air at 1.2 kg/m^3, a bluff
+#: Air drag on a pendulum, c_d = 0.5 rho Cd A R^3 (N m s^2/rad^2): air (AIR_DENSITY), a bluff
 #: body's Cd of at most 2.0 (a cupped plate; a flat plate 1.17: Hoerner, Fluid-Dynamic Drag, 1965,
 #: ch. 3), a paddle of at most 0.1 m^2 at a radius of at most twice the rig's centre-of-mass distance.
-DRAG_AIR_DENSITY = 1.2
 DRAG_MAX_CD = 2.0
 DRAG_MAX_AREA = 0.1
 DRAG_MAX_RADIUS_OVER_COM = 2.0
@@ -428,12 +445,11 @@ PLAUSIBLE_BELLOWS_FORCE = (0.0, 600.0)
 IMPLAUSIBLE_STDERR_OVER_RANGE = 1.0
 
 # --- air drag and a drifting Coulomb level as truths (vcbmodel/analysis/realistic.py) -----------
-#: A realism record's paddle: area A (m^2) and radius R (m) drawn in these ranges, Cd of a flat
-#: plate (1.17, Hoerner 1965, ch. 3), air as above: c = 0.5 rho Cd A R^3 = 3.8e-4 to 5.3e-3 N m
+#: A realism record's paddle: area A (m^2) and radius R (m) drawn in these ranges, a flat plate
+#: (FLAT_PLATE_DRAG_COEFFICIENT) in air (AIR_DENSITY): c = 0.5 rho Cd A R^3 = 3.8e-4 to 5.3e-3 N m
 #: s^2/rad^2 (a 0.02-0.06 m^2 paddle at 0.3-0.5 m: a paddle a pendulum might carry to be damped).
 DRAG_TRUTH_AREA = (0.02, 0.06)
 DRAG_TRUTH_RADIUS = (0.3, 0.5)
-DRAG_TRUTH_CD = 1.17
 #: A realism record's drift of the Coulomb level (1/s, either sign): 0.01-0.04 over a 20 s record,
 #: 7-40 % of mu_k 0.09-0.16 (a bearing warming through a test; within PLAUSIBLE_MU_K_DRIFT).
 DRIFT_TRUTH_RATE = (5e-4, 2e-3)

@@ -68,7 +68,8 @@ def test_report_contents(tmp_path):
     json.dumps(j)  # serialisable
     assert j["final_effects"] == ["coulomb_friction"] and j["baseline_effects"] == []
     assert 0.13 * 0.5 < j["fitted"]["mu_k"] < 0.2
-    assert {c["effect"] for c in j["candidates"]} == {"coulomb_friction", "stribeck", "viscous_friction", "spring_mass"}
+    assert {c["effect"] for c in j["candidates"]} == {"coulomb_friction", "stribeck", "viscous_friction", "spring_mass",
+                                                      "spring_damping"}
     t0, t1 = j["window"]
     assert 0 <= t0 <= t1 <= 0.035
     # the disagreement of a frictionless model grows with travel: the window is late in the drop

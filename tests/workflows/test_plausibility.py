@@ -23,7 +23,7 @@ def test_viscous_friction_is_bounded_by_petroffs_film_torque(pendulum_rig):
 def test_air_drag_is_bounded_by_a_large_paddle(pendulum_rig):
     lo, hi = plausible_range("drag", pendulum_rig)
     radius = P.DRAG_MAX_RADIUS_OVER_COM * pendulum_rig.pendulum.com_distance
-    assert hi == pytest.approx(0.5 * P.DRAG_AIR_DENSITY * P.DRAG_MAX_CD * P.DRAG_MAX_AREA * radius**3)
+    assert hi == pytest.approx(0.5 * P.AIR_DENSITY * P.DRAG_MAX_CD * P.DRAG_MAX_AREA * radius**3)
     # the discovery demo's first drag (0.01 N m s^2 for a 0.02 m^2 paddle at 0.3 m) stands 25 times above
     # 0.5 rho Cd A R^3 for that paddle, but a large paddle could give it: the range is not a point
     assert not implausible(pendulum_rig, {"drag": 0.5 * 1.2 * 1.17 * 0.02 * 0.3**3}, {})

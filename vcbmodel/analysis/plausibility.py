@@ -37,7 +37,7 @@ def _drag_range(rig) -> tuple[float, float] | None:
     if rig.pendulum is None:
         return None
     radius = P.DRAG_MAX_RADIUS_OVER_COM * rig.pendulum.com_distance
-    return 0.0, 0.5 * P.DRAG_AIR_DENSITY * P.DRAG_MAX_CD * P.DRAG_MAX_AREA * radius**3
+    return 0.0, 0.5 * P.AIR_DENSITY * P.DRAG_MAX_CD * P.DRAG_MAX_AREA * radius**3
 
 
 def _stribeck_range(rig) -> tuple[float, float]:

@@ -364,7 +364,7 @@ def _torque_truth_values(kind: str, friction: Mapping[str, float], truth_effects
     rng = np.random.default_rng([seed, FRICTION_TRUTH_CHOICES.index(kind)])
     if kind == "air_drag":
         area, radius = float(rng.uniform(*P.DRAG_TRUTH_AREA)), float(rng.uniform(*P.DRAG_TRUTH_RADIUS))
-        values.update(drag=0.5 * P.DRAG_AIR_DENSITY * P.DRAG_TRUTH_CD * area * radius**3, paddle_area=area,
+        values.update(drag=0.5 * P.AIR_DENSITY * P.FLAT_PLATE_DRAG_COEFFICIENT * area * radius**3, paddle_area=area,
                       paddle_radius=radius)
     else:
         values["mu_k_drift"] = float(rng.uniform(*P.DRIFT_TRUTH_RATE) * rng.choice([-1.0, 1.0]))

@@ -34,6 +34,7 @@ import numpy as np
 from .. import parameters as P
 from ..laws.coil import coil_bending_stiffness
 from ..laws.mechanics import cam_pin
+from ..laws.springs import kelvin_voigt_time
 from .core import ExudynModel, add_cam_body, add_cam_friction, exudyn_modules
 
 if TYPE_CHECKING:
@@ -41,8 +42,9 @@ if TYPE_CHECKING:
     from ..rig.data import ClosingSpring, Rig
 
 
-def _add_cable(mbs, it, start, end, free_length, elements, EA, rhoA, EI):
-    """Nodes from start to end (stretched), element reference length free_length / N."""
+def _add_cable(mbs, it, start, end, free_length, elements, EA, rhoA, EI, beta=0.0):
+    """Nodes from start to end (stretched), element reference length free_length / N; ``beta`` (s):
+    Kelvin-Voigt damping, axial EA_t = beta EA and bending EI_t = beta EI."""
     start, end = np.asarray(start, float), np.asarray(end, float)
     direction = end - start
     stretch = np.linalg.norm(direction) / free_length
@@ -51,7 +53,8 @@ def _add_cable(mbs, it, start, end, free_length, elements, EA, rhoA, EI):
              for i in range(elements + 1)]
     cables = [mbs.AddObject(it.ObjectANCFCable2D(nodeNumbers=[nodes[i], nodes[i + 1]], length=free_length / elements,
                                                  massPerLength=rhoA, axialStiffness=EA,
-                                                 bendingStiffness=EI))
+                                                 bendingStiffness=EI, axialDamping=beta * EA,
+                                                 bendingDamping=beta * EI))
               for i in range(elements)]
     return nodes, cables
 
@@ -92,10 +95,11 @@ class AncfOptions:
 
 
 def build_cam_drop_ancf(rig: Rig, law: FrictionLaw, user_function: str = "auto", options: AncfOptions | int | None = None,
-                        extra_loads: Callable | None = None, discovered: tuple = ()) -> ExudynModel:
+                        extra_loads: Callable | None = None, discovered: tuple = (), spring_damping: float = 0.0) -> ExudynModel:
     """Cam drop with the closing springs as one ANCF cable (see module docstring);
     ``options``: :class:`AncfOptions` (or an element count); ``discovered``: a discovered torque on
-    the cam shaft (:func:`vcbmodel.builders.core.add_discovered_torque`)."""
+    the cam shaft (:func:`vcbmodel.builders.core.add_discovered_torque`); ``spring_damping``: the first
+    surge mode's damping ratio of a Kelvin-Voigt cable (:func:`vcbmodel.laws.springs.kelvin_voigt_time`)."""
     exu, it = exudyn_modules()
     opt = AncfOptions.of(options)
     cam, spring, g = rig.cam, rig.closing_spring, rig.gravity
@@ -113,7 +117,8 @@ def build_cam_drop_ancf(rig: Rig, law: FrictionLaw, user_function: str = "auto",
         delta = (EA / spring.free_length) * (length - spring.free_length) / (k_pen + 2 * EA / spring.free_length)
         u = (end - start) / length
         start, end = start + delta * u, end - delta * u
-    nodes, _ = _add_cable(mbs, it, start, end, spring.free_length, N, EA, rhoA, EI)
+    beta = kelvin_voigt_time(spring_damping, spring.stiffness, spring.mass) if spring_damping else 0.0
+    nodes, _ = _add_cable(mbs, it, start, end, spring.free_length, N, EA, rhoA, EI, beta)
     end_mass = rhoA * spring.free_length / N / 2
     d_pen = 2 * math.sqrt(k_pen * end_mass)
     mFirst = mbs.AddMarker(it.MarkerNodePosition(nodeNumber=nodes[0]))

@@ -82,7 +82,8 @@ def build_vcb_closing(rig: Rig, spec: ModelSpec, law: FrictionLaw, chain: Lumped
         return laws.cam_loads(t, theta, omega, phi, phi_dot, initial.holding_torque, impact[0], engaged[0])
 
     uf = "python" if user_function in ("auto", "symbolic") else user_function
-    model = build_cam_drop(rig, law, spec.spring_model, chain, uf, extra_loads=extra_loads, ancf_elements=ancf_elements)
+    model = build_cam_drop(rig, law, spec.spring_model, chain, uf, extra_loads=extra_loads, ancf_elements=ancf_elements,
+                           spring_damping=spec.spring_damping)
     follower = add_follower(model, rig.breaker.follower, initial.follower_angle, laws.follower_inertia)
     follower_state["read"] = node_state_reader(model.mbs, follower.node)
     cam_node = model.cam_body.shaft.node

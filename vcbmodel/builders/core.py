@@ -19,7 +19,7 @@ import numpy as np
 from ..errors import SimulationError
 from ..laws.discovered import discovered_torque
 from ..laws.friction import NumericOps, shaft_friction, symbolic_ops
-from ..laws.mechanics import cam_inertia, cam_loads
+from ..laws.mechanics import aerodynamic_drag_torque, cam_inertia, cam_loads
 
 _EXU = None
 
@@ -208,14 +208,28 @@ def add_discovered_torque(model, shaft: Shaft, discovered: tuple, user_function)
     ``shaft`` by a connector of its own, recorded as ``discovered_torque`` (N m: the torque the
     connector applies against the shaft, -T_d); nothing when ``discovered`` is empty. The shaft's
     friction must count T_d in its applied torque (its caller's friction function adds it)."""
-    if not discovered:
-        return
+    if discovered:
+        add_shaft_torque(model, shaft, lambda t, theta, omega, ops: discovered_torque(t, theta, omega, discovered, ops),
+                         user_function, "discovered_torque")
 
-    def against_discovered(t, theta, omega, ops):  # a connector's torque opposes its coordinate
-        return -discovered_torque(t, theta, omega, discovered, ops)
+
+def add_drag_torque(model, shaft: Shaft, drag: float, user_function) -> None:
+    """Air drag -c_d w|w| (:func:`vcbmodel.laws.mechanics.aerodynamic_drag_torque`, ``drag`` c_d in
+    N m s^2/rad^2) on ``shaft`` by a connector of its own, recorded as ``drag_torque`` (N m, against
+    the shaft); nothing when ``drag`` is 0. The shaft's friction must count it in its applied torque."""
+    if drag:
+        add_shaft_torque(model, shaft, lambda t, theta, omega, ops: aerodynamic_drag_torque(omega, drag, ops),
+                         user_function, "drag_torque")
+
+
+def add_shaft_torque(model, shaft: Shaft, torque, user_function, sensor: str) -> None:
+    """``torque(t, theta, omega, ops)`` (N m, applied to the shaft) by a connector of its own, recorded
+    as ``sensor`` (the torque the connector applies against the shaft: minus it)."""
+    def against(t, theta, omega, ops):  # a connector's torque opposes its coordinate
+        return -torque(t, theta, omega, ops)
 
     kept = model.sensors.pop("friction_torque", None)
-    add_friction_connector(model, shaft, against_discovered, "python" if user_function == "none" else user_function)
-    model.sensors["discovered_torque"] = model.sensors.pop("friction_torque")
+    add_friction_connector(model, shaft, against, "python" if user_function == "none" else user_function)
+    model.sensors[sensor] = model.sensors.pop("friction_torque")
     if kept is not None:
         model.sensors["friction_torque"] = kept

@@ -21,7 +21,9 @@ from collections.abc import Sequence
 from ..laws.breaker import BreakerLaws, massless_pull, pin_weight_torque
 from ..laws.discovered import discovered_torque
 from ..laws.friction import shaft_friction
-from ..laws.mechanics import cam_inertia, cam_loads, cam_pin, link_pull, massless_spring_force, pendulum_loads
+from ..laws.mechanics import (aerodynamic_drag_torque, cam_inertia, cam_loads, cam_pin, cam_pin_velocity, link_pull,
+                              massless_spring_force, pendulum_loads)
+from ..laws.springs import kelvin_voigt_time
 from ..laws.types import Ops, Scalar
 from . import OdeSetup
 
@@ -31,19 +33,24 @@ SHAFT = [("angle", "velocity", 1)]
 def prepare_pendulum(rig, spec, law, chain=None) -> OdeSetup:
     """The pendulum's inputs and its release angle (rad) and speed (rad/s)."""
     p = rig.pendulum
-    return OdeSetup({"pendulum": p, "gravity": rig.gravity, "law": law, "discovered": tuple(spec.discovered)},
-                    [p.initial_angle], [p.initial_velocity], list(SHAFT))
+    inputs = {"pendulum": p, "gravity": rig.gravity, "law": law, "discovered": tuple(spec.discovered)}
+    if spec.drag:  # only when carried: the other runs keep their compiled structure
+        inputs["drag"] = spec.drag
+    return OdeSetup(inputs, [p.initial_angle], [p.initial_velocity], list(SHAFT))
 
 
 def pendulum_equations(t: Scalar, q: Sequence[Scalar], v: Sequence[Scalar], memory: list, inputs: dict,
                        ops: Ops) -> tuple[list[Scalar], dict[str, Scalar]]:
-    """Paper eq. 1 with the shaft friction of eq. 2-6: I theta'' = -M g L sin(theta) + T_d - T_f,
-    T_d a discovered torque (:mod:`vcbmodel.laws.discovered`; none unless the model carries one)."""
+    """Paper eq. 1 with the shaft friction of eq. 2-6: I theta'' = -M g L sin(theta) + T_d + T_a - T_f,
+    T_d a discovered torque (:mod:`vcbmodel.laws.discovered`), T_a air drag
+    (:func:`~vcbmodel.laws.mechanics.aerodynamic_drag_torque`); each none unless the model carries it."""
     p, law = inputs["pendulum"], inputs["law"]
     theta, omega = q[0], v[0]
     Tc, R0x, R0y, R1x, R1y = pendulum_loads(theta, omega, p.mass, p.com_distance, inputs["gravity"], ops)
     if inputs.get("discovered"):
         Tc = Tc + discovered_torque(t, theta, omega, inputs["discovered"], ops)
+    if "drag" in inputs:
+        Tc = Tc + aerodynamic_drag_torque(omega, inputs["drag"], ops)
     Tf = shaft_friction(omega, Tc, R0x, R0y, R1x, R1y, p.inertia, law, ops, t)[0]
     return [(Tc - Tf) / p.inertia], {"friction_torque": Tf}
 
@@ -55,6 +62,8 @@ def prepare_cam_drop(rig, spec, law, chain=None) -> OdeSetup:
     inputs = {"cam": cam, "spring": spring, "gravity": rig.gravity, "law": law}
     if spec.discovered:  # only when carried: the other runs keep their compiled structure
         inputs["discovered"] = tuple(spec.discovered)
+    if spec.spring_damping:  # Kelvin-Voigt time beta (s) of the springs' internal damping
+        inputs["spring_beta"] = kelvin_voigt_time(spec.spring_damping, spring.stiffness, spring.mass)
     q0, v0, layout = [cam.initial_angle], [cam.initial_velocity], list(SHAFT)
     if chain is not None:
         inputs["chain"] = {"masses": chain.masses, "stiffnesses": chain.stiffnesses,
@@ -91,10 +100,14 @@ def _cam_and_chain(t, q, v, inputs, ops, extra):
     chain = inputs.get("chain")
     accelerations = []
     pin_mass = 0.0
-    if chain is None:
+    beta = inputs.get("spring_beta")
+    pin_velocity = cam_pin_velocity(theta, omega, cam, ops) if beta is not None else None
+    if chain is None and beta is None:
         fx, fy = massless_spring_force(bx, by, spring, ops)
+    elif chain is None:
+        fx, fy = massless_spring_force(bx, by, spring, ops, beta * spring.count * spring.stiffness, pin_velocity)
     else:
-        fx, fy, accelerations = _chain_accelerations(q, bx, by, spring, chain, g, ops)
+        fx, fy, accelerations = _chain_accelerations(q, v, bx, by, spring, chain, g, ops, beta, pin_velocity)
         pin_mass = spring.count * chain["pin_mass"]
     Tc, R0x, R0y, R1x, R1y = cam_loads(theta, omega, cam, fx, fy, g, ops, pin_mass, spring.weight)
     Tc, R0x, R0y = Tc + extra[0], R0x - extra[1], R0y - extra[2]
@@ -103,13 +116,21 @@ def _cam_and_chain(t, q, v, inputs, ops, extra):
     return [(Tc - Tf) / inertia] + accelerations, Tf
 
 
-def _chain_accelerations(q, bx, by, spring, chain, g, ops):
+def _chain_accelerations(q, v, bx, by, spring, chain, g, ops, beta=None, pin_velocity=None):
     """The chain O -> masses -> B of ``spring.count`` springs side by side (count times the
-    masses and stiffnesses): the last link's pull on B (N) and the masses' accelerations (m/s^2)."""
+    masses and stiffnesses): the last link's pull on B (N) and the masses' accelerations (m/s^2).
+    ``beta`` (s): each link's Kelvin-Voigt damping beta k_i (None: undamped); ``pin_velocity`` (m/s): B's."""
     c = spring.count
-    points = [tuple(spring.anchor)] + [(q[1 + 2 * i], q[2 + 2 * i]) for i in range(len(chain["masses"]))] + [(bx, by)]
-    pulls = [link_pull(*points[i], *points[i + 1], c * chain["stiffnesses"][i], chain["free_lengths"][i], ops)
-             for i in range(len(points) - 1)]
+    n = len(chain["masses"])
+    points = [tuple(spring.anchor)] + [(q[1 + 2 * i], q[2 + 2 * i]) for i in range(n)] + [(bx, by)]
+    if beta is None:
+        pulls = [link_pull(*points[i], *points[i + 1], c * chain["stiffnesses"][i], chain["free_lengths"][i], ops)
+                 for i in range(len(points) - 1)]
+    else:
+        speeds = [(0.0, 0.0)] + [(v[1 + 2 * i], v[2 + 2 * i]) for i in range(n)] + [tuple(pin_velocity)]
+        pulls = [link_pull(*points[i], *points[i + 1], c * chain["stiffnesses"][i], chain["free_lengths"][i], ops,
+                           beta * c * chain["stiffnesses"][i], (*speeds[i], *speeds[i + 1]))
+                 for i in range(len(points) - 1)]
     accelerations = []
     for i, m in enumerate(chain["masses"]):
         fx = pulls[i][0] - pulls[i + 1][0]  # pulled back by its own link, forward by the next

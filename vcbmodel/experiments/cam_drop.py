@@ -31,7 +31,7 @@ if TYPE_CHECKING:
 def build(rig: Rig, spec: ModelSpec, law: FrictionLaw, chain: LumpedChain | None, user_function: str,
           ancf_elements: AncfOptions | int | None) -> ExudynModel:
     return build_cam_drop(rig, law, spec.spring_model, chain, user_function, ancf_elements=ancf_elements,
-                          discovered=spec.discovered)
+                          discovered=spec.discovered, spring_damping=spec.spring_damping)
 
 
 def reference(rig: Rig, spec: ModelSpec, law: FrictionLaw, chain: LumpedChain | None, t_end: float,

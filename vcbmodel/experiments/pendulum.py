@@ -30,7 +30,7 @@ if TYPE_CHECKING:
 
 def build(rig: Rig, spec: ModelSpec, law: FrictionLaw, chain: LumpedChain | None, user_function: str,
           ancf_elements: AncfOptions | int | None) -> ExudynModel:
-    return build_pendulum(rig, law, user_function, spec.discovered)
+    return build_pendulum(rig, law, user_function, spec.discovered, spec.drag)
 
 
 def reference(rig: Rig, spec: ModelSpec, law: FrictionLaw, chain: LumpedChain | None, t_end: float,

@@ -124,6 +124,8 @@ def simulate(rig: Rig, effects: Sequence[str] | None = None, values: dict[str, f
         law = spec.friction_law(rig.shaft_radius, step if method == "rk4" else 0.0)
         if record.reference is None:
             raise ValueError(f"no reference solve for a {record.name} experiment: use backend='exudyn'")
+        if spec.drag or spec.spring_damping:  # effects the independent solves do not carry: refused, not left out
+            raise ValueError("the reference solve has no air drag or spring damping: use backend='exudyn' or 'compiled'")
         data, info = record.reference(rig, spec, law, chain, t_end, method, step)
     else:
         raise ValueError(f"unknown backend {backend!r}")

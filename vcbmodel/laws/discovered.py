@@ -38,15 +38,28 @@ WINDOW_CENTRES_DEG = tuple(range(0, 360, 30))
 WINDOW_KAPPA = 14.0
 
 
+#: Physical tiers of the terms: how directly a torque of the term's form follows from a known
+#: mechanism on a turning shaft. Where a record cannot tell two forms apart (their BICs within the
+#: evidence margin), discovery keeps the lower tier and reports the tie.
+#: 0: the form of a known law: air drag (w|w| above Reynolds numbers of about 1e3, where Cd is
+#: constant), a Tustin/Stribeck friction curve, the weight's moment (sin/cos theta), a tilt (a constant);
+#: 1: the form of a plausible part: a torsional spring (theta), a cam or detent (higher harmonics), a
+#: localized rub (a position window), a drift (time);
+#: 2: a shape with no common mechanism on a shaft: a speed-cubed damper (w^3), a stiffening spring (theta^3).
+TIERS = {0: "the form of a known law", 1: "the form of a plausible part", 2: "a shape with no common mechanism"}
+
+
 @dataclass(frozen=True)
 class Term:
     """One candidate term: ``value(t, theta, w, ops)``; ``unit``: its coefficient's unit (so that
-    coefficient times value is N m); ``reading``: what a torque of this form usually is."""
+    coefficient times value is N m); ``reading``: what a torque of this form usually is; ``tier``:
+    its physical tier (:data:`TIERS`)."""
 
     name: str
     value: Callable[[Scalar, Scalar, Scalar, Ops], Scalar]
     unit: str
     reading: str
+    tier: int = 1
 
 
 def _sign_exp(v: float) -> Callable:
@@ -74,29 +87,29 @@ def _cos(k: int) -> Callable:
 def _terms() -> dict[str, Term]:
     terms = [
         Term("w_abs_w", lambda t, theta, w, ops: w * ops.abs(w), "N m s^2/rad^2",
-             "torque proportional to w|w|: aerodynamic (speed-squared) drag"),
+             "torque proportional to w|w|: aerodynamic (speed-squared) drag", 0),
         Term("w3", lambda t, theta, w, ops: w * w * w, "N m s^3/rad^3",
-             "torque proportional to w^3: a speed-hardening damper"),
+             "torque proportional to w^3: a speed-hardening damper", 2),
         Term("theta", lambda t, theta, w, ops: theta, "N m/rad",
              "torque proportional to the angle: a torsional spring (a cable, a sensor's return spring)"),
         Term("theta3", lambda t, theta, w, ops: theta * theta * theta, "N m/rad^3",
-             "torque proportional to theta^3: a stiffening spring"),
+             "torque proportional to theta^3: a stiffening spring", 2),
         Term("time", lambda t, theta, w, ops: t, "N m/s",
              "torque growing in time: a drift (heating, a slipping clamp)"),
         Term("constant", lambda t, theta, w, ops: 1.0 + 0.0 * t, "N m",
-             "a constant torque: a tilted rig or a cable's pull"),
+             "a constant torque: a tilted rig or a cable's pull", 0),
     ]
     terms += [Term(f"sign_exp_{v:g}", _sign_exp(v), "N m",
                    f"friction falling from breakaway over {v:g} rad/s: a Stribeck (Tustin) curve the registry's "
-                   "linear one does not follow") for v in SIGN_EXP_SPEEDS]
+                   "linear one does not follow", 0) for v in SIGN_EXP_SPEEDS]
     terms += [Term(f"sin_{k}theta", _sin(k), "N m",
                    "torque in sin(theta): the weight's moment M g L is off (mass or centre of gravity)" if k == 1 else
-                   f"torque periodic in the angle, sin({k} theta): a cam, detent or unbalance on the shaft")
-              for k in HARMONICS]
+                   f"torque periodic in the angle, sin({k} theta): a cam, detent or unbalance on the shaft",
+                   0 if k == 1 else 1) for k in HARMONICS]
     terms += [Term(f"cos_{k}theta", _cos(k), "N m",
                    "torque in cos(theta): the centre of gravity off the link's line (a sideways unbalance)" if k == 1
-                   else f"torque periodic in the angle, cos({k} theta): a cam, detent or unbalance on the shaft")
-              for k in HARMONICS]
+                   else f"torque periodic in the angle, cos({k} theta): a cam, detent or unbalance on the shaft",
+                   0 if k == 1 else 1) for k in HARMONICS]
     terms += [Term(f"rub_{c}deg", _window(c), "N m",
                    f"friction confined to angles near {c} degrees (a window about 36 degrees wide): a tight spot of "
                    "the bearing or a part rubbing the cam there") for c in WINDOW_CENTRES_DEG]

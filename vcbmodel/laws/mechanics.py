@@ -7,6 +7,7 @@ symbolic arithmetic, so the Exudyn user functions evaluate exactly these formula
 """
 from __future__ import annotations
 
+from ..parameters import AIR_DENSITY, FLAT_PLATE_DRAG_COEFFICIENT
 from .friction import NumericOps
 from .types import Ops, Scalar
 
@@ -29,21 +30,50 @@ def cam_pin(theta: Scalar, cam, ops: Ops = NumericOps) -> tuple[Scalar, Scalar]:
             cam.pivot[1] + cam.arm_length * ops.sin(theta))
 
 
-def link_pull(x0: Scalar, y0: Scalar, x1: Scalar, y1: Scalar, stiffness: Scalar, free_length: Scalar, ops: Ops = NumericOps) -> tuple[Scalar, Scalar]:
+def link_pull(x0: Scalar, y0: Scalar, x1: Scalar, y1: Scalar, stiffness: Scalar, free_length: Scalar, ops: Ops = NumericOps,
+              damping: Scalar = 0.0, velocity: tuple | None = None) -> tuple[Scalar, Scalar]:
     """Pull (N) of a straight linear spring from point 0 to point 1 (m) on point 1, towards
     point 0: tension k (L - L0) along the link (an axial spring of stiffness ``stiffness`` in N/m
-    and free length ``free_length`` in m; what Exudyn's ``ObjectConnectorSpringDamper`` applies
-    without damping). Point 0 feels the opposite force."""
+    and free length ``free_length`` in m; what Exudyn's ``ObjectConnectorSpringDamper`` applies).
+    With ``velocity`` = (vx0, vy0, vx1, vy1) (m/s) the tension adds ``damping`` d (N s/m) times the
+    link's stretching speed dL/dt = (dx dvx + dy dvy) / L (a Kelvin-Voigt link: the connector's
+    ``damping``). Point 0 feels the opposite force."""
     dx, dy = x1 - x0, y1 - y0
     length = ops.sqrt(dx * dx + dy * dy)
     tension = stiffness * (length - free_length)
+    if velocity is not None:
+        vx0, vy0, vx1, vy1 = velocity
+        tension = tension + damping * (dx * (vx1 - vx0) + dy * (vy1 - vy0)) / length
     return -tension * dx / length, -tension * dy / length
 
 
-def massless_spring_force(bx: Scalar, by: Scalar, spring, ops: Ops = NumericOps) -> tuple[Scalar, Scalar]:
-    """Pull (N) of ``spring.count`` massless tension springs on pin B, along B -> O."""
+def massless_spring_force(bx: Scalar, by: Scalar, spring, ops: Ops = NumericOps, damping: Scalar = 0.0,
+                          pin_velocity: tuple | None = None) -> tuple[Scalar, Scalar]:
+    """Pull (N) of ``spring.count`` massless tension springs on pin B, along B -> O. With
+    ``pin_velocity`` (vx, vy of B, m/s) the springs' internal damping ``damping`` (N s/m, all springs:
+    :func:`vcbmodel.laws.springs.kelvin_voigt_time` times count k0) adds to the tension."""
+    velocity = None if pin_velocity is None else (0.0, 0.0, pin_velocity[0], pin_velocity[1])
     return link_pull(spring.anchor[0], spring.anchor[1], bx, by, spring.count * spring.stiffness,
-                     spring.free_length, ops)
+                     spring.free_length, ops, damping, velocity)
+
+
+def cam_pin_velocity(theta: Scalar, omega: Scalar, cam, ops: Ops = NumericOps) -> tuple[Scalar, Scalar]:
+    """Velocity (m/s) of pin B turning with the cam at ``omega`` (rad/s): omega e_z x (B - A)."""
+    return -omega * cam.arm_length * ops.sin(theta), omega * cam.arm_length * ops.cos(theta)
+
+
+def aerodynamic_drag_torque(omega: Scalar, drag: Scalar, ops: Ops = NumericOps) -> Scalar:
+    """Air drag on a body turning with the shaft: T_a = -c_d w|w| (N m), ``drag`` c_d in
+    N m s^2/rad^2, ``omega`` w in rad/s (a quadratic drag at Reynolds numbers where Cd is constant;
+    for a paddle c_d = 0.5 rho Cd A R^3, :func:`paddle_drag_coefficient`)."""
+    return -drag * omega * ops.abs(omega)
+
+
+def paddle_drag_coefficient(area: float, radius: float, drag_coefficient: float = FLAT_PLATE_DRAG_COEFFICIENT,
+                            air_density: float = AIR_DENSITY) -> float:
+    """c_d = 0.5 rho Cd A R^3 (N m s^2/rad^2) of a flat paddle of area ``area`` (m^2) whose centre
+    turns at ``radius`` (m) from the shaft, broadside to its motion (Cd and rho: vcbmodel.parameters)."""
+    return 0.5 * air_density * drag_coefficient * area * radius**3
 
 
 def cam_weight_torque(theta: Scalar, cam, gravity: Scalar, ops: Ops = NumericOps) -> Scalar:

@@ -136,6 +136,23 @@ def lumped_chain(n, k0, m0, free_length, convention="exact") -> LumpedChain:
     return chain
 
 
+def kelvin_voigt_time(damping_ratio: float, k0: float, m0: float) -> float:
+    """The closing spring's internal damping as a Kelvin-Voigt material: every part of the coil
+    carries a damper beta times its stiffness (a segment k_i of a lumped chain gets c_i = beta k_i in
+    N s/m, the ANCF cable EA_t = beta EA; the damping matrix is beta K, stiffness-proportional
+    Rayleigh damping: Woodhouse, J. Sound Vib. 215 (1998) 547). Each mode of natural frequency w_n
+    then has the damping ratio beta w_n / 2, rising with the mode's order as a material's loss does
+    faster than a friction's. Returns beta (s) = 2 zeta_1 / w_1 from ``damping_ratio`` zeta_1 of the
+    continuum's first fixed-fixed surge mode, w_1 = pi sqrt(k0/m0) (k0 N/m, m0 kg)."""
+    return 2.0 * damping_ratio / fundamental(k0, m0, "exact")
+
+
+def modal_damping_ratios(masses: ArrayLike, stiffnesses: ArrayLike, beta: float) -> np.ndarray:
+    """Damping ratios of a fixed-fixed chain's axial modes, ascending, under Kelvin-Voigt links
+    (:func:`kelvin_voigt_time` ``beta`` in s): beta w_n / 2 (proportional damping keeps the modes)."""
+    return 0.5 * beta * chain_frequencies(masses, stiffnesses)
+
+
 def fixed_fixed_frequencies(k0: float, m0: float, count: int = 3) -> np.ndarray:
     """The continuum spring's axial natural frequencies (rad/s): w_n = n pi sqrt(k0/m0)."""
     return math.pi * math.sqrt(k0 / m0) * np.arange(1, count + 1)

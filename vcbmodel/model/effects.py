@@ -56,6 +56,10 @@ class ModelSpec:
     bellows_force: float = 0.0  # whole breaker: atmospheric force on each pole's bellows (N)
     #: a discovered torque on the shaft: ((library term, coefficient), ...) (laws.discovered; N m)
     discovered: tuple = ()
+    drag: float = 0.0  # air drag c_d on the swinging body (N m s^2/rad^2; laws.mechanics.aerodynamic_drag_torque)
+    #: the closing spring's internal damping: its first surge mode's damping ratio (-; 0: none;
+    #: laws.springs.kelvin_voigt_time)
+    spring_damping: float = 0.0
     #: the friction law's form (:mod:`vcbmodel.laws.friction_forms`; ``hybrid``: the spec's law) and
     #: its own values, in the order of its parameters
     friction_form: str = "hybrid"
@@ -164,6 +168,43 @@ class ViscousFriction(Effect):
         return out
 
 
+class AerodynamicDrag(Effect):
+    name = "aerodynamic_drag"
+    description = ("air drag on the swinging body (a paddle, the link): torque -c_d w|w|, c_d = 0.5 rho Cd A R^3 "
+                   "for a paddle of area A at radius R")
+    # c_d from 0 (no drag) to 1 N m s^2/rad^2 (a 0.1 m^2 plate at 1.2 m); a 0.02 m^2 paddle at 0.3 m: 3.8e-4
+    parameters = (_friction("drag", 1e-3, 0.0, 1.0, "N m s^2/rad^2", scan=(1e-4, 1e-3, 1e-2)),)
+    #: the pendulum only: a cam's windage is orders below its friction (a 0.1 m cam of 5e-3 m^2 has
+    #: c_d ~ 3e-6 N m s^2/rad^2: 0.03 N m at 100 rad/s against tens of N m of journal friction)
+    experiments = ("pendulum",)
+
+    def on(self, spec: ModelSpec, values: dict, rig: Rig) -> None:
+        spec.drag = values["drag"]
+
+    def off(self, spec: ModelSpec, values: dict, rig: Rig) -> None:
+        spec.drag = 0.0
+
+
+class SpringDamping(Effect):
+    name = "spring_damping"
+    description = ("internal damping of the closing springs (material hysteresis, coil rubbing) as a Kelvin-Voigt "
+                   "material: a damper beta k on every part of stiffness k, the first surge mode's damping ratio zeta")
+    parameters = (ParameterSpec("damping_ratio", 0.01, 0.0, 0.3, "-", "closing_spring.damping_ratio",
+                                scan=(0.003, 0.01, 0.03, 0.1)),)
+    experiments = ("cam_drop", "vcb_closing")
+
+    def on(self, spec: ModelSpec, values: dict, rig: Rig) -> None:
+        spec.spring_damping = values["damping_ratio"]
+
+    def off(self, spec: ModelSpec, values: dict, rig: Rig) -> None:
+        spec.spring_damping = 0.0
+
+    def rig_values(self, rig: Rig) -> dict:
+        spring = rig.closing_spring
+        value = None if spring is None else spring.damping_ratio
+        return {} if value is None else {"damping_ratio": value}
+
+
 class SpringMass(Effect):
     name = "spring_mass"
     description = "the closing spring's own inertia (surge, lateral motion) as a mass model"
@@ -224,8 +265,8 @@ class BellowsForce(BreakerScalarEffect):
 
 
 # Order matters: Stribeck's "off" copies mu_k, so Coulomb comes first.
-EFFECTS = {e.name: e for e in (CoulombFriction(), Stribeck(), ViscousFriction(), SpringMass(), ContactDamping(),
-                               BellowsForce())}
+EFFECTS = {e.name: e for e in (CoulombFriction(), Stribeck(), ViscousFriction(), AerodynamicDrag(), SpringMass(),
+                               SpringDamping(), ContactDamping(), BellowsForce())}
 
 
 class DiscoveredTorque:

@@ -59,6 +59,7 @@ class ClosingSpring:
     shear_modulus: float | None = None  # Pa
     weight: bool = False  # spring masses carry their weight (spec: no, unless said)
     density: float | None = None  # kg/m^3 of the wire (a datasheet spring's mass; steel when not given)
+    damping_ratio: float | None = None  # internal damping: first surge mode's damping ratio (effect spring_damping)
     from_datasheet: tuple = ()  # the fields derived from the datasheet (stiffness, mass), for reports
 
 

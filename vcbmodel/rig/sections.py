@@ -25,13 +25,13 @@ from .reader import Reader
 from .data import (Breaker, Cam, CamProfile, ClosingSpring, ContactLaw, Follower, OpeningSpring, Pendulum,
                    Poles)
 
-FRICTION_KEYS = ("mu_s", "mu_k", "stick_velocity", "stribeck_velocity", "viscous", "zeta", "sticking")
+FRICTION_KEYS = ("mu_s", "mu_k", "stick_velocity", "stribeck_velocity", "viscous", "zeta", "sticking", "drag")
 STICKING = ("passive", "literal")
 PENDULUM_KEYS = ("mass", "inertia", "com_distance", "initial_angle", "initial_velocity")
 CAM_KEYS = ("mass", "inertia_com", "com_distance", "com_angle", "pivot", "arm_length", "initial_angle",
             "initial_velocity")
 SPRING_KEYS = ("count", "stiffness", "mass", "free_length", "anchor", "wire_diameter", "coil_diameter",
-               "active_coils", "shear_modulus", "weight", "density")
+               "active_coils", "shear_modulus", "weight", "density", "damping_ratio")
 #: Relative difference allowed between a given k0 or m0 and the datasheet's (catalogue rounding)
 DATASHEET_TOLERANCE = 0.05
 
@@ -130,6 +130,10 @@ def read_closing_spring(rd: Reader, data: dict, cam: Cam) -> dict[str, ClosingSp
     optional = {k: rd.number(s, k, pre, positive=True)
                 for k in ("wire_diameter", "coil_diameter", "active_coils", "shear_modulus", "density") if k in s}
     stiffness, mass, derived = spring_rate_and_mass(rd, s, optional)
+    if "damping_ratio" in s:
+        optional["damping_ratio"] = rd.number(s, "damping_ratio", pre, nonnegative=True)
+        if optional["damping_ratio"] >= 1.0:
+            rd.fail(pre + "damping_ratio", f"a damping ratio below 1 (0.01 for 1 %), got {optional['damping_ratio']:g}")
     spring = ClosingSpring(
         count=rd.count(s, "count", pre, default=2.0), stiffness=stiffness, mass=mass,
         free_length=rd.number(s, "free_length", pre, positive=True), anchor=rd.point(s, "anchor", pre),

@@ -19,7 +19,7 @@ from .scores import consistent
 #: Values at which a parameter's effect vanishes (the candidate then equals the model it was
 #: added to): a candidate fit is never returned worse than that nested point.
 NULL_VALUES = {"mu_k": 0.0, "mu_s": 0.0, "viscous": 0.0, "restitution": 1.0, "bellows_force": 0.0,
-               "stribeck_velocity": None}  # None: any value (no effect once mu_s is null)
+               "drag": 0.0, "damping_ratio": 0.0, "stribeck_velocity": None}  # None: any value (no effect once mu_s is null)
 
 
 def candidate_jobs(rig: object, measurement: object, baseline: object, guesses: list, sigma: float) -> list:

@@ -3,11 +3,13 @@
 1. :func:`.force.missing_torque`: the missing torque on the aligned, smoothed record;
 2. :func:`.library.columns` / :func:`.library.model_columns`: the candidate terms and the model's own
    directions on that state;
-3. :func:`.regression.select`: nested sparse supports (lasso path, BIC-bounded);
-4. :func:`.refit.refit`: each support added to the model as a discovered torque and refitted to
-   the whole record;
-5. :func:`.judge.evidence`: kept only with the evidence a registered effect needs (each further
-   term must earn it again over the smaller support).
+3. :func:`.regression.select`: each term's share of the missing torque (and the lasso's order);
+4. :func:`.search.forward`: every term that could matter refitted *alone* to the whole record first
+   (:func:`.refit.refit`), then one more term at a time over the kept support; a form is kept only
+   with the evidence a registered effect needs (:func:`.judge.evidence`; each further term must earn
+   it again over the smaller support), and where the record cannot tell forms apart (BICs within that
+   margin) the physically motivated one is kept and the tie reported;
+5. the kept terms pruned (each must earn its place over the others) and their errors stated.
 
 Each discovered form is reported as *discovered, not registered*, with its coefficient, standard
 error and physical reading; when nothing earns the evidence, the report says the library holds
@@ -27,10 +29,11 @@ from ...records.signals import noise_estimate_floored, quantisation_step
 from ..fit import Dataset, FitAborted, FitResult
 from ..nuisance import record_setup
 from .force import ForceEstimate, missing_torque, unread
-from .judge import evidence, scoring_noise
+from .judge import EXPLAINS, evidence, explains, scoring_noise
 from .library import columns, library_for, model_columns, reading, unit
 from .refit import MACHINERY, profile, refit, terms_of
 from .regression import Selection, select
+from .search import forward
 
 
 #: Profiles of a coefficient taken at most (each one whose parabola's lowest point lies away from the
@@ -81,6 +84,7 @@ class Discovery:
     seconds: float = 0.0
     given: FitResult | None = None  # the registered fit discovery started from
     alternatives: list = field(default_factory=list)  # other bases tried (discover_among)
+    ties: list = field(default_factory=list)  # forms the record could not tell apart (search.choose)
 
     @property
     def rms_before(self) -> float:
@@ -101,7 +105,7 @@ class Discovery:
                 "smoothing_window_s": None if self.estimate is None else self.estimate.window_s,
                 "base_effects": list(self.before.effects), "refitted_effects": list((self.after or self.before).effects),
                 "fitted": {k: float(f"{v:.6g}") for k, v in (self.after or self.before).model_values.items()},
-                "alternatives": self.alternatives,
+                "alternatives": self.alternatives, "ties": self.ties,
                 "seconds": round(self.seconds, 2)}
 
     def report(self) -> str:
@@ -116,6 +120,9 @@ class Discovery:
                        if row.get("dropped") else "")
             lines.append(f"    tried {' + '.join(row['terms'])}: dBIC {row['delta_bic']:.1f}, variance gain "
                          f"{row['variance_gain']:.3f}, rms {row['rms']:.3g} {u}" + dropped + (" (kept)" if row["kept"] else ""))
+        for tie in self.ties:
+            lines.append(f"    tie: {tie['reason']} (BIC above the best: "
+                         + ", ".join(f"{k} {v:g}" for k, v in tie["bic_above_best"].items()) + ")")
         return "\n".join(lines)
 
 
@@ -203,47 +210,39 @@ def _terms(dataset, after, names, noise, sigma, pool, should_stop) -> tuple[list
 
 
 def _search(dataset, fit, sel, sigma, quantisation, pool, should_stop, kw) -> Discovery:
-    """Refit the nested supports; keep the largest whose every step earned the evidence over the
-    best registered fit."""
+    """Forward selection from the best registered fit, singles first, ties read physics
+    (:func:`.search.forward`); the kept terms pruned and their errors stated."""
     unit_ = experiment_of(dataset.rig.experiment).unit
     given, fit = fit, _registered_best(dataset, fit, sel, sigma, pool, should_stop)
-    fits = []
-    for coefficients, shifts in zip(sel.coefficients, sel.model_shifts):
-        try:
-            fits.append(refit(dataset, given, coefficients, shifts, sigma=sigma, pool=pool, should_stop=should_stop,
-                              also=fit if fit is not given else None))
-        except (SimulationError, FitAborted):
-            break
-    noise = scoring_noise([fit] + fits, sigma, quantisation)
-    tried, kept, previous = [], None, fit
-    for support, f in zip(sel.supports, fits):
-        ev = evidence(fit, f, noise, sigma, kw["bic_margin"], kw["min_gain"])
-        step = evidence(previous, f, noise, sigma, kw["bic_margin"], kw["min_gain"])
-        ok = ev["earned"] and step["earned"]
-        tried.append({"terms": list(support), "delta_bic": ev["delta_bic"], "variance_gain": ev["variance_gain"],
-                      "delta_bic_over_smaller": step["delta_bic"], "rms": f.rms, "kept": False,
-                      "coefficients": terms_of(f)})
-        if not ok:  # nested: a larger support is tried only over a kept smaller one
-            break
-        kept, previous = (len(tried) - 1, f), f
-    level = sigma
-    if kept is None:
-        best = tried[0] if tried else None
+    found = forward(dataset, given, fit, sel, sigma=sigma, quantisation=quantisation, kw=kw, pool=pool,
+                    should_stop=should_stop)
+    tried, ties, fit = found["tried"], found["ties"], found["registered"]
+    noise = scoring_noise(found["fits"], sigma, quantisation)
+    if not found["support"]:
+        best = max(tried, key=lambda row: row["delta_bic"]) if tried else None
         why = ("the library holds nothing that fits: " + (
             f"its best term, {best['terms'][0]}, lowers BIC by {best['delta_bic']:.1f} (margin {kw['bic_margin']:g}) "
             f"and removes {best['variance_gain']:.3f} of the noise variance (needed {kw['min_gain']:g})"
             if best else "no term could be refitted"))
-        return _nothing(fit, level, unit_, why, tried=tried, **kw)
-    index, after = kept
-    support, after, index = _prune(dataset, fit, list(sel.supports[index]), after, index, noise, sigma, pool,
+        return _nothing(fit, sigma, unit_, why, tried=tried, ties=ties, **kw)
+    support = found["support"]
+    index = next(i for i, row in enumerate(tried) if row["terms"] == support)
+    if not explains(found["fit"], sigma):
+        row = tried[index]
+        why = (f"the library holds nothing that explains the record: its best form, {' + '.join(support)}, lowers BIC "
+               f"by {row['delta_bic']:.1f} but leaves rms {row['rms']:.3g} {unit_} against the noise {sigma:.3g} (more than "
+               f"{EXPLAINS:.2g} times it): part of a torque outside the library, its coefficient no physical value")
+        return _nothing(fit, sigma, unit_, why, tried=tried, ties=ties, **kw)
+    support, after, index = _prune(dataset, fit, list(support), found["fit"], index, noise, sigma, pool,
                                    should_stop, kw, tried)
     tried[index]["kept"] = True
     terms, after = _terms(dataset, after, support, noise, sigma, pool, should_stop)
     tried[index]["rms_polished"] = after.rms
     text = "; ".join(f"{t.reading} ({t.name} = {t.coefficient:.4g} {t.unit})" for t in terms)
+    tie_text = "".join(f"; tie: {tie['reason']}" for tie in ties)
     message = (f"discovered, not registered: {text}; rms {fit.rms:.3g} -> {after.rms:.3g} {unit_} "
-               f"(noise {level:.3g}), delta BIC {tried[index]['delta_bic']:.1f}")
-    return Discovery(True, terms, fit, after, level, unit_, message, tried, **kw)
+               f"(noise {sigma:.3g}), delta BIC {tried[index]['delta_bic']:.1f}{tie_text}")
+    return Discovery(True, terms, fit, after, sigma, unit_, message, tried, ties=ties, **kw)
 
 
 def _prune(dataset, registered, support, after, index, noise, sigma, pool, should_stop, kw, tried) -> tuple:

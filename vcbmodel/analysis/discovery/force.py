@@ -9,6 +9,13 @@ compiled path and Exudyn run, evaluated through :class:`~vcbmodel.laws.friction.
 the acceleration the model would have there; the missing torque is the shaft's inertia times the
 difference, ``I (alpha - alpha_model(theta, w))`` in N m. The inertia is read off the equations
 too: the change of the acceleration under a unit applied torque.
+
+A lumped closing spring's masses move with states of their own that the record does not hold: their
+positions and speeds are taken from the fitted model's own trajectory (the chain as the fitted model
+moves it), and the cam's acceleration is read on the measured cam state with that chain. Where the
+cam's motion differs from the model's, the chain's does too, so the estimate is a proposal only: the
+refit of the whole record decides (:mod:`.refit`). The ANCF spring has no equations outside Exudyn:
+it is not read.
 """
 from __future__ import annotations
 
@@ -22,6 +29,7 @@ from scipy.signal import savgol_filter
 from ...experiments import experiment_of
 from ...experiments.simulation import model_spec, simulate
 from ...laws.friction import ArrayOps
+from ...laws.springs import chain_for
 from ...rig.paths import loaded_with
 from ..fit.dataset import model_time, time_scale_name
 
@@ -53,7 +61,9 @@ class ForceEstimate:
     model time since release (s), ``theta`` (rad), ``w`` (rad/s), ``alpha`` (rad/s^2), the
     model's acceleration on that state ``alpha_model`` (rad/s^2), ``torque`` the missing torque
     (N m), ``used`` the samples fit for regression (bool); ``inertia`` (kg m^2) and the
-    smoothing ``window_s`` (s); ``rig`` the rig with the fit's estimated values."""
+    smoothing ``window_s`` (s); ``rig`` the rig with the fit's estimated values; ``chain``: a lumped
+    spring's masses as the fitted model moves them, (positions, speeds), each a list of arrays x1, y1,
+    x2, ... (m, m/s; empty for massless springs)."""
 
     t: np.ndarray
     theta: np.ndarray
@@ -66,15 +76,16 @@ class ForceEstimate:
     window_s: float
     rig: object
     units: dict
+    chain: tuple = ()
 
 
 def unread(rig: Rig, fit: FitResult) -> str | None:
-    """Why the missing torque cannot be read on ``fit``'s model, or None: the closing springs'
-    masses (a lumped chain, an ANCF cable) move with states of their own that the record does not
-    hold, so the cam's acceleration on the measured state is read with massless springs only."""
-    if experiment_of(rig.experiment).has_closing_spring and fit.spring_model.kind != "massless":
-        return (f"the missing torque is read with massless closing springs; the {fit.spring_model.label} "
-                "springs' own state is not in the record")
+    """Why the missing torque cannot be read on ``fit``'s model, or None: a massless or lumped spring
+    is read (a chain with the fitted model's own chain state, module docstring); an ANCF cable's
+    equations are Exudyn's alone."""
+    if experiment_of(rig.experiment).has_closing_spring and fit.spring_model.kind not in ("massless", "lumped"):
+        return (f"the missing torque is read with massless or lumped closing springs; the {fit.spring_model.label} "
+                "spring's equations are Exudyn's alone")
     return None
 
 
@@ -85,9 +96,11 @@ def fitted_rig(rig: Rig, fit: FitResult) -> Rig:
     return loaded_with(rig, overrides)
 
 
-def model_acceleration(rig, fit, t: np.ndarray, theta: np.ndarray, w: np.ndarray, extra: tuple = ()) -> np.ndarray:
+def model_acceleration(rig, fit, t: np.ndarray, theta: np.ndarray, w: np.ndarray, extra: tuple = (),
+                       chain: tuple = ()) -> np.ndarray:
     """The fitted model's shaft acceleration (rad/s^2) at states (t s, theta rad, w rad/s), from the
-    experiment's equations through ArrayOps; ``extra``: further discovered terms ((name, coefficient), ...)."""
+    experiment's equations through ArrayOps; ``extra``: further discovered terms ((name, coefficient), ...);
+    ``chain``: a lumped spring's (positions, speeds) at the same samples (:class:`ForceEstimate`)."""
     rec = experiment_of(rig.experiment)
     values = dict(fit.model_values)
     effects = tuple(fit.effects)
@@ -95,19 +108,22 @@ def model_acceleration(rig, fit, t: np.ndarray, theta: np.ndarray, w: np.ndarray
         effects = effects + ("discovered_torque",) if "discovered_torque" not in effects else effects
         values.update({f"discovered:{name}": c for name, c in extra})
     spec = model_spec(rig, effects, values, fit.spring_model)
-    setup = rec.ode_model.prepare(rig, spec, spec.friction_law(rig.shaft_radius, 0.0), None)
+    lumped = chain_for(rig.closing_spring, spec.spring_model) if rec.has_closing_spring else None
+    setup = rec.ode_model.prepare(rig, spec, spec.friction_law(rig.shaft_radius, 0.0), lumped)
+    q, v = [theta] + list(chain[0] if chain else ()), [w] + list(chain[1] if chain else ())
     with np.errstate(all="ignore"):
-        acc, _ = rec.ode_model.equations(t, [theta], [w], list(setup.memory), setup.inputs, ArrayOps)
+        acc, _ = rec.ode_model.equations(t, q, v, list(setup.memory), setup.inputs, ArrayOps)
     return np.broadcast_to(np.asarray(acc[0], float), np.shape(theta)).copy()
 
 
-def shaft_inertia(rig, fit, t: np.ndarray, theta: np.ndarray, w: np.ndarray) -> float:
+def shaft_inertia(rig, fit, t: np.ndarray, theta: np.ndarray, w: np.ndarray, chain: tuple = ()) -> float:
     """The inertia (kg m^2) the equations divide an applied torque by: 1 / (change of the
     acceleration under a constant 1 N m), at a sample where the shaft moves fastest."""
     i = int(np.argmax(np.abs(w)))
     sl = slice(i, i + 1)
-    base = model_acceleration(rig, fit, t[sl], theta[sl], w[sl])
-    pushed = model_acceleration(rig, fit, t[sl], theta[sl], w[sl], extra=(("constant", 1.0),))
+    at = tuple([a[sl] for a in part] for part in chain)
+    base = model_acceleration(rig, fit, t[sl], theta[sl], w[sl], chain=at)
+    pushed = model_acceleration(rig, fit, t[sl], theta[sl], w[sl], extra=(("constant", 1.0),), chain=at)
     return float(1.0 / (pushed[0] - base[0]))
 
 
@@ -121,9 +137,10 @@ def smoothing_points(rig, dt: float, duration: float) -> int:
 
 
 def measured_state(rig, dataset, fit) -> tuple:
-    """(t model time s, theta rad, w rad/s, alpha rad/s^2, window s) of the record's window, aligned
-    with ``fit``: the fitted model's own trajectory plus the smoothed difference of the record from
-    it. Only the difference is smoothed, so the filter's bias scales with what the model misses, not
+    """(t model time s, theta rad, w rad/s, alpha rad/s^2, window s, chain) of the record's window,
+    aligned with ``fit``: the fitted model's own trajectory plus the smoothed difference of the record
+    from it; ``chain``: a lumped spring's state on the model's trajectory (:class:`ForceEstimate`).
+    Only the difference is smoothed, so the filter's bias scales with what the model misses, not
     with the swing (smoothing the swing itself biases its acceleration by a percent, which passes for
     a torque in sin(k theta))."""
     values = fit.values
@@ -148,15 +165,25 @@ def measured_state(rig, dataset, fit) -> tuple:
     theta = theta_m + savgol_filter(diff, n, POLYORDER)
     w = w_m + savgol_filter(diff, n, POLYORDER, deriv=1, delta=dt)
     alpha = alpha_m + savgol_filter(diff, n, POLYORDER, deriv=2, delta=dt)
-    return tau, theta, w, alpha, n * dt
+    return tau, theta, w, alpha, n * dt, _chain_state(sim.channels)
+
+
+def _chain_state(channels: dict) -> tuple:
+    """(positions, speeds) of a lumped chain's masses in a simulation's channels ((): none)."""
+    count = sum(1 for name in channels if name.startswith("spring_mass_") and name.endswith("_x"))
+    if not count:
+        return ()
+    positions = [channels[f"spring_mass_{k}_{a}"] for k in range(1, count + 1) for a in "xy"]
+    speeds = [channels[f"spring_velocity_{k}_{a}"] for k in range(1, count + 1) for a in "xy"]
+    return positions, speeds
 
 
 def missing_torque(rig, dataset, fit) -> ForceEstimate:
     """The missing torque of ``fit`` on ``dataset`` (module docstring)."""
     rig_fit = fitted_rig(rig, fit)
-    t, theta, w, alpha, window_s = measured_state(rig_fit, dataset, fit)
-    alpha_model = model_acceleration(rig_fit, fit, t, theta, w)
-    inertia = shaft_inertia(rig_fit, fit, t, theta, w)
+    t, theta, w, alpha, window_s, chain = measured_state(rig_fit, dataset, fit)
+    alpha_model = model_acceleration(rig_fit, fit, t, theta, w, chain=chain)
+    inertia = shaft_inertia(rig_fit, fit, t, theta, w, chain)
     torque = inertia * (alpha - alpha_model)
     half = int(round(window_s / max(float(np.median(np.diff(t))), 1e-12))) // 2
     used = np.abs(w) > SLOW_FRACTION * float(np.max(np.abs(w)))
@@ -165,4 +192,4 @@ def missing_torque(rig, dataset, fit) -> ForceEstimate:
     units = {"t": "s", "theta": "rad", "w": "rad/s", "alpha": "rad/s^2", "torque": "N m", "inertia": "kg m^2"}
     if not math.isfinite(inertia) or inertia <= 0:
         raise ValueError(f"the model's equations give no positive shaft inertia ({inertia!r} kg m^2)")
-    return ForceEstimate(t, theta, w, alpha, alpha_model, torque, used, inertia, window_s, rig_fit, units)
+    return ForceEstimate(t, theta, w, alpha, alpha_model, torque, used, inertia, window_s, rig_fit, units, chain)

@@ -26,7 +26,7 @@ DEFAULT_LIBRARY = tuple(name for name in TERMS if not name.startswith("rub_"))
 #: a drift. The sign_exp terms are left out: their Stribeck speeds (0.05-0.5 rad/s) are passed within
 #: the first tenth of a millisecond, before the samples the regression uses (faster than 5 % of the
 #: peak speed), so on a drop they are a constant. The springs' state adds nothing for the massless
-#: springs (a function of the angle) and the chain's is not measured.
+#: springs (a function of the angle) and the chain's is not measured (the model's is used, :mod:`.force`).
 CAM_LIBRARY = tuple(name for name in TERMS if not name.startswith("sign_exp_"))
 #: The library by experiment.
 LIBRARIES = {"pendulum": DEFAULT_LIBRARY, "cam_drop": CAM_LIBRARY}
@@ -72,13 +72,13 @@ def model_columns(fit, est: ForceEstimate) -> tuple[list[str], np.ndarray]:
     these free (the refit moves the model's values too), so a term is not credited with what a
     registered parameter already does (viscous friction's w, Coulomb's sign(w))."""
     names, cols = [], []
-    base = model_acceleration(est.rig, fit, est.t, est.theta, est.w)
+    base = model_acceleration(est.rig, fit, est.t, est.theta, est.w, chain=est.chain)
     for p in fit.parameters.values():
         if p.kind != "model" or not p.vary:
             continue
         h = PARAMETER_STEP * max(abs(p.value), 1e-3)
         moved = replace(fit, parameters={**fit.parameters, p.name: replace(p, value=p.value + h)})
-        acc = model_acceleration(est.rig, moved, est.t, est.theta, est.w)
+        acc = model_acceleration(est.rig, moved, est.t, est.theta, est.w, chain=est.chain)
         names.append(p.name)
         cols.append(est.inertia * (acc - base) / h)
     return names, (np.column_stack(cols) if cols else np.zeros((est.t.size, 0)))

@@ -1,13 +1,15 @@
-"""Sparse selection of library terms for a missing torque (scikit-learn's LARS-lasso).
+"""Regression of a missing torque on the library's terms (scikit-learn's LARS-lasso for the order).
 
 The model's own parameter directions are projected out of the target and of every library column
 first (Frisch-Waugh-Lovell: the same coefficients as a regression with those directions free and
 unpenalised), so a term is credited only with what the registered model cannot do by moving its
 values. On the standardised remainder the lasso path (``sklearn.linear_model.lars_path``) gives
-the order in which terms enter; ``LassoLarsIC`` with the Bayesian information criterion says how
-many the torque estimate supports. The estimate's noise is correlated by the smoothing, so its
-BIC over-counts: it only bounds how many nested supports (first term, first two, ...) are refitted;
-the refit of the whole record, scored as a registered effect is, decides (:mod:`.judge`).
+the order in which terms enter and ``LassoLarsIC`` with the Bayesian information criterion how
+many the torque estimate supports (both reported). The estimate's noise is correlated by the
+smoothing, so its scores only rank: :meth:`Selection.ranked` orders the terms that could join a
+support by the share of what is left they explain, and :meth:`Selection.support_fit` gives a
+support's least-squares coefficients and the model's shifts, a refit's start. The refit of the
+whole record, scored as a registered effect is, decides (:mod:`.judge`, :mod:`.discover`).
 """
 from __future__ import annotations
 
@@ -43,6 +45,38 @@ class Selection:
     samples: int = 0
     model_shifts: list = field(default_factory=list)
     base_shift: dict = field(default_factory=dict)
+    parts: tuple = ()  # (names, X, y, Z, z_names, X_p, y_p, kept columns): what support_fit and ranked read
+
+    def support_fit(self, support: Sequence[str]) -> tuple[dict, float, dict]:
+        """({term: least-squares coefficient}, share of the projected target's variance explained,
+        {model parameter: shift}) of the terms ``support`` (the model's directions free)."""
+        names, X, y, Z, z_names, X_p, y_p, _ = self.parts
+        cols = [names.index(n) for n in support]
+        beta, *_ = np.linalg.lstsq(X_p[:, cols], y_p, rcond=None)
+        left = y_p - X_p[:, cols] @ beta
+        total = float(np.dot(y_p, y_p))
+        explained = 1.0 - float(np.dot(left, left)) / total if total > 0 else 0.0
+        delta = np.linalg.lstsq(Z, y - X[:, cols] @ beta, rcond=None)[0] if Z.shape[1] else []
+        return ({names[j]: float(b) for j, b in zip(cols, beta)}, explained,
+                {name: float(v) for name, v in zip(z_names, delta)})
+
+    def ranked(self, support: Sequence[str] = ()) -> list[tuple[str, float]]:
+        """[(term, share)] of every term not aliased and not in ``support``, best first: the share of
+        the projected target's variance the term adds to ``support`` (alone: its own share)."""
+        names, _, _, _, _, X_p, y_p, keep = self.parts
+        base = [names.index(n) for n in support]
+        left = y_p
+        if base:
+            beta, *_ = np.linalg.lstsq(X_p[:, base], y_p, rcond=None)
+            left = y_p - X_p[:, base] @ beta
+        others = [j for j in keep if j not in base]
+        if not others:
+            return []
+        Xo = _project_out(X_p[:, base], *(X_p[:, j] for j in others)) if base else [X_p[:, j] for j in others]
+        total = float(np.dot(y_p, y_p)) or 1.0
+        shares = [(names[j], float(np.dot(x, left) ** 2 / max(float(np.dot(x, x)), 1e-300)) / total)
+                  for j, x in zip(others, Xo)]
+        return sorted(shares, key=lambda item: -item[1])
 
 
 def _project_out(Z: np.ndarray, *arrays: np.ndarray) -> list[np.ndarray]:
@@ -88,4 +122,4 @@ def select(names: Sequence[str], X: np.ndarray, y: np.ndarray, Z: np.ndarray, z_
         shifts.append({name: float(v) for name, v in zip(z_names, delta)})
     base = np.linalg.lstsq(Z, y, rcond=None)[0] if Z.shape[1] else []
     return Selection([names[j] for j in order], n_bic, supports, coefficients, explained, aliased, int(y.size), shifts,
-                     {name: float(v) for name, v in zip(z_names, base)})
+                     {name: float(v) for name, v in zip(z_names, base)}, (list(names), X, y, Z, list(z_names), X_p, y_p, keep))
