@@ -11,7 +11,7 @@ import pytest
 from vcbmodel.analysis.diagnose import diagnose
 from vcbmodel.analysis.fit import Parameter
 from vcbmodel.analysis.identify import identify
-from vcbmodel.analysis.model_forms import EVIDENCE_MARGIN, Z95, FormFit, alternatives, quantities_over
+from vcbmodel.analysis.model_forms import EVIDENCE_MARGIN, Z95, FormFit, added_effects, alternatives, quantities_over
 from vcbmodel.analysis.realistic import realistic_record
 from vcbmodel.experiments.loading import load_pair
 
@@ -75,10 +75,22 @@ def test_the_forms_tried_on_a_pendulum_and_why_none_on_a_cam_drop():
     assert {"hybrid + stribeck", "tustin + stribeck", "gaussian + stribeck", "drifting"} <= labels
     tustin = next(a for a in alts if a.form == "tustin")
     assert tustin.effects == ("coulomb_friction", "viscous_friction", "stribeck", "tustin_friction")
-    assert "dahl" in skipped
+    assert "friction forms" not in skipped
     alts, skipped = alternatives(("coulomb_friction", "stribeck", "tustin_friction"), "pendulum")
     assert {a.form for a in alts} >= {"gaussian", "drifting"} and "tustin" not in {a.form for a in alts}
     assert alternatives(("coulomb_friction",), "cam_drop")[0] == []
+    assert "friction forms" in alternatives(("coulomb_friction",), "cam_drop")[1]
+
+
+def test_a_model_is_tried_with_the_decay_effects_it_lacks_beside_or_instead_of_its_partner(pendulum_rig):
+    best = form("tustin", 0.0, 1.0, ("coulomb_friction", "stribeck", "tustin_friction", "aerodynamic_drag"),
+                mu_k=(0.1, 0.001))
+    added = added_effects(best, "pendulum")
+    assert [(a.added, a.removed) for a in added] == [(("viscous_friction",), ()),
+                                                     (("viscous_friction",), ("aerodynamic_drag",))]
+    assert added[0].effects[-1] == "viscous_friction" and "tustin_friction" in added[0].effects
+    assert "aerodynamic_drag" not in added[1].effects
+    assert added_effects(best, "cam_drop") == []
 
 
 def test_a_tustin_pendulum_is_covered_by_the_model_forms_where_the_hybrid_law_is_not(tmp_path):

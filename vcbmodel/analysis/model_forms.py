@@ -5,9 +5,12 @@ A fit's stated errors are those of its own model: when another law would fit the
 (Tustin's exponential Stribeck curve for the hybrid law's linear one, a drifting Coulomb level, air
 drag for viscous friction), the values can sit many stated errors from the truth while the residual
 is white at the noise. So beside the selected model this module fits its *alternatives*
-(:func:`alternatives`): the friction forms of :mod:`vcbmodel.laws.friction_forms` (each with the
-Stribeck fall it needs), and registered effects named in :data:`ALTERNATIVE_EFFECTS` that the
-record might hold instead (aerodynamic drag), each from the selected model's values.
+in two steps: the selected model with each registered effect of :data:`ALTERNATIVE_EFFECTS` it lacks,
+beside the others or in place of its partner (:func:`added_effects`: air drag, viscous or Coulomb
+friction, which share a swing's decay); then, from the best plausible model of those, the friction
+forms of :mod:`vcbmodel.laws.friction_forms` (:func:`alternatives`, each with the Stribeck fall it
+needs). A form with a value outside its plausible range (:mod:`.plausibility`: a drag coefficient
+forty times what any paddle gives) gets no weight: the ranges act as a prior that rules it out.
 
 Multi-model inference (Burnham & Anderson, *Model Selection and Multimodel Inference*, 2nd ed.
 2002, ch. 4 and 6.4), with BIC weights w_i = exp(-dBIC_i / 2) / sum_j exp(-dBIC_j / 2):
@@ -49,7 +52,7 @@ import numpy as np
 from ..errors import SimulationError
 from ..laws.friction import effective_static
 from ..laws.friction_forms import FORMS
-from ..model.effects import EFFECTS
+from ..model.effects import EFFECTS, parameter_specs
 from . import fit as fitting
 from .fit import FitAborted, FitResult, Parameter, make_parameters
 from .plausibility import findings_of, plausible_range
@@ -59,9 +62,10 @@ from .plausibility import findings_of, plausible_range
 EVIDENCE_MARGIN = 10.0
 #: The 95 % interval's half-width in standard deviations (normal).
 Z95 = 1.959964
-#: Registered effects tried as alternatives where the record's experiment has them (joined by name:
-#: an effect not in the registry is skipped).
-ALTERNATIVE_EFFECTS = {"pendulum": ("aerodynamic_drag",)}
+#: Registered effects added to the best form where the record's experiment has them (joined by name:
+#: an effect not in the registry is skipped): a swing's decay is shared between Coulomb friction,
+#: viscous friction and air drag, and a record can hold any of them beside or instead of another.
+ALTERNATIVE_EFFECTS = {"pendulum": ("coulomb_friction", "viscous_friction", "aerodynamic_drag")}
 #: Experiments whose records the friction forms are tried on. A cam drop's or a closing's shaft
 #: passes the Stribeck range (0.1 rad/s) within its first millisecond and moves 35-70 ms: the forms
 #: differ by less than the noise there, and a drift over 70 ms is nil.
@@ -95,6 +99,7 @@ class Alternative:
     effects: tuple
     added: tuple
     form: str | None = None
+    removed: tuple = ()  # effects of the model it came from that it leaves out (one swapped for another)
 
 
 @dataclass
@@ -107,10 +112,13 @@ class FormFit:
     bic: float
     delta_bic: float = 0.0
     weight: float = 0.0
+    #: False when a fitted value lies outside its plausible range by more than its 95 % error
+    #: (:mod:`.plausibility`): such a form gets no weight (a prior that rules the value out)
+    plausible: bool = True
 
     @property
     def within_margin(self) -> bool:
-        return self.delta_bic <= EVIDENCE_MARGIN
+        return self.plausible and self.delta_bic <= EVIDENCE_MARGIN
 
 
 @dataclass
@@ -155,6 +163,7 @@ class ModelForms:
                 "evidence_margin": EVIDENCE_MARGIN,
                 "forms": [{"form": f.alternative.label, "effects": list(f.fit.effects), "bic": f.bic,
                            "delta_bic": f.delta_bic, "weight": f.weight, "within_margin": f.within_margin,
+                           "plausible": f.plausible,
                            "rms": f.fit.rms, "values": {p.name: p.value for p in f.fit.parameters.values()
                                                         if p.kind == "model"},
                            "stderr": {p.name: p.stderr for p in f.fit.parameters.values()
@@ -168,7 +177,8 @@ class ModelForms:
                  f"{EVIDENCE_MARGIN:g} of the best BIC):"]
         for f in self.forms:
             lines.append(f"    {f.alternative.label:34s} dBIC {f.delta_bic:8.1f}  weight {f.weight:.3f}  rms "
-                         f"{f.fit.rms:.3g} {unit}" + ("" if f.within_margin else "  (rejected)"))
+                         f"{f.fit.rms:.3g} {unit}" + ("" if f.within_margin else "  (rejected)" if f.plausible
+                                                      else "  (implausible values: no weight)"))
         for name, why in self.not_tried.items():
             lines.append(f"    {name:34s} not fitted: {why}")
         for q in self.quantities.values():
@@ -188,7 +198,7 @@ def alternatives(effects: Sequence[str], experiment: str, searched: bool = False
     the registry's ``stribeck`` (the diagnosis): its linear fall is not fitted again; Tustin's and
     the Gaussian fall, which no search tried, are."""
     effects = tuple(effects)
-    out, skipped = [], dict(NOT_CARRIED)
+    out, skipped = [], {}
     friction_forms = experiment in FORM_EXPERIMENTS and "coulomb_friction" in effects
     if not friction_forms:
         skipped["friction forms"] = (f"a {experiment} record's shaft passes the Stribeck range within its first "
@@ -205,22 +215,36 @@ def alternatives(effects: Sequence[str], experiment: str, searched: bool = False
             needs = tuple(n for n in form.needs if n not in base)
             out.append(Alternative(form.name + (" + " + " + ".join(needs) if needs else ""), base + needs + (form.effect,),
                                    needs + (form.effect,), form.name))
-    for name in ALTERNATIVE_EFFECTS.get(experiment, ()):
-        if name in EFFECTS and name not in effects:
-            out.append(Alternative(f"+ {name}", effects + (name,), (name,)))
     return out, skipped
+
+
+def added_effects(best: FormFit, experiment: str) -> list[Alternative]:
+    """The best form with each registered effect of :data:`ALTERNATIVE_EFFECTS` it lacks (the record
+    may hold it as well), and with it in place of its partner in :data:`PARTNERS` (air drag for viscous
+    friction, or the reverse: the record may hold it instead)."""
+    effects, out = tuple(best.fit.effects), []
+    for name in ALTERNATIVE_EFFECTS.get(experiment, ()):
+        if name not in EFFECTS or name in effects or experiment not in EFFECTS[name].experiments:
+            continue
+        out.append(Alternative(f"+ {name}", effects + (name,), (name,)))
+        partner = PARTNERS.get(name)
+        if partner in effects:
+            out.append(Alternative(f"{name} for {partner}",
+                                   tuple(e for e in effects if e != partner) + (name,), (name,), removed=(partner,)))
+    return out
 
 
 def alternative_parameters(rig, base: FitResult, alt: Alternative) -> tuple[dict, list]:
     """(parameters, extra starts) of ``alt``: the selected fit's values (nuisance included) and the
     added effects' and form's own parameters at their registry starts."""
-    params = {k: replace(p, stderr=None, stderr_naive=None) for k, p in base.parameters.items()}
+    dropped = {spec.name for spec in parameter_specs(alt.removed)}
+    params = {k: replace(p, stderr=None, stderr_naive=None) for k, p in base.parameters.items() if k not in dropped}
     registered = tuple(e for e in alt.added if e in EFFECTS)
     for name, p in make_parameters(rig, registered).items():
         params.setdefault(name, p)
     if alt.form is not None:
         for fp in FORMS[alt.form].parameters:
-            params[fp.name] = Parameter(fp.name, fp.initial, fp.min, fp.max, True, fp.unit)
+            params.setdefault(fp.name, Parameter(fp.name, fp.initial, fp.min, fp.max, True, fp.unit))
     starts = []
     mu_k = params["mu_k"].value if "mu_k" in params else 0.1
     if alt.form is not None:
@@ -230,7 +254,38 @@ def alternative_parameters(rig, base: FitResult, alt: Alternative) -> tuple[dict
     elif alt.form in ("tustin", "gaussian") and params.get("stribeck_velocity") is not None \
             and params["stribeck_velocity"].vary:
         starts = _curve_starts(rig, base, params)
+    elif len(alt.added) == 1 and alt.added[0] in DECAY_SHARES:
+        starts = _decay_starts(rig, base, alt, params)
     return params, starts
+
+
+#: Each decay effect's parameter: an effect added to the best form starts at 0 (the form itself).
+DECAY_SHARES = {"coulomb_friction": "mu_k", "viscous_friction": "viscous", "aerodynamic_drag": "drag"}
+#: Decay effects that may stand in for each other (both dissipate more at speed).
+PARTNERS = {"viscous_friction": "aerodynamic_drag", "aerodynamic_drag": "viscous_friction"}
+
+
+def _decay_starts(rig, base: FitResult, alt: Alternative, params: dict) -> list:
+    """Starts of the decay effect ``alt`` adds: beside its partner at 0 (the fitted model itself: the
+    fit can only gain); in place of its partner at the partner's dissipation, converted at the first
+    swing's mean speed W / 2 (W = theta_0 sqrt(M g L / I), the peak speed of a small swing; a torque
+    c w|w| over a sine of amplitude V dissipates as a viscous C_v = 8 c V / (3 pi)). From the registry's
+    own start a viscous term added to a fit with air drag began far above the swing's damping and
+    stopped at 12 times the noise."""
+    effect = alt.added[0]
+    name = DECAY_SHARES[effect]
+    if name not in params or not params[name].vary:
+        return []
+    if not alt.removed:
+        return [{name: max(params[name].min, 0.0)}]
+    p, old = rig.pendulum, DECAY_SHARES.get(alt.removed[0])
+    if p is None or old not in base.parameters:
+        return []
+    speed = 0.5 * abs(p.initial_angle) * math.sqrt(p.mass * rig.gravity * p.com_distance / p.inertia)
+    per_drag = 8.0 * speed / (3.0 * math.pi)  # the viscous equivalent of a unit drag coefficient
+    value = base.parameters[old].value
+    converted = value * per_drag if effect == "viscous_friction" else value / per_drag if per_drag > 0 else 0.0
+    return [{name: float(min(max(converted, params[name].min), params[name].max))}]
 
 
 def _curve_starts(rig, base: FitResult, params: dict) -> list:
@@ -264,8 +319,10 @@ Refit = Callable[..., FitResult]
 
 def form_fit_options(alt: Alternative, starts: list) -> dict:
     """How a form's fit runs: the tolerances above; the optimiser from the best-ranked start, or from
-    every start for a form with a scanned value of its own (a drift: its valleys lie apart)."""
-    every = alt.form is not None and any(p.scan for p in FORMS[alt.form].parameters)
+    every start for a form with a scanned value of its own (a drift) or an added decay effect (one in
+    place of another): their valleys lie apart, and the start nearest the selected fit ranks first."""
+    every = (alt.form is not None and any(p.scan for p in FORMS[alt.form].parameters)) or (
+        len(alt.added) == 1 and alt.added[0] in DECAY_SHARES)
     return {"max_starts": 1 + len(starts) if every else 1, "every_start": every, "chi2_tolerance": CHI2_TOLERANCE,
             "relative_tolerance": RELATIVE_TOLERANCE, "max_iterations": MAX_ITERATIONS}
 
@@ -279,31 +336,64 @@ def fit_forms(rig, base: FitResult, refit: Refit, noise=None, *, label: str = "s
     {parameter: 1-sigma shift} a pinned rig or sensor value's plausible error causes (added to every
     form's variance). ``budget_s``: seconds after which no further form is fitted. ``searched``:
     :func:`alternatives`."""
-    alts, not_tried = alternatives(base.effects, rig.experiment, searched)
-    fits = [FormFit(Alternative(label, tuple(base.effects), ()), base, base.bic_with(noise))]
+    selected = FormFit(Alternative(label, tuple(base.effects), ()), base, base.bic_with(noise))
+    fits, not_tried = [selected], dict(NOT_CARRIED)
     deadline = None if budget_s is None else time.monotonic() + budget_s
-    for alt in alts:
-        if deadline is not None and time.monotonic() > deadline:
-            not_tried[alt.label] = "the forms' time budget was spent"
-            continue
-        params, starts = alternative_parameters(rig, base, alt)
-        try:
-            r = refit(alt.effects, params, starts, alt.label, **form_fit_options(alt, starts))
-        except (FitAborted, SimulationError, ValueError) as e:
-            not_tried[alt.label] = f"its fit failed ({e})"
-            continue
-        fits.append(FormFit(alt, r, r.bic_with(noise)))
-    best = min(f.bic for f in fits)
-    raw = [math.exp(-0.5 * (f.bic - best)) for f in fits]
+    for alt in added_effects(selected, rig.experiment):  # the decay effects it lacks, beside or instead
+        _fit_one(rig, base, alt, refit, noise, fits, not_tried, deadline)
+    for f in fits:
+        f.plausible = _plausible(rig, f.fit)
+    leader = min((f for f in fits if f.plausible), key=lambda f: f.bic, default=selected)
+    alts, skipped = alternatives(leader.fit.effects, rig.experiment, searched and leader is selected)
+    not_tried.update(skipped)
+    for alt in alts:  # the friction's shapes, from the best plausible model of the effects
+        if leader is not selected:
+            alt = replace(alt, label=f"{alt.label}, {leader.alternative.label}")
+        _fit_one(rig, leader.fit, alt, refit, noise, fits, not_tried, deadline)
+    for f in fits:
+        f.plausible = _plausible(rig, f.fit)
+    if not any(f.plausible for f in fits):  # no form is plausible: weigh them all (the findings say so)
+        for f in fits:
+            f.plausible = True
+        not_tried["plausible forms"] = "none: every fitted form has a value outside its plausible range"
+    best = min(f.bic for f in fits if f.plausible)
+    raw = [math.exp(-0.5 * (f.bic - best)) if f.plausible else 0.0 for f in fits]
     for f, w in zip(fits, raw):
         f.delta_bic, f.weight = f.bic - best, w / sum(raw)
     quantities, specific = quantities_over(rig, fits, pinned or {})
     forms = ModelForms(fits, quantities, not_tried, specific)
-    selected = fits[0].fit
-    forms.findings = findings_of(rig, {p.name: p.value for p in selected.parameters.values() if p.kind == "model"},
-                                 {p.name: p.stderr for p in selected.parameters.values() if p.kind == "model" and p.vary},
+    forms.findings = findings_of(rig, {p.name: p.value for p in base.parameters.values() if p.kind == "model"},
+                                 {p.name: p.stderr for p in base.parameters.values() if p.kind == "model" and p.vary},
                                  forms.quantities)
     return forms
+
+
+def _plausible(rig, fit: FitResult) -> bool:
+    """Whether every fitted model value of ``fit`` is within its plausible range or within 1.96 of
+    its stated errors of it (:func:`.plausibility.plausible_range`)."""
+    for name, p in fit.parameters.items():
+        bounds = plausible_range(name, rig) if p.kind == "model" else None
+        if bounds is None:
+            continue
+        se = p.stderr if p.vary and p.stderr is not None and math.isfinite(p.stderr) else 0.0
+        if p.value + Z95 * se < bounds[0] or p.value - Z95 * se > bounds[1]:
+            return False
+    return True
+
+
+def _fit_one(rig, base: FitResult, alt: Alternative, refit: Refit, noise, fits: list, not_tried: dict,
+             deadline: float | None) -> None:
+    """Fit ``alt`` from ``base``'s values and append it to ``fits`` (or say in ``not_tried`` why not)."""
+    if deadline is not None and time.monotonic() > deadline:
+        not_tried[alt.label] = "the forms' time budget was spent"
+        return
+    params, starts = alternative_parameters(rig, base, alt)
+    try:
+        r = refit(alt.effects, params, starts, alt.label, **form_fit_options(alt, starts))
+    except (FitAborted, SimulationError, ValueError) as e:
+        not_tried[alt.label] = f"its fit failed ({e})"
+        return
+    fits.append(FormFit(alt, r, r.bic_with(noise)))
 
 
 def _static_load(rig) -> float | None:
