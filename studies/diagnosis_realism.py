@@ -341,10 +341,19 @@ def write_markdown(out, records, summary):
                "yes" if r["verdict_right"] else "NO", f"{r['rms_before_over_noise']:.1f}",
                f"{r['rms_after_over_noise']:.2f}",
                "; ".join(f"{c['parameter']} {c['fitted']:.4g}+-{c['stderr']:.2g} ({c['truth']:.4g}, z {c['z']:+.1f})"
-                         for c in r["comparisons"]) or "-", f"{r['seconds']:.1f}"] for r in records]
+                         for c in r["comparisons"]) or "-",
+               "; ".join(f"{c['parameter']} [{c['low']:.4g}, {c['high']:.4g}] ({c['truth']:.4g}"
+                         + ("" if c["covered"] else ", OUT") + ")" for c in r["form_comparisons"]) or "-",
+               f"{r['seconds']:.1f}"] for r in records]
+    split = summary["coverage_split"]
+    forms_rows = [[label.replace("_", " "), c["runs"], f"{c['before']['covered']}/{c['before']['compared']}",
+                   f"{c['after']['covered']}/{c['after']['compared']}",
+                   f"{c['explained_beyond_3_before']}", f"{c['explained_beyond_3_after']}"] for label, c in split.items()]
+    after = sum(c["after"]["covered"] for c in split.values()), sum(c["after"]["compared"] for c in split.values())
     (out / "diagnosis_realism.md").write_text(
         f"# Diagnosis on realistic records (synthetic): {hits}/{n} hits, verdict right {verdicts}/{n}, "
-        f"95 % intervals cover {cov['covered']}/{cov['compared']}\n\n"
+        f"95 % intervals cover {cov['covered']}/{cov['compared']} (selected fit), {after[0]}/{after[1]} "
+        "(model forms)\n\n"
         "Records from `vcbmodel.analysis.realistic` (SYNTHETIC): friction from the fitted family's own law "
         "(`hybrid`, by the independent reference) or from outside it (`tustin`, `lugre`, `dahl`, "
         "`position_torque`). A hit names exactly the expected effects (an unregistered cause: says "
@@ -357,13 +366,22 @@ def write_markdown(out, records, summary):
         f"{summary['seconds_median']:.1f} s, max {summary['seconds_max']:.0f} s; processor seconds of the diagnosis and its "
         f"simulation workers: median {summary['cpu_seconds_median']:.1f} s, total {summary['cpu_seconds_total']:.0f} s; "
         "one diagnosis alone: `benchmark.md`).\n\n"
-        "## By friction truth\n\n" + markdown_table(["friction truth", *COLUMNS], truths)
+        "## Coverage: the selected fit alone and the model forms\n\n"
+        "The selected fit's 95 % interval (fitted +- 1.96 stderr) against the model forms' (`model_forms` in the "
+        "diagnosis JSON: BIC-weighted forms, the interval holding each form within the evidence margin), each "
+        "against the truth in its meaning (study docstring); and how many values of an `explained` verdict lie "
+        f"more than {EXPLAINED_Z:g} of their stated errors from the truth.\n\n"
+        + markdown_table(["records", "runs", "selected fit covers", "model forms cover",
+                          f"explained, beyond {EXPLAINED_Z:g} errors (selected)",
+                          f"explained, beyond {EXPLAINED_Z:g} errors (forms)"], forms_rows)
+        + "\n## By friction truth\n\n" + markdown_table(["friction truth", *COLUMNS], truths)
         + "\n## By complication (every friction truth)\n\n" + markdown_table(["group", "complications", *COLUMNS], groups)
         + "\n## Parameters against the truth\n\n"
         + markdown_table(["friction truth", "parameter", "95 % covers", "median bias", "median abs(z)"], params)
         + "\n## Every run\n\n"
         + markdown_table(["friction truth", "group", "case", "seed", "expected", "named", "explained", "hit",
-                          "verdict right", "rms before", "rms after", "fitted +- stderr (truth, z)", "time (s)"], detail))
+                          "verdict right", "rms before", "rms after", "fitted +- stderr (truth, z)",
+                          "model forms' 95 % (truth)", "time (s)"], detail))
 
 
 def _made_and_diagnosed(task):
