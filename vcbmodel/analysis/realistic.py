@@ -96,7 +96,10 @@ FRICTION_TRUTH_CHOICES = ("hybrid",) + FRICTION_TRUTHS + TORQUE_TRUTHS
 #: resembles nothing registered. A cam drop passes the Stribeck range within its first
 #: microseconds: its nearest answer is the case's own.
 NEAREST_EXTRA = {"tustin": ("stribeck",), "lugre": ("stribeck",), "dahl": (), "position_torque": (),
-                 "air_drag": tuple(e for e in ("aerodynamic_drag",) if e in EFFECTS), "drifting_coulomb": ()}
+                 "air_drag": (), "drifting_coulomb": ()}
+#: Registered effects a truth has that its record may not show: named or not, the diagnosis is right
+#: (a real paddle's drag, 4e-4 to 5e-3 N m s^2/rad^2, is often below what a swing's record resolves).
+OPTIONAL_EXTRA = {"air_drag": tuple(e for e in ("aerodynamic_drag",) if e in EFFECTS)}
 QUANTUM = math.radians(0.09)  # encoder step (4000 counts per revolution)
 #: A 12-bit logger's step on a single-turn potentiometer: the pot's 340 deg electrical span over
 #: the logger's full scale of 4096 counts (1.45 mrad, about three times a pendulum pot's noise).
