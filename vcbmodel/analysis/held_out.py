@@ -49,7 +49,8 @@ class HeldOut:
     def to_json(self) -> dict:
         return {"predictions": self.predictions, "at_noise_ratio": AT_NOISE_RATIO,
                 "predicted_at_noise": self.predicted_at_noise,
-                "single_record_fits": {k: [{"value": v, "stderr": s} for v, s in rows] for k, rows in self.singles.items()},
+                "single_record_fits": {k: [{"value": v, "stderr": s if math.isfinite(s) else None} for v, s in rows]
+                                       for k, rows in self.singles.items()},
                 "first_peaks": self.first_peaks, "moving": self.moving,
                 "missing_effect": bool(self.moving) or not self.predicted_at_noise}
 

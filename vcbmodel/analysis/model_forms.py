@@ -137,9 +137,14 @@ class Quantity:
     meaning: str = ""
 
     def to_json(self) -> dict:
-        return {"estimate": self.estimate, "stderr": self.stderr, "low": self.low, "high": self.high,
-                "unit": self.unit, "determined": self.determined, "meaning": self.meaning,
-                "by_form": {k: {"value": v, "stderr": s} for k, (v, s) in self.by_form.items()}}
+        return {"estimate": _finite(self.estimate), "stderr": _finite(self.stderr), "low": _finite(self.low),
+                "high": _finite(self.high), "unit": self.unit, "determined": self.determined, "meaning": self.meaning,
+                "by_form": {k: {"value": _finite(v), "stderr": _finite(s)} for k, (v, s) in self.by_form.items()}}
+
+
+def _finite(x: float | None) -> float | None:
+    """``x``, or None when it is not a finite number (JSON has no infinity)."""
+    return float(x) if x is not None and math.isfinite(x) else None
 
 
 @dataclass
@@ -166,7 +171,7 @@ class ModelForms:
                            "plausible": f.plausible,
                            "rms": f.fit.rms, "values": {p.name: p.value for p in f.fit.parameters.values()
                                                         if p.kind == "model"},
-                           "stderr": {p.name: p.stderr for p in f.fit.parameters.values()
+                           "stderr": {p.name: _finite(p.stderr) for p in f.fit.parameters.values()
                                       if p.kind == "model" and p.vary}} for f in self.forms],
                 "quantities": {name: q.to_json() for name, q in self.quantities.items()},
                 "not_determined": self.undetermined, "form_specific": self.form_specific,
