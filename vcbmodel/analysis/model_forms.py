@@ -158,6 +158,11 @@ class ModelForms:
     findings: list = field(default_factory=list)  # plausibility findings (:mod:`.plausibility`)
 
     @property
+    def preferred(self) -> FormFit:
+        """The plausible form with the best BIC."""
+        return min((f for f in self.forms if f.plausible), key=lambda f: f.bic, default=self.forms[0])
+
+    @property
     def undetermined(self) -> list[str]:
         return [q.name for q in self.quantities.values() if not q.determined]
 
@@ -175,6 +180,8 @@ class ModelForms:
                                       if p.kind == "model" and p.vary}} for f in self.forms],
                 "quantities": {name: q.to_json() for name, q in self.quantities.items()},
                 "not_determined": self.undetermined, "form_specific": self.form_specific,
+                "preferred_form": self.preferred.alternative.label,
+                "selected_delta_bic": self.forms[0].bic - self.preferred.bic,
                 "not_tried": dict(self.not_tried), "plausibility": [f.to_json() for f in self.findings]}
 
     def report(self, unit: str = "rad") -> str:
@@ -186,6 +193,10 @@ class ModelForms:
                                                       else "  (implausible values: no weight)"))
         for name, why in self.not_tried.items():
             lines.append(f"    {name:34s} not fitted: {why}")
+        best, selected = self.preferred, self.forms[0]
+        if best is not selected and selected.bic - best.bic > EVIDENCE_MARGIN:
+            lines.append(f"    The record prefers {best.alternative.label} to the selected model by {selected.bic - best.bic:.0f} "
+                         "BIC: the values below are mainly that form's")
         for q in self.quantities.values():
             if q.determined:
                 lines.append(f"    {q.name:18s} {q.estimate:.5g} +/- {q.stderr:.2g} {q.unit}, 95 % [{q.low:.5g}, "
