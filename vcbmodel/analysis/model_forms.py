@@ -7,9 +7,9 @@ drag for viscous friction), the values can sit many stated errors from the truth
 is white at the noise. So beside the selected model this module fits its *alternatives*
 in two steps: the selected model with each registered effect of :data:`ALTERNATIVE_EFFECTS` it lacks,
 beside the others or in place of its partner (:func:`added_effects`: air drag, viscous or Coulomb
-friction, which share a swing's decay); then, from the best plausible model of those, the friction
-forms of :mod:`vcbmodel.laws.friction_forms` (:func:`alternatives`, each with the Stribeck fall it
-needs). A form with a value outside its plausible range (:mod:`.plausibility`: a drag coefficient
+friction, which share a swing's decay); then, from the best plausible model of those and from the
+selected one, the friction forms of :mod:`vcbmodel.laws.friction_forms` (:func:`alternatives`, each
+with the Stribeck fall it needs). A form with a value outside its plausible range (:mod:`.plausibility`: a drag coefficient
 forty times what any paddle gives) gets no weight: the ranges act as a prior that rules it out.
 
 Multi-model inference (Burnham & Anderson, *Model Selection and Multimodel Inference*, 2nd ed.
@@ -265,11 +265,13 @@ def alternative_parameters(rig, base: FitResult, alt: Alternative) -> tuple[dict
     mu_k = params["mu_k"].value if "mu_k" in params else 0.1
     if alt.form is not None:
         starts = [_level_neutral(fp.name, v, mu_k, base) for fp in FORMS[alt.form].parameters for v in fp.scan]
-    if "stribeck" in alt.added and params.get("mu_s") is not None and params["mu_s"].vary:
-        starts = [{"mu_s": f * mu_k} for f in MU_S_STARTS]
-    elif alt.form in ("tustin", "gaussian") and params.get("stribeck_velocity") is not None \
-            and params["stribeck_velocity"].vary:
+    curve = alt.form in ("tustin", "gaussian") and params.get("stribeck_velocity") is not None \
+        and params["stribeck_velocity"].vary
+    if curve:
         starts = _curve_starts(rig, base, params)
+    if "stribeck" in alt.added and params.get("mu_s") is not None and params["mu_s"].vary:
+        # a new fall: mu_s as multiples of mu_k (with each of the curve's starts)
+        starts = [{**start, "mu_s": f * mu_k} for start in (starts or [{}]) for f in MU_S_STARTS]
     elif len(alt.added) == 1 and alt.added[0] in DECAY_SHARES:
         starts = _decay_starts(rig, base, alt, params)
     return params, starts
@@ -360,12 +362,15 @@ def fit_forms(rig, base: FitResult, refit: Refit, noise=None, *, label: str = "s
     for f in fits:
         f.plausible = _plausible(rig, f.fit)
     leader = min((f for f in fits if f.plausible), key=lambda f: f.bic, default=selected)
-    alts, skipped = alternatives(leader.fit.effects, rig.experiment, searched and leader is selected)
-    not_tried.update(skipped)
-    for alt in alts:  # the friction's shapes, from the best plausible model of the effects
-        if leader is not selected:
-            alt = replace(alt, label=f"{alt.label}, {leader.alternative.label}")
-        _fit_one(rig, leader.fit, alt, refit, noise, fits, not_tried, deadline)
+    # the friction's shapes, from the best plausible model of the effects and from the selected one (a
+    # decay effect can absorb part of a shape's work: air drag taking a drifting level's share)
+    for parent in [leader] + ([selected] if selected.plausible and selected is not leader else []):
+        alts, skipped = alternatives(parent.fit.effects, rig.experiment, searched and parent is selected)
+        not_tried.update(skipped)
+        for alt in alts:
+            if parent is not selected:
+                alt = replace(alt, label=f"{alt.label}, {parent.alternative.label}")
+            _fit_one(rig, parent.fit, alt, refit, noise, fits, not_tried, deadline)
     for f in fits:
         f.plausible = _plausible(rig, f.fit)
     if not any(f.plausible for f in fits):  # no form is plausible: weigh them all (the findings say so)
