@@ -83,3 +83,14 @@ def test_form_values_run_through_the_model_values_rule(pendulum_rig):
     r = simulate(pendulum_rig, BASE + ("drifting_coulomb_friction",), {**VALUES, "mu_k_drift": 0.003}, t_end=0.1)
     assert r.spec.friction_form == "drifting" and r.spec.form_values == (0.003,)
     assert math.isfinite(r.measured[-1])
+
+
+@pytest.mark.parametrize("name", sorted(f for f in FORMS if FORMS[f].effect))
+def test_every_form_runs_the_same_on_a_cam_drop(cam_rig, name):
+    """The cam shaft's friction (eq. 13) in every form: the compiled path against Exudyn, 35 ms."""
+    form = FORMS[name]
+    effects = BASE + (form.effect,)
+    values = {**VALUES, **form_values(form), "viscous": 0.5}
+    compiled = simulate(cam_rig, effects, values, t_end=0.035, backend="compiled")
+    exudyn = simulate(cam_rig, effects, values, t_end=0.035, backend="exudyn")
+    assert np.max(np.abs(compiled.measured - exudyn.measured)) < 1e-9
