@@ -38,7 +38,8 @@ linear fall, an exponential or a Gaussian decay speed): it is listed per form, n
 
 A quantity is *determined by the record* when every form within the margin states a finite error
 and its 95 % interval is narrower than its plausible range (:mod:`.plausibility`); otherwise it is
-reported as not determined, with the range the forms span.
+reported as not determined, with the range the forms span (a form without an error: that range and
+the plausible one, all that is known without the record).
 """
 from __future__ import annotations
 
@@ -487,8 +488,9 @@ def _average(rig, name: str, unit: str, rows: list) -> Quantity:
     bounds = plausible_range(name, rig)
     width = (bounds[1] - bounds[0]) if bounds else 2.0 * abs(mean)
     determined = bool(finite and (high - low) < width)
-    if not finite:  # the range the forms' values span
-        low, high = min(x for x, _ in near), max(x for x, _ in near)
+    if not finite:  # no error: the forms' values and, what is known without the record, the plausible range
+        values = [x for x, _ in near] + (list(bounds) if bounds else [])
+        low, high = min(values), max(values)
     meaning = ("the Coulomb level at speed: the friction at speed less C_v w, over r F" if name == "mu_k" else
                "the friction level at rest" if name == "mu_s" else "")
     return Quantity(name, unit, mean, sd, float(low), float(high), determined, by_form, meaning)
