@@ -87,12 +87,16 @@ def test_the_forms_tried_on_a_pendulum_and_why_none_on_a_cam_drop():
 def test_a_model_is_tried_with_the_decay_effects_it_lacks_beside_or_instead_of_its_partner(pendulum_rig):
     best = form("tustin", 0.0, 1.0, ("coulomb_friction", "stribeck", "tustin_friction", "aerodynamic_drag"),
                 mu_k=(0.1, 0.001))
-    added = added_effects(best, "pendulum")
+    added = [a for a in added_effects(best, "pendulum") if a.added]
     assert [(a.added, a.removed) for a in added] == [(("viscous_friction",), ()),
                                                      (("viscous_friction",), ("aerodynamic_drag",))]
     assert added[0].effects[-1] == "viscous_friction" and "tustin_friction" in added[0].effects
     assert "aerodynamic_drag" not in added[1].effects
     assert added_effects(best, "cam_drop") == []
+    without = added_effects(form("hybrid", 0.0, 1.0, ("coulomb_friction", "stribeck", "viscous_friction"),
+                                 mu_k=(0.1, 0.001)), "pendulum")[0]
+    assert without.removed == ("stribeck",) and without.effects == ("coulomb_friction", "viscous_friction")
+    assert added_effects(best, "pendulum")[0].effects == ("coulomb_friction", "aerodynamic_drag")  # Tustin needs it
 
 
 def test_a_tustin_pendulum_is_covered_by_the_model_forms_where_the_hybrid_law_is_not(tmp_path):
