@@ -514,10 +514,11 @@ def _average(rig, name: str, unit: str, rows: list) -> Quantity:
     return Quantity(name, unit, mean, sd, float(low), float(high), determined, by_form, meaning)
 
 
-def diagnosis_model_forms(ctx, final: FitResult, pinned: dict | None = None) -> ModelForms:
+def diagnosis_model_forms(ctx, final: FitResult, pinned: dict | None, noise) -> ModelForms:
     """The forms around a diagnosis's final fit, fitted to its record as the diagnosis fits it (the
-    record's nuisance free, chi^2 under its noise model ``ctx.noise``); ``pinned``: the report's
-    pinned-gain item (its 1-sigma shifts join every form's variance)."""
+    record's nuisance free, chi^2 under the search's noise model ``noise``; ``ctx``: its ``rig``,
+    ``dataset``, ``pool``, ``sigma_hf`` and ``scales()``); ``pinned``: the report's pinned-gain item
+    (its 1-sigma shifts join every form's variance)."""
     deadline = time.monotonic() + FORMS_BUDGET_S
 
     def refit(effects, params, starts, label, **options):
@@ -526,7 +527,7 @@ def diagnosis_model_forms(ctx, final: FitResult, pinned: dict | None = None) -> 
                            should_stop=lambda: time.monotonic() > deadline, **options)
 
     shifts = {name: row["shift"] for name, row in (pinned or {}).get("shifts", {}).items()}
-    return fit_forms(ctx.rig, final, refit, ctx.noise, label=f"selected ({_form_name(final.effects)})", pinned=shifts,
+    return fit_forms(ctx.rig, final, refit, noise, label=f"selected ({_form_name(final.effects)})", pinned=shifts,
                      budget_s=FORMS_BUDGET_S, searched=True)
 
 

@@ -51,7 +51,7 @@ def report(ctx, state) -> None:
     if pinned:
         nuisance["pinned_sensitivity"] = [pinned]
         evidence += (" " + pinned_caveat(pinned)) if pinned_caveat(pinned) else ""
-    forms = diagnosis_model_forms(ctx, final, pinned)
+    forms = diagnosis_model_forms(ctx, final, pinned, ctx.noise)
     state.verdict = strip_private(state.verdict)
     spent = timing(ctx)
     ctx.say(f"missing effects: {', '.join(state.missing) or 'none'}; rms {baseline.rms:.3g} -> {final.rms:.3g} "
