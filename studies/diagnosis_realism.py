@@ -9,7 +9,8 @@ gain error, correlated noise, a hand-driven start, and the "laboratory" combinat
 complication group, randomised hidden-effect cases (none, one, two, unregistered) are diagnosed
 without knowing the answer. Then the same with friction from outside the fitted family
 (:mod:`vcbmodel.reference.truth_friction`: Tustin, LuGre, Dahl, a position-dependent torque), on
-pendulums and massless cam drops.
+pendulums and massless cam drops, and pendulums with air drag on a paddle or a drifting Coulomb level
+(:mod:`vcbmodel.reference.torque_truth`).
 
 Scoring (one rule for every record):
 
@@ -358,7 +359,8 @@ def write_markdown(out, records, summary):
         "(model forms)\n\n"
         "Records from `vcbmodel.analysis.realistic` (SYNTHETIC): friction from the fitted family's own law "
         "(`hybrid`, by the independent reference) or from outside it (`tustin`, `lugre`, `dahl`, "
-        "`position_torque`). A hit names exactly the expected effects (an unregistered cause: says "
+        "`position_torque`; on pendulums also `air_drag` and `drifting_coulomb`). A hit names exactly the "
+        "expected effects (an unregistered cause: says "
         "`explained: false`, or leaves nothing above the noise and the rest is named exactly); the verdict is "
         "right when `explained` is true for a truth in the family and, for "
         f"one outside it, says whether the final rms exceeds {RESIDUAL_ABOVE_NOISE:g}x the true noise. Coverage: "
