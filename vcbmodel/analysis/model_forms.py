@@ -10,7 +10,9 @@ beside the others or in place of its partner (:func:`added_effects`: air drag, v
 friction, which share a swing's decay); then, from the best plausible model of those and from the
 selected one, the friction forms of :mod:`vcbmodel.laws.friction_forms` (:func:`alternatives`, each
 with the Stribeck fall it needs). A form with a value outside its plausible range (:mod:`.plausibility`: a drag coefficient
-forty times what any paddle gives) gets no weight: the ranges act as a prior that rules it out.
+forty times what any paddle gives) gets no weight: the ranges act as a prior that rules it out, unless no
+plausible form fits within the evidence margin of the best (then all are weighed, and the findings say
+which values are implausible).
 
 Multi-model inference (Burnham & Anderson, *Model Selection and Multimodel Inference*, 2nd ed.
 2002, ch. 4 and 6.4), with BIC weights w_i = exp(-dBIC_i / 2) / sum_j exp(-dBIC_j / 2):
@@ -242,7 +244,10 @@ def added_effects(best: FormFit, experiment: str) -> list[Alternative]:
     instead)."""
     effects, out = tuple(best.fit.effects), []
     for name in REMOVABLE.get(experiment, ()):
-        if name in effects:  # without it (and a form that needs it): a fall the record may not hold at all
+        partner = PARTNERS.get(name)
+        if name in effects and (partner is None or partner in effects):
+            # without it (and a form that needs it): a fall the record may not hold at all, or one of two
+            # decay effects where the other may do the work alone
             needs = {f.effect for f in FORMS.values() if f.effect and name in f.needs}
             out.append(Alternative(f"- {name}", tuple(e for e in effects if e != name and e not in needs), (),
                                    removed=(name,)))
@@ -286,8 +291,10 @@ def alternative_parameters(rig, base: FitResult, alt: Alternative) -> tuple[dict
 
 #: Registered effects a model is also fitted without (pendulum): a Stribeck fall the record does not
 #: hold leaves mu_s and w_s undetermined (errors of 1e9-1e16) and, through their correlations, every
-#: other value's error with them (identify's hybrid law always has one).
-REMOVABLE = {"pendulum": ("stribeck",)}
+#: other value's error with them (identify's hybrid law always has one); of air drag and viscous
+#: friction together, either alone may do the work (the diagnosis named a drag 10 times the largest
+#: paddle's beside viscous friction on a record without drag).
+REMOVABLE = {"pendulum": ("stribeck", "aerodynamic_drag", "viscous_friction")}
 #: Each decay effect's parameter: an effect added to the best form starts at 0 (the form itself).
 DECAY_SHARES = {"coulomb_friction": "mu_k", "viscous_friction": "viscous", "aerodynamic_drag": "drag"}
 #: Decay effects that may stand in for each other (both dissipate more at speed).
@@ -392,10 +399,12 @@ def fit_forms(rig, base: FitResult, refit: Refit, noise=None, *, label: str = "s
             _fit_one(rig, parent.fit, alt, refit, noise, fits, not_tried, deadline)
     for f in fits:
         f.plausible = _plausible(rig, f.fit)
-    if not any(f.plausible for f in fits):  # no form is plausible: weigh them all (the findings say so)
+    best_plausible = min((f.bic for f in fits if f.plausible), default=math.inf)
+    if best_plausible - min(f.bic for f in fits) > EVIDENCE_MARGIN:  # no plausible form fits as well
         for f in fits:
             f.plausible = True
-        not_tried["plausible forms"] = "none: every fitted form has a value outside its plausible range"
+        not_tried["plausible forms"] = ("none fits the record within the evidence margin of a form with an implausible "
+                                        "value: all are weighed (the findings say which values are implausible)")
     best = min(f.bic for f in fits if f.plausible)
     raw = [math.exp(-0.5 * (f.bic - best)) if f.plausible else 0.0 for f in fits]
     for f, w in zip(fits, raw):
