@@ -375,30 +375,52 @@ def fit_forms(rig, base: FitResult, refit: Refit, noise=None, *, label: str = "s
     selected = FormFit(Alternative(label, tuple(base.effects), ()), base, base.bic_with(noise))
     fits, not_tried = [selected], dict(NOT_CARRIED)
     deadline = None if budget_s is None else time.monotonic() + budget_s
-    for alt in added_effects(selected, rig.experiment):  # the decay effects it lacks, beside or instead
-        _fit_one(rig, base, alt, refit, noise, fits, not_tried, deadline)
-    for f in fits:
-        f.plausible = _plausible(rig, f.fit)
-    leader = min((f for f in fits if f.plausible), key=lambda f: f.bic, default=selected)
-    if leader is not selected:  # the best model of the effects without a fall it may not hold either
-        for alt in added_effects(leader, rig.experiment):
-            if alt.removed and not alt.added:
-                _fit_one(rig, leader.fit, replace(alt, label=f"{leader.alternative.label}, {alt.label}"), refit, noise,
-                         fits, not_tried, deadline)
-        for f in fits:
-            f.plausible = _plausible(rig, f.fit)
-        leader = min((f for f in fits if f.plausible), key=lambda f: f.bic, default=selected)
+
+    def fit_one(parent: FitResult, alt: Alternative) -> None:
+        _fit_one(rig, parent, alt, refit, noise, fits, not_tried, deadline)
+
+    leader = _effects_step(rig, selected, fits, fit_one)
     # the friction's shapes, from the best plausible model of the effects and from the selected one (a
     # decay effect can absorb part of a shape's work: air drag taking a drifting level's share)
     for parent in [leader] + ([selected] if selected.plausible and selected is not leader else []):
         alts, skipped = alternatives(parent.fit.effects, rig.experiment, searched and parent is selected)
         not_tried.update(skipped)
         for alt in alts:
-            if parent is not selected:
-                alt = replace(alt, label=f"{alt.label}, {parent.alternative.label}")
-            _fit_one(rig, parent.fit, alt, refit, noise, fits, not_tried, deadline)
+            fit_one(parent.fit, alt if parent is selected else replace(alt, label=f"{alt.label}, {parent.alternative.label}"))
+    _weigh(rig, fits, not_tried)
+    quantities, specific = quantities_over(rig, fits, pinned or {})
+    forms = ModelForms(fits, quantities, not_tried, specific)
+    forms.findings = findings_of(rig, {p.name: p.value for p in base.parameters.values() if p.kind == "model"},
+                                 {p.name: p.stderr for p in base.parameters.values() if p.kind == "model" and p.vary},
+                                 forms.quantities)
+    return forms
+
+
+def _effects_step(rig, selected: FormFit, fits: list, fit_one: Callable) -> FormFit:
+    """Fit the selected model's decay-effect alternatives (:func:`added_effects`) and, when one of
+    them leads, that one's removals too; return the best plausible model of the effects."""
+    for alt in added_effects(selected, rig.experiment):  # the decay effects it lacks, beside or instead
+        fit_one(selected.fit, alt)
+    leader = _mark_plausible(rig, fits, selected)
+    if leader is not selected:  # the best model of the effects without a fall it may not hold either
+        for alt in added_effects(leader, rig.experiment):
+            if alt.removed and not alt.added:
+                fit_one(leader.fit, replace(alt, label=f"{leader.alternative.label}, {alt.label}"))
+        leader = _mark_plausible(rig, fits, selected)
+    return leader
+
+
+def _mark_plausible(rig, fits: list, default: FormFit) -> FormFit:
+    """Mark each fit's plausibility; the plausible one with the best BIC (``default`` if none)."""
     for f in fits:
         f.plausible = _plausible(rig, f.fit)
+    return min((f for f in fits if f.plausible), key=lambda f: f.bic, default=default)
+
+
+def _weigh(rig, fits: list, not_tried: dict) -> None:
+    """The BIC weights and distances of ``fits`` over the plausible ones (all of them when no
+    plausible form fits within the evidence margin of the best)."""
+    _mark_plausible(rig, fits, fits[0])
     best_plausible = min((f.bic for f in fits if f.plausible), default=math.inf)
     if best_plausible - min(f.bic for f in fits) > EVIDENCE_MARGIN:  # no plausible form fits as well
         for f in fits:
@@ -409,12 +431,6 @@ def fit_forms(rig, base: FitResult, refit: Refit, noise=None, *, label: str = "s
     raw = [math.exp(-0.5 * (f.bic - best)) if f.plausible else 0.0 for f in fits]
     for f, w in zip(fits, raw):
         f.delta_bic, f.weight = f.bic - best, w / sum(raw)
-    quantities, specific = quantities_over(rig, fits, pinned or {})
-    forms = ModelForms(fits, quantities, not_tried, specific)
-    forms.findings = findings_of(rig, {p.name: p.value for p in base.parameters.values() if p.kind == "model"},
-                                 {p.name: p.stderr for p in base.parameters.values() if p.kind == "model" and p.vary},
-                                 forms.quantities)
-    return forms
 
 
 def _plausible(rig, fit: FitResult) -> bool:
