@@ -404,7 +404,8 @@ def _effects_step(rig, selected: FormFit, fits: list, fit_one: Callable) -> Form
     leader = _mark_plausible(rig, fits, selected)
     if leader is not selected:  # the best model of the effects without a fall it may not hold either
         for alt in added_effects(leader, rig.experiment):
-            if alt.removed and not alt.added:
+            # removals only, and not of what the leader added (that model was fitted already)
+            if alt.removed and not alt.added and not set(alt.removed) & set(leader.alternative.added):
                 fit_one(leader.fit, replace(alt, label=f"{leader.alternative.label}, {alt.label}"))
         leader = _mark_plausible(rig, fits, selected)
     return leader
