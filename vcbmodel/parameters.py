@@ -726,3 +726,59 @@ TEMPLATE_CLOSING_SPRING = {"count": 2, "free_length": 0.30, "anchor": [0.0, 0.0]
                            "coil_diameter": 0.0684, "active_coils": 21.6, "shear_modulus": 79.3e9}
 #: A cam that turns less than this (rad, 0.5 deg) over a whole run did not move: said plainly.
 CAM_DID_NOT_MOVE = 0.5 * 3.141592653589793 / 180.0
+
+# --- plausible ranges of fitted values (vcbmodel/analysis/plausibility.py) ----------------------
+#: A fitted value outside its range, or one that breaks its law's constraint, is reported as
+#: implausible (never a clean fit). Ranges are wide on purpose: they catch a law absorbing what it
+#: does not describe (mu_k 24 times too low), not a rig that is merely unusual.
+#: Kinetic friction coefficient of a steel shaft in its journal: from a greased bronze or steel
+#: bushing's boundary friction (0.02-0.1; Rabinowicz, Friction and Wear of Materials, 2nd ed. 1995,
+#: ch. 4) to dry steel on steel (0.42-0.57; Marks' Standard Handbook for Mechanical Engineers,
+#: 11th ed., Table 3.2.1).
+PLAUSIBLE_MU_K = (0.01, 0.6)
+#: Static coefficient: up to dry steel on steel's static 0.74-0.8 (Marks', Table 3.2.1).
+PLAUSIBLE_MU_S = (0.01, 0.8)
+#: Stribeck velocity as the journal's sliding speed r w_s (m/s): 1e-5 to 0.1 m/s for lubricated
+#: metal contacts (Armstrong-Helouvry, Dupont & Canudas de Wit, Automatica 30, 1994, sec. 2.1).
+PLAUSIBLE_STRIBECK_SLIDING_SPEED = (1e-5, 0.1)
+#: Petroff's viscous torque of a full film in a journal, T = 2 pi mu_oil r^3 L w / c, i.e.
+#: C_v = 2 pi mu_oil r^3 L / c (N m s/rad) with the rig's journal radius r and:
+#: the lubricant's (apparent) viscosity mu_oil (Pa s), from a light oil at 40 degC (ISO VG 10,
+#: 0.009 Pa s) to an NLGI 2 grease's apparent viscosity at the film's shear rates r w / c ~
+#: 1e2-1e3 1/s (shear-thinning greases: about 1-20 Pa s there, far above their base oil's 0.1);
+PETROFF_VISCOSITY = (0.009, 20.0)
+#: the bearing's length over its diameter L / 2r (plain journal bearings: 0.5-2; Shigley's
+#: Mechanical Engineering Design, 10th ed., ch. 12);
+PETROFF_LENGTH_RATIO = (0.5, 2.0)
+#: the radial clearance over the radius c / r (0.0005-0.003; Shigley: c / r about 0.001).
+PETROFF_CLEARANCE_RATIO = (5e-4, 3e-3)
+#: The range's low end is 0 (a dry journal carries no film): its high end is Petroff's with the
+#: most viscous grease, the longest bearing and the smallest clearance (8 N m s/rad at r = 20 mm).
+#: Air drag on a pendulum, c_d = 0.5 rho Cd A R^3 (N m s^2/rad^2): air (AIR_DENSITY), a bluff
+#: body's Cd of at most 2.0 (a cupped plate; a flat plate 1.17: Hoerner, Fluid-Dynamic Drag, 1965,
+#: ch. 3), a paddle of at most 0.1 m^2 at a radius of at most twice the rig's centre-of-mass distance.
+DRAG_MAX_CD = 2.0
+DRAG_MAX_AREA = 0.1
+DRAG_MAX_RADIUS_OVER_COM = 2.0
+#: Drift of the friction levels in time (1/s): a bearing warming by a few kelvin during a test moves
+#: a boundary film's friction by at most about half a typical mu_k (0.05) over a 10-20 s record.
+PLAUSIBLE_MU_K_DRIFT = (-0.005, 0.005)
+#: Coefficient of restitution of the breaker's steel contacts at 0.1-1 m/s: 0.3-1 (Goldsmith,
+#: Impact, 1960: 0.5-0.95 for hardened steels; lower with the interrupter's copper contacts).
+PLAUSIBLE_RESTITUTION = (0.3, 1.0)
+#: Atmospheric force on a medium-voltage vacuum interrupter's bellows (N): 0-600 (100-400 N for
+#: the usual 12-40 kV interrupters; the registry's description).
+PLAUSIBLE_BELLOWS_FORCE = (0.0, 600.0)
+#: A stated error this many times the plausible range's width (or a non-finite one) says the record
+#: does not determine the value at all (a fit stopped on a flat direction: mu_s +- 2.9e12).
+IMPLAUSIBLE_STDERR_OVER_RANGE = 1.0
+
+# --- air drag and a drifting Coulomb level as truths (vcbmodel/analysis/realistic.py) -----------
+#: A realism record's paddle: area A (m^2) and radius R (m) drawn in these ranges, a flat plate
+#: (FLAT_PLATE_DRAG_COEFFICIENT) in air (AIR_DENSITY): c = 0.5 rho Cd A R^3 = 3.8e-4 to 5.3e-3 N m
+#: s^2/rad^2 (a 0.02-0.06 m^2 paddle at 0.3-0.5 m: a paddle a pendulum might carry to be damped).
+DRAG_TRUTH_AREA = (0.02, 0.06)
+DRAG_TRUTH_RADIUS = (0.3, 0.5)
+#: A realism record's drift of the Coulomb level (1/s, either sign): 0.01-0.04 over a 20 s record,
+#: 7-40 % of mu_k 0.09-0.16 (a bearing warming through a test; within PLAUSIBLE_MU_K_DRIFT).
+DRIFT_TRUTH_RATE = (5e-4, 2e-3)

@@ -79,7 +79,7 @@ def coverage(records, truth) -> dict:
     hits = {"stated": 0, "naive": 0}
     ratios, n, records_out = [], 0, []
     for rig, meas in records:
-        result = identify([(rig, meas)], verbose=False)
+        result = identify([(rig, meas)], verbose=False, forms=False)
         held = True
         for name in SHARED:
             p = result.fit.parameters[name]
@@ -138,7 +138,7 @@ def test_identify_finds_the_better_optimum_of_an_out_of_family_record(kind, seed
     itself still puts the whole decay in Coulomb friction here, so the test needs the spread starts."""
     rig, meas = friction_truth_records(kind, [seed])[0]
     assert start_guesses(rig, meas)[0]["viscous"] < 0.1  # the regression's start is in the wrong valley end
-    r = identify([(rig, meas)], verbose=False)
+    r = identify([(rig, meas)], verbose=False, forms=False)
     assert r.residual_to_noise < best
     assert r.values["viscous"] == pytest.approx(LAW_TRUTH["viscous"], rel=0.2)
     assert abs(r.values["mu_k"] - 0.14) < 0.01  # not the local optimum's 0.17

@@ -36,7 +36,7 @@ def test_a_dense_record_is_fitted_at_the_usual_rate_and_recovers_the_truth():
     rig, meas, _ = pendulum_record(8.0, 10000.0)
     thinned = usual_rate((rig, meas))[1]
     assert thinned.t.size == pytest.approx(meas.t.size / 10, abs=1) and np.all(np.isin(thinned.t, meas.t))
-    r = identify([(rig, meas)], verbose=False)
+    r = identify([(rig, meas)], verbose=False, forms=False)
     errs = r.to_json()["stderr"]
     for name in ("mu_k", "mu_s", "viscous"):
         assert abs(r.values[name] - TRUTH[name]) <= 5 * errs[name] + 0.01 * TRUTH[name], (name, r.values[name])
@@ -80,7 +80,7 @@ def test_on_a_record_the_law_describes_the_stated_errors_are_the_white_noise_one
     """In family, at the noise: no warning; the stated errors (sandwich) equal the white-noise
     ones within their sampling error; the JSON names the method and keeps the correlations."""
     rig, meas, _ = pendulum_record(6.0, 1000.0, seed=3)
-    r = identify([(rig, meas)], verbose=False)
+    r = identify([(rig, meas)], verbose=False, forms=False)
     j = r.to_json()
     assert r.warning is None and j["warning"] is None
     for name in ("mu_k", "mu_s", "viscous"):

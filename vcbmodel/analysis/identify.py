@@ -35,6 +35,8 @@ from ..records.signals import first_peak_amplitude
 from ..rig.spring_model import SpringModel
 from .fit import Dataset, FitResult, SimulationPool, fit, make_parameters, staged_fit
 from .release import released_pairs
+from .held_out import HeldOut, held_out_validation
+from .model_forms import ModelForms, fit_forms
 
 if TYPE_CHECKING:
     from ..records.measurement import Measurement
@@ -112,6 +114,8 @@ class IdentifyResult:
     fit: FitResult
     datasets: list
     first_peaks: list  # rad, per dataset
+    forms: ModelForms | None = None  # the forms the records cannot tell apart (:mod:`.model_forms`)
+    held_out: HeldOut | None = None  # fit on some records, predict the rest (:mod:`.held_out`)
 
     @property
     def values(self) -> dict[str, float]:
@@ -133,12 +137,14 @@ class IdentifyResult:
     def warning(self) -> str | None:
         """Why the fitted values should not be trusted as they stand, or None."""
         r = self.residual_to_noise
+        implausible = "; ".join(f.message for f in self.forms.findings) if self.forms is not None else ""
         if r <= WARN_RATIO:
-            return None
-        return (f"the residual is {r:.1f} times the records' own noise: the {self.law} law does not describe these "
-                "records to their noise (another friction behaviour, a rig value off, or a sensor artefact); the values "
-                "are those of the best fit of a wrong model, and their stated errors are inflated by the misfit "
-                f"({self.fit.stderr_method}): read them as such. Try vcbmodel diagnose")
+            return f"implausible values: {implausible}" if implausible else None
+        misfit = (f"the residual is {r:.1f} times the records' own noise: the {self.law} law does not describe these "
+                  "records to their noise (another friction behaviour, a rig value off, or a sensor artefact); the "
+                  "values are those of the best fit of a wrong model, and their stated errors are inflated by the "
+                  f"misfit ({self.fit.stderr_method}): read them as such. Try vcbmodel diagnose")
+        return (f"implausible values: {implausible}. " if implausible else "") + misfit
 
     def zeta(self) -> float:
         p, rig = self.datasets[0].rig.pendulum, self.datasets[0].rig
@@ -160,17 +166,22 @@ class IdentifyResult:
                 "aic": self.fit.aic, "bic": self.fit.bic, "noise_estimate": self.fit.sigma,
                 "residual_to_noise": self.residual_to_noise, "warning": self.warning,
                 "simulated_with": self.fit.backend,
-                "measurements": [d.measurement.path for d in self.datasets]}
+                "measurements": [d.measurement.path for d in self.datasets],
+                "model_forms": self.forms.to_json() if self.forms is not None else None,
+                "implausible": [f.to_json() for f in self.forms.findings] if self.forms is not None else [],
+                "held_out": self.held_out.to_json() if self.held_out is not None else None}
 
     def report(self) -> str:
         return (f"Friction identification, {self.law} law, {len(self.datasets)} measurement(s)\n"
                 + (f"  WARNING: {self.warning}\n" if self.warning else "")
                 + f"  max |error| {self.max_error_percent():.2f} % of the first peak amplitude; zeta {self.zeta():.4g}\n"
-                + self.fit.report())
+                + self.fit.report()
+                + ("\n" + self.forms.report() if self.forms is not None else "")
+                + ("\n" + self.held_out.report() if self.held_out is not None else ""))
 
 
 def identify(pairs: Sequence[tuple[Rig, Measurement]], law: str = "hybrid", verbose: bool = True, polish: bool = False,
-             processes: int = 2) -> IdentifyResult:
+             processes: int = 2, forms: bool = True, hold_out: bool = True) -> IdentifyResult:
     """Fit ``law`` to the (rig, measurement) pairs at once (shared friction parameters).
 
     Least squares from the record's own starting values (the swing's decay), first on the
@@ -186,6 +197,10 @@ def identify(pairs: Sequence[tuple[Rig, Measurement]], law: str = "hybrid", verb
     verbose : report each fit's progress.
     polish : run the simplex afterwards.
     processes : processes for the Jacobian's simulations.
+    forms : also fit the forms the records cannot tell apart and state every quantity over them
+        (:mod:`.model_forms`).
+    hold_out : with several records, fit on some and predict the rest, and fit each alone
+        (:mod:`.held_out`).
 
     Returns
     -------
@@ -231,4 +246,14 @@ def identify(pairs: Sequence[tuple[Rig, Measurement]], law: str = "hybrid", verb
             polished.nfev += result.nfev
             result = polished
     peaks = [first_peak_amplitude(d.t, d.y) for d in datasets]
-    return IdentifyResult(law, result, datasets, peaks)
+    out = IdentifyResult(law, result, datasets, peaks)
+    if forms or (hold_out and len(datasets) > 1):
+        with SimulationPool(processes, inline_single=True) as pool:
+            def refit(effects, params, starts, label, on=datasets, **options):
+                return fit(on, effects, MASSLESS, params, pool=pool, sigma=result.sigma, starts=starts, verbose=False,
+                           label=label, **options)
+            if forms:
+                out.forms = fit_forms(rig0, result, refit, None, label=law)
+            if hold_out and len(datasets) > 1:
+                out.held_out = held_out_validation(datasets, result, refit, peaks)
+    return out

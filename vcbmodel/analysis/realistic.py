@@ -16,7 +16,11 @@ records carry, and their truth is structurally different from every candidate mo
   and the massless cam drop (:mod:`vcbmodel.reference.truth_friction`): Tustin's exponential
   Stribeck curve, LuGre (micrometres of pre-sliding), Dahl, or Coulomb and viscous friction with a
   position-dependent (cogging) torque. The default ``hybrid`` is the fitted law itself, from the
-  independent reference; its records are those of earlier versions, seed for seed.
+  independent reference; its records are those of earlier versions, seed for seed;
+- or (``friction_truth``, pendulums only) Coulomb and viscous friction with an effect outside the
+  fitted law (:data:`TORQUE_TRUTHS`, solved by :mod:`vcbmodel.reference.torque_truth`): air drag on
+  a paddle of physical size, -c w|w| with c = 0.5 rho Cd A R^3, or a Coulomb level drifting in time
+  as a bearing warms, mu_k + a t.
 
 Complications (each drawn at random within the stated range, or chosen):
 
@@ -59,6 +63,8 @@ from ..experiments.simulation import simulate
 from ..laws.breaker import pole_gaps
 from ..records.analyser import figures_of_merit as analyser_figures
 from ..records.measurement import Measurement, write_measurement
+from ..model.effects import EFFECTS
+from ..reference.torque_truth import pendulum_with_torque
 from ..reference.truths import FRICTION_TRUTHS, friction_truth_angle, position_dependent_pendulum, static_load
 
 COMPLICATIONS = ("pre_trigger", "initial_angle", "offset", "gain", "correlated", "hand_start", "quantised",
@@ -80,13 +86,20 @@ HIDDEN = {
 }
 #: Friction truths: ``hybrid`` (the fitted law, by the independent reference) or one from outside
 #: the family (:data:`vcbmodel.reference.truths.FRICTION_TRUTHS`).
-FRICTION_TRUTH_CHOICES = ("hybrid",) + FRICTION_TRUTHS
+#: Pendulum truths with an effect the fitted law lacks (Coulomb and viscous friction besides):
+#: air drag, a drifting Coulomb level.
+TORQUE_TRUTHS = ("air_drag", "drifting_coulomb")
+FRICTION_TRUTH_CHOICES = ("hybrid",) + FRICTION_TRUTHS + TORQUE_TRUTHS
 #: Registered effects an out-of-family pendulum truth resembles beyond Coulomb and viscous
 #: friction (the diagnosis' nearest right answer): the fall from mu_s to mu_k of Tustin's and
 #: LuGre's curves is what ``stribeck`` describes. Dahl has no static peak; the position torque
 #: resembles nothing registered. A cam drop passes the Stribeck range within its first
 #: microseconds: its nearest answer is the case's own.
-NEAREST_EXTRA = {"tustin": ("stribeck",), "lugre": ("stribeck",), "dahl": (), "position_torque": ()}
+NEAREST_EXTRA = {"tustin": ("stribeck",), "lugre": ("stribeck",), "dahl": (), "position_torque": (),
+                 "air_drag": (), "drifting_coulomb": ()}
+#: Registered effects a truth has that its record may not show: named or not, the diagnosis is right
+#: (a real paddle's drag, 4e-4 to 5e-3 N m s^2/rad^2, is often below what a swing's record resolves).
+OPTIONAL_EXTRA = {"air_drag": tuple(e for e in ("aerodynamic_drag",) if e in EFFECTS)}
 QUANTUM = math.radians(0.09)  # encoder step (4000 counts per revolution)
 #: A 12-bit logger's step on a single-turn potentiometer: the pot's 340 deg electrical span over
 #: the logger's full scale of 4096 counts (1.45 mrad, about three times a pendulum pot's noise).
@@ -125,6 +138,9 @@ def friction_truth_cases(friction_truth: str) -> list[str]:
     the closing)."""
     if friction_truth not in FRICTION_TRUTH_CHOICES:
         raise ValueError(f"unknown friction truth {friction_truth!r} (known: {', '.join(FRICTION_TRUTH_CHOICES)})")
+    if friction_truth in TORQUE_TRUTHS:  # Coulomb and viscous friction besides: no Stribeck fall in the truth
+        return [c for c, (e, _, truth) in HIDDEN.items() if e == "pendulum" and set(truth) <= {
+            "coulomb_friction", "viscous_friction"}]
     return [c for c, (e, _, truth) in HIDDEN.items() if friction_truth == "hybrid" or (
         e in ("pendulum", "cam_drop") and not {"position_dependent_friction", "spring_mass"} & set(truth))]
 
@@ -317,6 +333,9 @@ def realistic_record(case: str, seed: int, folder: str | Path, complications: Se
     t_rec, tau, tau_grid, lead = _record_times(rng, rec, drawn, t_end)
     if friction_truth == "hybrid":
         theta, spring = _true_angle(rng, truth_rig, folder, friction, truth_effects, tau_grid, drawn)
+    elif friction_truth in TORQUE_TRUTHS:
+        law_values = _torque_truth_values(friction_truth, friction, truth_effects, seed)
+        theta, spring = _torque_truth_angle(friction_truth, truth_rig, law_values, tau_grid), None
     else:
         law_values = _friction_truth_values(friction_truth, friction, truth_effects, truth_rig, seed)
         theta, spring = friction_truth_angle(friction_truth, truth_rig, law_values, tau_grid), None
@@ -336,6 +355,43 @@ def realistic_record(case: str, seed: int, folder: str | Path, complications: Se
              "in_family": answer is not None and friction_truth == "hybrid",
              "static_load": static_load(truth_rig), "radius": truth_rig["shaft"]["radius"]}
     return rig_path, meas_path, truth
+
+
+def _torque_truth_values(kind: str, friction: Mapping[str, float], truth_effects: Sequence[str], seed: int) -> dict:
+    """An air-drag or drifting truth's values: the drawn mu_k (static level the same: no Stribeck fall),
+    the viscous coefficient where the case's truth has viscous friction, and the drag coefficient
+    (N m s^2/rad^2) or the drift (1/s) from its own stream of ``seed`` in the ranges of
+    :mod:`vcbmodel.parameters`."""
+    values = {"mu_k": friction["mu_k"], "mu_s": friction["mu_k"],
+              "viscous": friction["viscous"] if "viscous_friction" in truth_effects else 0.0}
+    rng = np.random.default_rng([seed, FRICTION_TRUTH_CHOICES.index(kind)])
+    if kind == "air_drag":
+        area, radius = float(rng.uniform(*P.DRAG_TRUTH_AREA)), float(rng.uniform(*P.DRAG_TRUTH_RADIUS))
+        values.update(drag=0.5 * P.AIR_DENSITY * P.FLAT_PLATE_DRAG_COEFFICIENT * area * radius**3, paddle_area=area,
+                      paddle_radius=radius)
+    else:
+        values["mu_k_drift"] = float(rng.uniform(*P.DRIFT_TRUTH_RATE) * rng.choice([-1.0, 1.0]))
+    return values
+
+
+def _torque_truth_angle(kind: str, rig: dict, values: Mapping[str, float], t_eval: np.ndarray) -> np.ndarray:
+    """The pendulum's angle (rad) over ``t_eval`` (s) with Coulomb and viscous friction and the air
+    drag -c w|w| or the drifting Coulomb level's extra torque -a t r F_n sign(w), by the independent
+    torque truth (F_n its own reaction)."""
+    p, r, g = rig["pendulum"], rig["shaft"]["radius"], rig["gravity"]
+    if kind == "air_drag":
+        c = values["drag"]
+
+        def extra(t, th, w):
+            return -c * w * abs(w)
+    else:
+        a, M, inertia, L = values["mu_k_drift"], p["mass"], p["inertia"], p["com_distance"]
+
+        def extra(t, th, w):
+            acc = -M * g * L * math.sin(th) / inertia
+            fn = M * math.hypot(g * math.cos(th) + L * w * w, g * math.sin(th) + L * acc)
+            return -a * t * r * fn * math.copysign(1.0, w) if w != 0.0 else 0.0
+    return pendulum_with_torque(p, g, r, {"mu_k": values["mu_k"], "viscous": values["viscous"]}, extra, t_eval)
 
 
 def _friction_truth_values(kind: str, friction: Mapping[str, float], truth_effects: Sequence[str], truth_rig: dict,

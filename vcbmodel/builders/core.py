@@ -187,7 +187,7 @@ def add_cam_friction(model, rig, law, body: CamBody, pin_force, user_function, e
             Tc, R0x, R0y = Tc + torque, R0x - ex, R0y - ey
         if discovered:
             Tc = Tc + discovered_torque(t, theta, omega, discovered, ops)
-        return shaft_friction(omega, Tc, R0x, R0y, R1x, R1y, inertia, law, ops)[0]
+        return shaft_friction(omega, Tc, R0x, R0y, R1x, R1y, inertia, law, ops, t)[0]
 
     add_discovered_torque(model, body.shaft, discovered, user_function)
     add_friction_connector(model, body.shaft, friction_of_state, user_function)

@@ -37,7 +37,7 @@ def build_pendulum(rig: Rig, law: FrictionLaw, user_function: str = "symbolic", 
             Tc = Tc + discovered_torque(t, theta, omega, discovered, ops)
         if drag:
             Tc = Tc + aerodynamic_drag_torque(omega, drag, ops)
-        return shaft_friction(omega, Tc, R0x, R0y, R1x, R1y, p.inertia, law, ops)[0]
+        return shaft_friction(omega, Tc, R0x, R0y, R1x, R1y, p.inertia, law, ops, t)[0]
 
     add_discovered_torque(model, shaft, discovered, kind)
     add_drag_torque(model, shaft, drag, kind)

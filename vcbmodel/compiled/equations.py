@@ -53,7 +53,7 @@ def pendulum_equations(t: Scalar, q: Sequence[Scalar], v: Sequence[Scalar], memo
         Tc = Tc + discovered_torque(t, theta, omega, inputs["discovered"], ops)
     if "drag" in inputs:
         Tc = Tc + aerodynamic_drag_torque(omega, inputs["drag"], ops)
-    Tf = shaft_friction(omega, Tc, R0x, R0y, R1x, R1y, p.inertia, law, ops)[0]
+    Tf = shaft_friction(omega, Tc, R0x, R0y, R1x, R1y, p.inertia, law, ops, t)[0]
     return [(Tc - Tf) / p.inertia], {"friction_torque": Tf}
 
 
@@ -114,7 +114,7 @@ def _cam_and_chain(t, q, v, inputs, ops, extra):
     Tc, R0x, R0y, R1x, R1y = cam_loads(theta, omega, cam, fx, fy, g, ops, pin_mass, spring.weight)
     Tc, R0x, R0y = Tc + extra[0], R0x - extra[1], R0y - extra[2]
     inertia = cam_inertia(cam, pin_mass)
-    Tf = shaft_friction(omega, Tc, R0x, R0y, R1x, R1y, inertia, law, ops)[0]
+    Tf = shaft_friction(omega, Tc, R0x, R0y, R1x, R1y, inertia, law, ops, t)[0]
     return [(Tc - Tf) / inertia] + accelerations, Tf
 
 

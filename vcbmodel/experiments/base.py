@@ -140,6 +140,12 @@ class Experiment:
     reference: Callable | None = None  # (rig, spec, law, chain, t_end, method, step) -> (data, info): the solve without Exudyn
     sensor: str = ""  # the usual sensor's kind: potentiometer | camera (synthetic records' complications follow it)
     random_rig: Callable | None = None  # (rng, friction, start, variant) -> rig JSON: randomised rigs (random_rigs.py)
+    #: model-form uncertainty (analysis/model_forms.py): whether its records resolve the friction's shape
+    #: (the Stribeck range) so that the friction forms are fitted on them; the registered effects a form
+    #: may add beside the selected model's, and those it is also fitted without
+    friction_shapes: bool = False
+    form_alternatives: tuple = ()
+    form_removable: tuple = ()
 
     @property
     def has_closing_spring(self) -> bool:

@@ -162,5 +162,9 @@ PENDULUM = Experiment(
     fit_user_function="symbolic", staged_fit=True, natural_frequency=swing_frequency,
     # a swing starts within tens of ms of where it is first seen to move (a hand release is slower)
     free_swing=True, release_span=0.06,
+    # a swing's decay is shared between Coulomb friction, viscous friction and air drag: a record can hold
+    # any of them beside or instead of another; it sweeps through the Stribeck range at every turn
+    friction_shapes=True, form_alternatives=("coulomb_friction", "viscous_friction", "aerodynamic_drag"),
+    form_removable=("stribeck", "aerodynamic_drag", "viscous_friction"),
     ode_model=OdeModel("pendulum", prepare_pendulum, pendulum_equations), reference=reference,
     sensor="potentiometer", random_rig=pendulum_random_rig)

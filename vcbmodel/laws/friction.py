@@ -229,7 +229,7 @@ def _is_zero(x):
 
 
 def shaft_friction(w: Scalar, applied_torque: Scalar, R0x: Scalar, R0y: Scalar, R1x: Scalar, R1y: Scalar, inertia: Scalar, law: FrictionLaw,
-                   ops: Ops = NumericOps) -> tuple[Scalar, Scalar]:
+                   ops: Ops = NumericOps, t: Scalar = 0.0) -> tuple[Scalar, Scalar]:
     """Friction torque T_f (N m, opposing motion) and shaft reaction F_n (N).
 
     Parameters
@@ -241,9 +241,13 @@ def shaft_friction(w: Scalar, applied_torque: Scalar, R0x: Scalar, R0y: Scalar, 
     inertia : the inertia that multiplies theta'' in the equation of motion (kg m^2).
     law : :class:`FrictionLaw` (``sticking``: passive or literal, module docstring).
     ops : :class:`NumericOps` or :func:`symbolic_ops` (same formula compiled by Exudyn).
+    t : model time (s); a friction form (:mod:`vcbmodel.laws.friction_forms`) in place of ``law``
+        gives the hybrid law that holds at this speed and time.
 
     Returns ``(T_f, F_n)``; the equation of motion is ``I theta'' = T_c - T_f``.
     """
+    if not isinstance(law, FrictionLaw):  # a friction form: its law at this instant
+        law = law.at(w, t, ops)
     r = law.radius
     s = ops.sign(w)
     absw = ops.abs(w)

@@ -18,6 +18,7 @@ from typing import TYPE_CHECKING
 from ..errors import InputError
 from ..laws.discovered import term
 from ..laws.friction import FrictionLaw, effective_static, viscous_from_zeta
+from ..laws.friction_forms import FORMS, FormLaw
 from ..parameters import DEFAULT_STICK_VELOCITY
 from ..rig.spring_model import MASS_VARIANTS, SpringModel
 
@@ -61,10 +62,18 @@ class ModelSpec:
     #: the closing spring's internal damping: its first surge mode's damping ratio (-; 0: none;
     #: laws.springs.kelvin_voigt_time)
     spring_damping: float = 0.0
+    #: the friction law's form (:mod:`vcbmodel.laws.friction_forms`; ``hybrid``: the spec's law) and
+    #: its own values, in the order of its parameters
+    friction_form: str = "hybrid"
+    form_values: tuple = ()
 
-    def friction_law(self, radius: float, step: float = 0.0) -> FrictionLaw:
+    def friction_law(self, radius: float, step: float = 0.0) -> FrictionLaw | FormLaw:
         """The shaft friction law with journal radius ``radius`` (m), for an integrator with
-        fixed step ``step`` (s; 0: adaptive)."""
+        fixed step ``step`` (s; 0: adaptive); a :class:`FormLaw` when the model carries a form."""
+        if self.friction_form != "hybrid":
+            return FormLaw(self.friction_form, mu_s=self.mu_s, mu_k=self.mu_k, stick_velocity=self.stick_velocity,
+                           stribeck_velocity=self.stribeck_velocity, viscous=self.viscous, radius=radius, step=step,
+                           sticking=self.sticking, extra=tuple(self.form_values))
         return FrictionLaw(mu_s=self.mu_s, mu_k=self.mu_k, stick_velocity=self.stick_velocity,
                            stribeck_velocity=self.stribeck_velocity, viscous=self.viscous, radius=radius, step=step,
                            sticking=self.sticking)
@@ -330,8 +339,33 @@ class DiscoveredTorque:
         spec.discovered = self.terms(values)
 
 
-#: Model parts that are not effects of the registry (the diagnosis's candidates): discovery's torque.
-MACHINERY = {m.name: m for m in (DiscoveredTorque(),)}
+class FrictionFormSwitch:
+    """The machinery that runs the shaft friction in another form than the hybrid law's
+    (:mod:`vcbmodel.laws.friction_forms`): not an effect of the registry (the diagnosis never names
+    it; :mod:`vcbmodel.analysis.model_forms` fits the forms a record cannot tell apart). Listing the
+    form's ``effect`` name among a run's effects switches it on; the hybrid law's values keep their
+    meaning and come from the registered effects; the form's own values are named as its parameters."""
+
+    experiments = ("pendulum", "cam_drop", "vcb_closing")
+
+    def __init__(self, form):
+        self.form = form
+        self.name = form.effect
+        self.prefix = tuple(p.name for p in form.parameters) or (form.effect + ":",)
+
+    def on(self, spec: ModelSpec, values: dict, rig: Rig) -> None:
+        if spec.friction_form != "hybrid":
+            raise ValueError(f"two friction forms in one model: {spec.friction_form} and {self.form.name}")
+        missing = [p.name for p in self.form.parameters if p.name not in values]
+        if missing:
+            raise ValueError(f"the {self.form.name} friction form needs {', '.join(missing)}")
+        spec.friction_form = self.form.name
+        spec.form_values = tuple(float(values[p.name]) for p in self.form.parameters)
+
+
+#: Model parts that are not effects of the registry (the diagnosis's candidates): discovery's torque,
+#: the friction forms.
+MACHINERY = {m.name: m for m in (DiscoveredTorque(), *(FrictionFormSwitch(f) for f in FORMS.values() if f.effect))}
 
 
 def effect_reading(path: str, registry: dict[str, Effect] | None = None) -> str | None:

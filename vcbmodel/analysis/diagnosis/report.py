@@ -9,6 +9,7 @@ import time
 from ...records.signals import disagreement_window
 from ..fit.dataset import time_scale_name
 from .evidence import describe_signature, evidence_text, nuisance_report
+from ..model_forms import diagnosis_model_forms
 from .period import period_fields_fitted
 from .pinned import pinned_caveat, pinned_gain
 from .result import Diagnosis
@@ -55,6 +56,7 @@ def report(ctx, state) -> None:
     if pinned:
         found["pinned_sensitivity"] = [pinned]
         evidence += (" " + pinned_caveat(pinned)) if pinned_caveat(pinned) else ""
+    forms = diagnosis_model_forms(ctx, final, pinned, ctx.search.noise)
     spent = timing(ctx)
     ctx.say(f"missing effects: {', '.join(state.missing) or 'none'}; rms {baseline.rms:.3g} -> {final.rms:.3g} "
             f"{ctx.record.unit}; explained: {state.verdict.explained}; {spent['seconds']:.0f} s, "
@@ -62,4 +64,4 @@ def report(ctx, state) -> None:
     selection = [s.to_json() for s in state.path] + [b.to_json() for b in state.backward]
     state.diagnosis = Diagnosis(ctx.rig, ctx.measurement, ctx.search.noise, baseline, state.candidates, state.missing, final,
                                 where, signature, evidence, stopped, state.verdict, found, spent, selection,
-                                state.discovery, state.discovered, ctx.options, state.start_at_noise)
+                                state.discovery, state.discovered, ctx.options, state.start_at_noise, forms)

@@ -37,6 +37,8 @@ class Diagnosis:
     discovery: object = None  # its Discovery (vcbmodel.analysis.discovery), when it searched
     options: DiagnosisOptions = DEFAULT_OPTIONS
     start_at_noise: bool = False  # the starting model was at the noise: no effect searched
+    #: the forms the record cannot tell apart and every quantity over them (..model_forms.ModelForms)
+    model_forms: object = None
 
     @property
     def baseline_own_alignment(self) -> FitResult:
@@ -97,6 +99,7 @@ class Diagnosis:
             "nuisance": self.nuisance, "verdict": self.verdict.to_json() if self.verdict else {},
             "signature": self.signature, "evidence": self.evidence, "timing": self.timing,
             "discovered": {k: v for k, v in self.discovered.items() if k != "report"},
+            "model_forms": self.model_forms.to_json() if self.model_forms is not None else None,
         }
 
     def report(self) -> str:
@@ -126,4 +129,6 @@ class Diagnosis:
         if self.discovered.get("report"):
             lines.append(self.discovered["report"])
         lines.append(self.final.report())
+        if self.model_forms is not None:
+            lines.append(self.model_forms.report(u))
         return "\n".join(lines)

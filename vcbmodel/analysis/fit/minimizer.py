@@ -106,7 +106,7 @@ def _run_starts(obj, points, opts: FitOptions) -> _Optimum:
                      f"after {obj.nfev} simulations")
         if cost < best.cost:
             best = _Optimum(x, cost, ok, msg, jac)
-        if obj.measured_rms(best.x) <= 1.05 * opts.sigma:
+        if obj.measured_rms(best.x) <= 1.05 * opts.sigma and not opts.every_start:
             break  # at the noise level: further starts cannot do better
         if opts.enough is not None and k + 1 < len(points) and opts.enough(
                 build_result(obj, best.x, best.jacobian, opts.sigma, best.success, best.message, opts.method)):

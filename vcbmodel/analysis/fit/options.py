@@ -54,6 +54,9 @@ class FitOptions:
         The optimiser runs from this many of the best-ranked starts.
     enough : callable, optional
         A test of a :class:`~.result.FitResult`; once the best so far passes it, no further start runs.
+    every_start : bool
+        Run the optimiser from each of the ``max_starts`` best starts even when one already ends at the
+        noise level (models compared by chi^2 to a few units: a second valley can lie a few units lower).
     """
 
     method: str = "least_squares"
@@ -73,6 +76,7 @@ class FitOptions:
     final_jacobian: bool = True
     max_starts: int = 1
     enough: Callable[[object], bool] | None = None
+    every_start: bool = False
 
     @classmethod
     def build(cls, options: FitOptions | None = None, **keywords) -> FitOptions:

@@ -1,0 +1,47 @@
+"""Coverage of the model forms' 95 % intervals over several seeds and truths (slow): records from
+outside the fitted family (Tustin, a drifting Coulomb level, air drag of a paddle; independent
+solves: reference/truth_friction.py, reference/torque_truth.py) and from the family itself, each
+diagnosed; the interval of every comparable quantity must hold the truth in at least 90 % of cases,
+where the selected fit's own interval holds it far less often. The truth in the forms' meanings:
+mu_k the Coulomb level at speed, mu_s the level at rest (studies/diagnosis_realism.py)."""
+import importlib.util
+from pathlib import Path
+
+import pytest
+
+from vcbmodel.analysis.diagnose import diagnose
+from vcbmodel.analysis.realistic import realistic_record
+from vcbmodel.experiments.loading import load_pair
+
+STUDY = Path(__file__).resolve().parents[2] / "studies" / "diagnosis_realism.py"
+#: (friction truth, case, seed): the realism study's own draws (clean group), and two in family
+CASES = [("tustin", "pend_two", 31000), ("tustin", "pend_coul", 31001), ("tustin", "pend_visc", 31002),
+         ("drifting_coulomb", "pend_visc", 81000), ("drifting_coulomb", "pend_none", 81001),
+         ("air_drag", "pend_coul", 71000), ("air_drag", "pend_visc", 71001),
+         ("hybrid", "pend_visc", 11003), ("hybrid", "pend_two", 14001)]
+
+
+def study():
+    import sys
+    sys.path.insert(0, str(STUDY.parent))
+    spec = importlib.util.spec_from_file_location("diagnosis_realism", STUDY)
+    module = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(module)
+    return module
+
+
+@pytest.mark.slow
+def test_model_form_intervals_hold_the_truth_in_nine_cases_of_ten(tmp_path):
+    s = study()
+    before, after = [], []
+    for kind, case, seed in CASES:
+        _, meas_path, truth = realistic_record(case, seed, tmp_path, friction_truth=kind)
+        rig, meas = load_pair(meas_path)
+        j = diagnose(rig, meas, verbose=False).to_json()
+        selected = s.comparisons(j, truth)
+        before += selected
+        after += s.form_comparisons(j, truth, selected)
+    covered = sum(c["covered"] for c in after) / len(after)
+    assert len(after) >= 18
+    assert covered >= 0.9, [c for c in after if not c["covered"]]
+    assert sum(c["covered"] for c in before) / len(before) < 0.75  # what the selected fit alone states
