@@ -94,7 +94,8 @@ VCB_CLOSING = Experiment(
     signature=spring_signature,
     # a breaker analyser's timing and travel channels (vcbmodel.records.analyser), fitted when present
     extra_channels=(r"pole_\d+_contact", r"pole_\d+_travel"),
-    figure_units=(("closing_time_s", "s"), ("touch_speed_m_s", "m/s"), ("closing_speed_m_s", "m/s"), ("pole_spread_s", "s"), ("bounce_count", "-"),
+    figure_units=(("closing_time_s", "s"), ("closing_speed_m_s", "m/s"), ("zone_speed_min_m_s", "m/s"),
+                  ("zone_speed_max_m_s", "m/s"), ("pole_spread_s", "s"), ("bounce_count", "-"),
                   ("bounce_duration_s", "s"), ("wipe_m", "m"), ("overtravel_m", "m"), ("rebound_m", "m"),
                   ("travel_settled_s", "s"), ("peak_cam_roller_force_N", "N"), ("kinetic_at_touch_J", "J"),
                   ("kinetic_margin_J", "J")),
