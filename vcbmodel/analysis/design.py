@@ -88,15 +88,18 @@ def closing_design(rig: Rig, t_end: float | None = None) -> dict:
 def pole_columns(count: int) -> tuple:
     """Columns of :func:`closing_poles` for a breaker of ``count`` poles."""
     per = tuple(f"pole_{i + 1}_{name}" for i in range(count) for name in ("zone_speed_m_s", "bounces", "bounce_s"))
-    return experiment_of("vcb_closing").figure_columns + per
+    return experiment_of("vcb_closing").figure_columns + ("latched",) + per
 
 
 def closing_poles(rig: Rig, t_end: float | None = None) -> dict:
     """A closing's figures of merit with every pole's own: its closing speed over the analyser's zone
-    (m/s), its bounce count and bounce duration (s)."""
+    (m/s), its bounce count and bounce duration (s); and ``latched``: whether the cam reached its
+    holding latch after the touch (True), turned back short of it (False: the closing fails), or the
+    run ended first (None: give a longer ``t_end``)."""
     result = simulate(rig, t_end=t_end, backend="fast")
     fom = experiment_of(rig.experiment).figures_of_merit(result, rig)
     out = {k: fom.get(k) for k in experiment_of(rig.experiment).figure_columns}
+    out["latched"] = fom.get("latched")
     per = fom.get("per_pole", {})
     for i, (v, n, d) in enumerate(zip(per.get("closing_speed_m_s", []), per.get("bounces", []),
                                       per.get("bounce_duration_s", []))):
