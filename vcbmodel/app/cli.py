@@ -34,6 +34,7 @@ from ..model.choice import choose, parse_effects_option
 from .outputs import check_distinct, check_output, protected_inputs, write_file
 from .templates import TEMPLATES, explain, template
 from .closing_plot import plot_closing
+from .sequence_plot import plot_sequence
 from .plots import plot_diagnosis, plot_simulation, supported_image_formats
 from .table_plot import plot_fit, plot_sweep
 
@@ -91,7 +92,7 @@ def build_parser() -> argparse.ArgumentParser:
                    help="exudyn (the model, default); compiled (the same laws traced to C: massless and lumped "
                         "springs); fast (compiled where it covers the model, else exudyn)")
     s.add_argument("--sequence", help="run an operating sequence of a breaker instead (C, O, CO, O-0.3s-CO, ...): "
-                   "figures per operation (no CSV; --json for JSON)")
+                   "figures per operation (no CSV; --json for JSON; --plot draws each operation as an analyser shows it)")
 
     c = sub.add_parser("check", parents=[common], help="validate a rig and say what simulate would run, without solving")
     c.add_argument("rig", help="rig file NAME.rig.json")
@@ -229,19 +230,24 @@ def cmd_simulate(args: argparse.Namespace) -> int:
 def simulate_sequence(rig: Rig, args: argparse.Namespace) -> int:
     """``simulate --sequence``: the operations' figures (:mod:`vcbmodel.experiments.sequence`), as
     text or one JSON object; options that shape one run's CSV are refused."""
-    for option, value in (("-o", args.output), ("--plot", args.plot), ("--t-end", args.t_end),
+    for option, value in (("-o", args.output), ("--t-end", args.t_end),
                           ("--spring-model", args.spring_model), ("--effects", args.effects)):
         if value is not None:
-            raise InputError(option, "--sequence", "a sequence reports figures per operation: it writes no CSV or "
-                             "plot and runs the rig's own model and run lengths; leave this option out")
+            raise InputError(option, "--sequence", "a sequence reports figures per operation: it writes no CSV "
+                             "and runs the rig's own model and run lengths; leave this option out")
     if rig.experiment != "vcb_closing":
         raise InputError(rig.path, "experiment", f"--sequence operates a breaker (vcb_closing), not a {rig.experiment}")
+    check_output(args.plot, "--plot", inputs=protected_inputs(args.rig, rig.data), force=args.force,
+                 formats=supported_image_formats())
     log.info("simulate %s: sequence %s", rig.name, args.sequence)
-    report = run_sequence(rig, args.sequence, backend=args.backend)
+    results = []
+    report = run_sequence(rig, args.sequence, backend=args.backend, results=results)
     if args.json:
         print(json.dumps({**envelope(rig, {"*_s": "s", "*_m": "m", "*_m_s": "m/s", "*_J": "J"}), **_plain(report)}))
     else:
         print("\n".join(sequence_lines(report)))
+    if args.plot:  # each operation as an analyser shows it, at the solver's step
+        plot_sequence(report, results, rig, args.plot, rig.name)
     return 0
 
 
