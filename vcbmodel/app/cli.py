@@ -26,7 +26,7 @@ from ..analysis.sweep import DEFAULT_SEED, SAMPLING, sweep
 from ..errors import InputError, SimulationError
 from ..experiments import experiment_of
 from ..experiments.report import Report, lines_report, report_json, report_text
-from ..experiments.loading import load_pair, load_rig, require_experiment
+from ..experiments.loading import load_record, load_rig, require_experiment, rig_of
 from ..experiments.sequence import run_sequence, sequence_lines
 from ..experiments.run_checks import require_motion
 from ..experiments.simulation import compiled_path_has, model_spec, output_times, simulate
@@ -298,11 +298,12 @@ def cmd_init(args: argparse.Namespace) -> int:
 
 
 def cmd_identify(args: argparse.Namespace) -> int:
-    pairs = [load_pair(m, args.rig) for m in args.measurements]
-    for rig, _ in pairs:
+    rigs = [rig_of(m, args.rig) for m in args.measurements]
+    for rig in rigs:
         require_experiment(rig, "pendulum", "identify")
-    check_output(args.plot, "--plot", inputs=tuple(args.measurements) + tuple(r.path for r, _ in pairs), force=args.force,
+    check_output(args.plot, "--plot", inputs=tuple(args.measurements) + tuple(r.path for r in rigs), force=args.force,
                  formats=supported_image_formats())
+    pairs = [(rig, load_record(m, rig)) for m, rig in zip(args.measurements, rigs)]
     with results_only_on_stdout():
         result = identify(pairs, law=args.law)
         if args.plot:
@@ -318,12 +319,14 @@ def cmd_identify(args: argparse.Namespace) -> int:
 
 
 def cmd_diagnose(args: argparse.Namespace) -> int:
-    rig, meas = load_pair(args.measurement, args.rig)
-    held_out = [load_pair(path, None) for path in args.held_out]
-    for other, _ in held_out:  # records of the same rig: the same experiment
+    rig = rig_of(args.measurement, args.rig)
+    others = [rig_of(path, None) for path in args.held_out]
+    for other in others:  # records of the same rig: the same experiment
         require_experiment(other, rig.experiment, "diagnose --held-out")
     check_output(args.plot, "--plot", inputs=protected_inputs(rig.path, rig.data, (args.measurement, *args.held_out)), force=args.force,
                  formats=supported_image_formats())
+    meas = load_record(args.measurement, rig)  # the records once the command is known to be sound
+    held_out = [(other, load_record(path, other)) for path, other in zip(args.held_out, others)]
     with results_only_on_stdout():
         d = diagnose(rig, meas, processes=max(1, args.processes), held_out=held_out)
         if args.plot:
