@@ -33,6 +33,7 @@ from vcbmodel.analysis.diagnosis import side_by_side
 from vcbmodel.analysis.diagnosis.side_by_side import cannot_win, pruned
 from vcbmodel.analysis.diagnosis.start import fit_start
 from vcbmodel.analysis.diagnosis.evidence import evidence_text
+from vcbmodel.analysis.diagnosis.result import Diagnosis
 from vcbmodel.analysis.diagnosis.state import Candidate, SelectionStep, State, Verdict, adopt
 from vcbmodel.analysis.fit import FitAborted, FitResult, Parameter, SimulationPool
 from vcbmodel.analysis.noise import NoiseModel
@@ -396,6 +397,10 @@ def test_the_disagreement_window_has_a_width_or_the_evidence_says_nothing_stands
     assert t0 < 3.0 - 0.1 and t1 > 3.0 + 0.1
     text = evidence_text(ctx, loud, quiet, [], (t0, t1), {}, explained_verdict(ctx), None)
     assert f"largest in t = [{t0:.4g}, {t1:.4g}] s" in text
+    # the report's line says the same
+    for fit, words in ((quiet, "disagreement: nowhere standing out"), (loud, f"disagreement largest in t = [{t0:.4g}")):
+        d = Diagnosis(None, None, NoiseModel.white(SIGMA), fit, [], [], fit, window(ctx, fit), {}, "")
+        assert d.disagreement_line().strip().startswith(words)
 
 
 def test_a_pair_kept_together_is_no_tie():

@@ -159,6 +159,12 @@ def running_rms(residual: np.ndarray, width: int) -> np.ndarray:
     return np.sqrt(np.convolve(r2, kernel, mode="same"))
 
 
+def stands_out(peak: float, sigma: float) -> bool:
+    """Whether a residual's running-rms peak (:func:`disagreement_window`'s) stands out of noise of
+    standard deviation ``sigma``: above twice it, the level the window is cut at."""
+    return peak > 2.0 * sigma
+
+
 def disagreement_window(t: np.ndarray, residual: np.ndarray, sigma: float, width: int | None = None) -> tuple[float, float, float]:
     """The time window [t0, t1] (s) around the largest disagreement.
 
@@ -167,7 +173,7 @@ def disagreement_window(t: np.ndarray, residual: np.ndarray, sigma: float, width
     ``max(2 sigma, half the maximum)``, widened by half the running window on each side (the
     samples its values average). Where nothing stands out (the peak below 2 sigma, a residual at
     its noise) it is the running window around the peak: never a window of zero width. Returns
-    (t0, t1, peak_running_rms); compare the peak with ``2 sigma`` to tell whether it stands out.
+    (t0, t1, peak_running_rms); :func:`stands_out` tells whether the peak stands out.
     """
     t = np.asarray(t)
     width = width or max(5, t.size // 50)
