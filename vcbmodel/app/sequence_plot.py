@@ -35,6 +35,7 @@ if TYPE_CHECKING:
     from ..rig.data import Rig
 
 TRIP = "crimson"  # the trip instant (the pawl starts letting go): a vertical line
+HEADLINE_PT = 44.0  # an operation's headline above its row (pt): clear of three lines of panel titles
 
 
 def plot_sequence(report: dict, results: list[SimulationResult], rig: Rig, path: str | os.PathLike, title: str) -> None:
@@ -57,12 +58,14 @@ def sequence_figure(report: dict, results: list[SimulationResult], rig: Rig, tit
         else:
             closing_row(row, result, op_rig, fom, t_ms)
         # the operation's headline above its row, the panels' own titles under it
-        row[0].text(0.0, 1.2, f"{entry['op']} at {entry['command_s']:g} s (sequence clock): {operation_text(entry)}",
-                    transform=row[0].transAxes, fontsize=10, fontweight="bold", va="bottom")
+        row[0].annotate(f"{entry['op']} at {entry['command_s']:g} s (sequence clock): {operation_text(entry)}",
+                        xy=(0.0, 1.0), xycoords="axes fraction", xytext=(0.0, HEADLINE_PT), textcoords="offset points",
+                        fontsize=10, fontweight="bold", va="bottom")
     wrap_titles(fig)
     text = fitted_title(fig, f"{title}: sequence {report['sequence']}\nSIMULATED, not measured", 10)
-    top = 1.0 - ((text.count("\n") + 1) * 10 * 1.3 / 72 + 0.9) / fig.get_figheight()
-    fig.subplots_adjust(top=top, bottom=0.07, left=0.05, right=0.99, hspace=0.75, wspace=0.25)
+    # the figure's title, then the first row's headline and its panels' titles (up to three lines)
+    top = 1.0 - ((text.count("\n") + 1) * 10 * 1.3 + HEADLINE_PT + 22) / 72 / fig.get_figheight()
+    fig.subplots_adjust(top=top, bottom=0.6 / fig.get_figheight(), left=0.05, right=0.99, hspace=0.75, wspace=0.25)
     fig.suptitle(text, fontsize=10, y=0.995, va="top")
     return fig
 
