@@ -217,3 +217,18 @@ def test_the_tolerance_study_counts_a_build_that_does_not_latch_as_out(monkeypat
     m = study.margin_summary(df, {"kinetic_margin_J": 78.5, "kinetic_at_touch_J": 282.0})
     assert (m["latched"], m["turned_back_short"], m["run_ended_first"], m["failed_or_not_closed"]) == (1, 1, 1, 1)
     assert m["min_J"] == m["median_J"] == 50.0
+
+
+def test_the_optimum_must_latch(monkeypatch):
+    """A design whose cam turns back short of its latch is infeasible whatever its speed; one whose run
+    ended before the latch is not judged on it; the table says which."""
+    monkeypatch.syspath_prepend(str(STUDIES))
+    study = _load_study("design_optimum")
+    ok = {"closing_speed_m_s": 1.25, "closing_time_s": 0.04, "zone_speed_min_m_s": 1.24, "zone_speed_max_m_s": 1.26,
+          "pole_spread_s": 5e-4, "preload_N": 3000.0, "min_spring_force_N": 500.0, "latched": True,
+          "kinetic_margin_J": 60.0, "kinetic_at_touch_J": 270.0}
+    assert study.violation(ok) == 0.0 and study.margin_text(ok) == "60.0 of 270"
+    short = dict(ok, latched=False, kinetic_margin_J=None)
+    assert study.violation(short) == 1.0 and study.margin_text(short) == "not latched"
+    assert study.violation(dict(short, latched=0.0)) == 1.0  # as read back from a sweep's table
+    assert study.violation(dict(short, latched=None)) == 0.0 and study.margin_text(dict(short, latched=None)) == "-"

@@ -65,8 +65,8 @@ def free_length_for(rig: Rig, pull: float, stiffness: float | None = None) -> fl
 #: Columns of :func:`closing_design`: the closing's figures of merit (the slowest and fastest
 #: pole's zone speed among them), the springs' charged pull and stored energy, their smallest static
 #: pull during the run and the energy they give up to the first touch.
-DESIGN_COLUMNS = experiment_of("vcb_closing").figure_columns + ("preload_N", "stored_energy_J", "min_spring_force_N",
-                                                                  "released_to_touch_J")
+DESIGN_COLUMNS = experiment_of("vcb_closing").figure_columns + ("latched", "preload_N", "stored_energy_J",
+                                                                  "min_spring_force_N", "released_to_touch_J")
 
 
 def closing_design(rig: Rig, t_end: float | None = None) -> dict:
@@ -77,6 +77,7 @@ def closing_design(rig: Rig, t_end: float | None = None) -> dict:
     result = simulate(rig, t_end=t_end, backend="fast")
     fom = record.figures_of_merit(result, rig)
     out = {k: fom.get(k) for k in experiment_of(rig.experiment).figure_columns}
+    out["latched"] = fom.get("latched")  # the cam reached its latch (True), turned back (False), run too short (None)
     s = rig.closing_spring
     lengths = spring_length(rig, result.channels["cam_angle"])
     out.update(preload_N=preload(rig), stored_energy_J=stored_energy(rig),
