@@ -15,8 +15,9 @@ spring must stay taut), and the cam must reach its holding latch after the touch
 above 0: a cam that stops short runs back and the contacts reopen); every closing runs to
 parameters.BREAKER_REST_T_END so that it does. The target is the middle of the reference breaker's
 closing-speed window (parameters.REFERENCE_LIMITS). The bounce is not a constraint: it is decided
-by the contacts' restitution and the poles' gap pattern, not by the closing spring (design_sensitivity.md), so both designs' bounce is reported over
-parameters.GAP_PATTERNS at restitutions 0.5, 0.8 and 0.9 instead.
+by the contacts' restitution and the poles' gap pattern, not by the closing spring
+(design_sensitivity.md), so both designs' bounce is reported over parameters.GAP_PATTERNS at
+restitutions 0.5, 0.8 and 0.9 instead.
 Writes design_optimum.png and design_optimum.{json,md}.
 """
 import copy
