@@ -103,7 +103,7 @@ def plot_tornado(result, factors, path):
         ax.barh(y, [scale * b["change_high"] for b in bars], color="tab:orange", alpha=0.8, label="factor at its high value")
         ax.set_yticks(y, [labels[b["factor"]] for b in bars], fontsize=8)
         ax.axvline(0, color="k", lw=0.8)
-        ax.set_xlabel(f"change of {name} ({unit}); nominal {scale * result[col]['nominal']:.4g} {unit}")
+        ax.set_xlabel(f"change of {name} ({unit})\nnominal {scale * result[col]['nominal']:.4g} {unit}")
         ax.set_title(f"{name}: one factor at a time", fontsize=9)
     axes.flat[0].legend(fontsize=8, loc="lower left")
     save(fig, path)
