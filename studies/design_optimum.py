@@ -11,10 +11,13 @@ target zone speed (the poles' mean over the analyser's zone), and a bounded Bren
 minimises the stored energy, constraint violations penalised. Limits (assumptions, as in
 studies/design_tolerance.py): every pole's zone speed within the reference's window, pole spread <= 2 ms, and
 the springs' smallest pull during the run at least MIN_PULL_FRACTION of the preload (a tension
-spring must stay taut). The target is the middle of the reference breaker's closing-speed window (parameters.REFERENCE_LIMITS). The bounce is not a
-constraint: it is decided by the contacts' restitution and the poles' gap pattern, not by the
-closing spring (design_sensitivity.md), so both designs' bounce is reported over
-parameters.GAP_PATTERNS at restitutions 0.5, 0.8 and 0.9 instead.
+spring must stay taut), and the cam must reach its holding latch after the touch (a kinetic margin
+above 0: a cam that stops short runs back and the contacts reopen); every closing runs to
+parameters.BREAKER_REST_T_END so that it does. The target is the middle of the reference breaker's
+closing-speed window (parameters.REFERENCE_LIMITS). The bounce is not a constraint: it is decided
+by the contacts' restitution and the poles' gap pattern, not by the closing spring
+(design_sensitivity.md), so both designs' bounce is reported over parameters.GAP_PATTERNS at
+restitutions 0.5, 0.8 and 0.9 instead.
 Writes design_optimum.png and design_optimum.{json,md}.
 """
 import copy
@@ -42,6 +45,8 @@ MIN_PULL_FRACTION = 0.1  # the springs' smallest pull during the run / preload: 
 K_RANGE = (0.6, 1.4)  # x the reference stiffness
 F_RANGE = (0.5, 1.3)  # x the reference preload
 GRID_FULL, GRID_QUICK = (7, 9), (3, 4)
+#: Each closing runs until the cam rests on its holding latch, so that whether it latches is known.
+T_END = P.BREAKER_REST_T_END
 
 
 class Model:
@@ -61,20 +66,30 @@ class Model:
             d = copy.deepcopy(self.data)
             d["closing_spring"].update({"stiffness": float(k), "free_length": free_length_for(self.rig, f0, k)})
             try:
-                self.cache[key] = closing_design(rig_from_data(d, "REFERENCE_BREAKER"))
+                self.cache[key] = closing_design(rig_from_data(d, "REFERENCE_BREAKER"), t_end=T_END)
             except Exception as e:  # noqa: BLE001 -- an infeasible design (e.g. an uncharged spring) is a point too
                 self.cache[key] = {"error": str(e)}
         return self.cache[key]
 
 
 def violation(r):
-    """Sum of relative constraint violations (0: feasible); a closing that does not close: 1."""
+    """Sum of relative constraint violations (0: feasible); a closing that does not close, or whose cam
+    does not reach its latch: 1."""
     if "error" in r or r.get(SPEED) is None or r.get("closing_time_s") is None or r.get("zone_speed_min_m_s") is None:
+        return 1.0
+    if r.get("latched") is not None and not r["latched"]:
         return 1.0
     v = sum(max(0.0, (r[c] - lim) / lim) for c, lim in LIMITS.items())
     lo, hi = ZONE_WINDOW
     v += max(0.0, (lo - r["zone_speed_min_m_s"]) / lo) + max(0.0, (r["zone_speed_max_m_s"] - hi) / hi)
     return v + max(0.0, (MIN_PULL_FRACTION * r["preload_N"] - r["min_spring_force_N"]) / r["preload_N"])
+
+
+def margin_text(r):
+    """A design's kinetic margin after the touch for the table: J, 'not latched', or '-' (not known)."""
+    if r.get("kinetic_margin_J") is not None and np.isfinite(r["kinetic_margin_J"]):
+        return f"{r['kinetic_margin_J']:.1f} of {r['kinetic_at_touch_J']:.0f}"
+    return "not latched" if r.get("latched") is not None and not r["latched"] else "-"
 
 
 def speed(r):
@@ -195,7 +210,7 @@ def bounce_across(designs, rig, quick):
              "closing_spring.free_length": free_length_for(rig, designs[name][1], designs[name][0]),
              "breaker.contact.restitution": e, **{f"breaker.poles.gap_offsets.{i}": v for i, v in enumerate(P.GAP_PATTERNS[p])}}
             for name, p, e in keys]
-    df = sweep(P.REFERENCE_BREAKER, runs=runs, evaluate=closing_design, columns=DESIGN_COLUMNS,
+    df = sweep(P.REFERENCE_BREAKER, runs=runs, evaluate=closing_design, columns=DESIGN_COLUMNS, t_end=T_END,
                label="bounce across gap patterns")
     rows = [{"design": name, "pattern": p, "restitution": e, "bounce_s": df.iloc[i]["bounce_duration_s"],
              "bounces": df.iloc[i]["bounce_count"]} for i, (name, p, e) in enumerate(keys)]
@@ -281,7 +296,8 @@ def main():
     ks = k0 * np.linspace(*K_RANGE, nk)
     fs = f00 * np.linspace(*F_RANGE, nf)
     runs = [model.overrides(k, f) for k in ks for f in fs]
-    df = sweep(data, runs=runs, evaluate=closing_design, columns=DESIGN_COLUMNS, label=f"design map ({nk} x {nf})")
+    df = sweep(data, runs=runs, evaluate=closing_design, columns=DESIGN_COLUMNS, t_end=T_END,
+               label=f"design map ({nk} x {nf})")
     shape = (nk, nf)
     grid = {c: df[c].to_numpy(float).reshape(shape) for c in (SPEED, "stored_energy_J", "min_spring_force_N",
                                                              "pole_spread_s", "bounce_duration_s", "closing_time_s")}
@@ -420,13 +436,14 @@ def main():
           f"Target zone speed {TARGET_ZONE_SPEED} m/s (the poles' mean closing speed over the analyser's zone; the "
           f"middle of the assumed {ZONE_WINDOW[0]:g}-{ZONE_WINDOW[1]:g} m/s window); limits (assumed): every pole's zone "
           f"speed within the window, pole spread <= {1e3 * LIMITS['pole_spread_s']:g} ms, the springs keep at least "
-          f"{100 * MIN_PULL_FRACTION:.0f} % of their preload during the run. The bounce is not a constraint: the "
+          f"{100 * MIN_PULL_FRACTION:.0f} % of their preload during the run, the cam reaches its holding latch (a "
+          "kinetic margin after the touch above 0). The bounce is not a constraint: the "
           "contacts' restitution and the gap pattern decide it (below). Variables: each closing spring's stiffness and "
           "preload (free length = charged length - preload / stiffness)."
           + (" **Quick mode: coarse map, loose tolerances.**" if args.quick else "") + "\n",
           markdown_table(["design", "stiffness (kN/m)", "preload (N)", "stored energy (J)", "released to touch (J)",
                           "zone speed, mean (slowest-fastest pole) (m/s)", "closing time (ms)", "pole spread (ms)",
-                          "bounce (ms)", "smallest pull (N)"],
+                          "bounce (ms)", "smallest pull (N)", "kinetic margin after touch (J)"],
                          [[name, f"{d['stiffness_N_m'] / 1e3:.2f}", f"{d['preload_N']:.0f}", f"{d['stored_energy_J']:.0f}",
                            f"{d['released_to_touch_J']:.0f}" if d.get("released_to_touch_J") is not None else "-",
                            f"{d[SPEED]:.3f} ({d['zone_speed_min_m_s']:.3f}-{d['zone_speed_max_m_s']:.3f})"
@@ -434,7 +451,8 @@ def main():
                            f"{1e3 * d['closing_time_s']:.2f}" if d.get("closing_time_s") is not None else "-",
                            f"{1e3 * d['pole_spread_s']:.3f}" if d.get("pole_spread_s") is not None else "-",
                            f"{1e3 * d['bounce_duration_s']:.2f}" if d.get("bounce_duration_s") is not None else "-",
-                           f"{d['min_spring_force_N']:.0f}" if d.get("min_spring_force_N") is not None else "-"]
+                           f"{d['min_spring_force_N']:.0f}" if d.get("min_spring_force_N") is not None else "-",
+                           margin_text(d)]
                           for name, d in (("reference springs (their own zone speed)", summary["reference"]),
                                           ("reference stiffness, preload for the target speed", at_target),
                                           ("optimum", opt)) if d]),

@@ -11,7 +11,9 @@ contact restitution (uniform over the published range), and each pole's gap offs
 reference breaker's largest offset taken as the +-3 sigma assembly tolerance). Normal
 distributions with +-tolerance = +-3 sigma unless said. Limits are on the quantities the
 reference breaker is specified on: every pole's closing speed over the analyser's zone, the pole
-spread and every pole's bounce. The same draws are closed twice more, with no viscous friction and
+spread and every pole's bounce; and the kinetic margin after the touch (the cam's least kinetic
+energy from the first touch to its holding latch): its distribution and the fraction of builds whose
+cam does not reach its latch (a failed closing). The same draws are closed twice more, with no viscous friction and
 with the viscous range the studies drew before (0 to the pendulum's Cv), to show what the viscous
 assumption does to the fractions; and the mean's distance from the nominal closing is split
 among the inputs (analysis.design.mean_shift).
@@ -30,6 +32,10 @@ from vcbmodel.app.plots import plt, save
 from vcbmodel.experiments.loading import rig_from_data
 
 RUNS_FULL, RUNS_QUICK = 1000, 20
+#: Each closing runs until the cam has come to rest on its holding latch (parameters.BREAKER_REST_T_END),
+#: so that a build's kinetic margin is known: a run that ends before the cam reaches its latch or turns
+#: back is counted as not latching, and counted apart.
+T_END = P.BREAKER_REST_T_END
 #: Spring-rate tolerance of the closing springs (+-, relative, read as 3 sigma): an assumption
 #: (helical-spring rate tolerances of a few percent, EN 15800 grades).
 STIFFNESS_TOLERANCE = 0.05
@@ -51,10 +57,15 @@ LIMITS = {
                           f"every pole's closing bounce <= {_BOUNCE['max']:g} ms: {_BOUNCE['source']}. The duration is "
                           "quantised by the bounce count (each bounce lasts about 0.8-1.2 ms here), so a 2 ms limit cuts "
                           "the two-bounce cluster: the count is reported beside it"),
+    "latches": (0.0, None, 1.0, "J",
+                "the cam reaches its holding latch after the touch: a kinetic margin (its least kinetic energy from the "
+                "first touch to the latch) above 0. A cam that stops short runs back and the contacts reopen: the "
+                "closing fails (a run that ended before the cam reached its latch or turned back is counted here too)"),
 }
 #: Histograms: (column, label, scale, unit)
 PANELS = [("closing_time_s", "closing time", 1e3, "ms"), ("zone_speed_min_m_s", "slowest pole's zone speed", 1.0, "m/s"),
-          ("pole_spread_s", "pole spread", 1e3, "ms"), ("bounce_duration_s", "bounce duration (worst pole)", 1e3, "ms"),
+          ("zone_speed_max_m_s", "fastest pole's zone speed", 1.0, "m/s"), ("pole_spread_s", "pole spread", 1e3, "ms"),
+          ("kinetic_margin_J", "kinetic margin after touch", 1.0, "J"), ("bounce_duration_s", "bounce duration (worst pole)", 1e3, "ms"),
           ("bounce_count", "bounces (worst pole)", 1.0, "-"), ("peak_cam_roller_force_N", "peak cam-roller force", 1e-3, "kN")]
 #: Figures whose mean is compared with the nominal closing (and the shift explained).
 SHIFTED = [("closing_time_s", 1e3, "ms"), ("closing_speed_m_s", 1.0, "m/s"), ("bounce_duration_s", 1e3, "ms")]
@@ -62,7 +73,9 @@ SHIFTED = [("closing_time_s", 1e3, "ms"), ("closing_speed_m_s", 1.0, "m/s"), ("b
 
 def limit_text(col):
     lo, hi, scale, unit, _ = LIMITS[col]
-    return (f"{scale * lo:g}-{scale * hi:g} {unit}" if lo is not None else f"<= {scale * hi:g} {unit}")
+    if hi is None:
+        return f"> {scale * lo:g} {unit}"
+    return f"{scale * lo:g}-{scale * hi:g} {unit}" if lo is not None else f"<= {scale * hi:g} {unit}"
 
 
 def tolerance_design(rig, factors, n, seed):
@@ -105,9 +118,11 @@ def out_of_limits(df, count):
     bounce = np.column_stack([df[f"pole_{i + 1}_bounce_s"].to_numpy(float) for i in range(count)])
     lo, hi = LIMITS["zone_speed"][:2]
     spread = df["pole_spread_s"].to_numpy(float)
+    latched = df["latched"].to_numpy(float)
     return {"zone_speed": failed | np.any(~np.isfinite(speeds) | (speeds < lo) | (speeds > hi), axis=1),
             "pole_spread_s": failed | ~np.isfinite(spread) | (spread > LIMITS["pole_spread_s"][1]),
-            "bounce_duration_s": failed | np.any(~np.isfinite(bounce) | (bounce > LIMITS["bounce_duration_s"][1]), axis=1)}
+            "bounce_duration_s": failed | np.any(~np.isfinite(bounce) | (bounce > LIMITS["bounce_duration_s"][1]), axis=1),
+            "latches": failed | (latched != 1.0)}
 
 
 def fractions(bad):
@@ -153,6 +168,35 @@ def bounce_by_restitution(ok, count):
     return rows
 
 
+def margin_summary(df, nominal):
+    """The kinetic margin after the touch over the draws: the nominal build's (J, and of its energy at
+    the touch), its distribution over the builds that latch (J), and how many builds do not latch:
+    turned back short of the latch (with the largest shortfall, deg), ended before it, failed."""
+    latched = df["latched"].to_numpy(float)
+    margin = df["kinetic_margin_J"].to_numpy(float)[latched == 1.0]
+    short = int(np.sum((latched == 0.0) & (df.status == "ok").to_numpy()))
+    unknown = int(np.sum(~np.isfinite(latched) & (df.status == "ok").to_numpy()))
+    out = {"nominal_J": nominal["kinetic_margin_J"], "nominal_at_touch_J": nominal["kinetic_at_touch_J"],
+           "latched": int(margin.size), "turned_back_short": short, "run_ended_first": unknown,
+           "failed_or_not_closed": int((df.status != "ok").sum()), "of": int(len(df))}
+    if margin.size:
+        out.update({"min_J": float(margin.min()), "p0.5_J": float(np.percentile(margin, 0.5)),
+                    "p5_J": float(np.percentile(margin, 5)), "median_J": float(np.median(margin)),
+                    "max_J": float(margin.max())})
+    return out
+
+
+def margin_text(m, fr):
+    """The kinetic margin's paragraph of design_tolerance.md."""
+    spread = (f"over the {m['latched']} builds that latch it is {m['min_J']:.1f} J at least, {m['p0.5_J']:.1f} J at the "
+              f"0.5 % point, {m['p5_J']:.1f} J at the 5 % point, median {m['median_J']:.1f} J"
+              if m["latched"] else "no build latches")
+    return (f"The nominal build keeps {m['nominal_J']:.1f} J of the {m['nominal_at_touch_J']:.0f} J its cam holds at the "
+            f"first touch; {spread}. Builds that do not reach their latch: {pct(fr['latches'])} "
+            f"({m['turned_back_short']} turned back short of it, {m['run_ended_first']} ended the "
+            f"{1e3 * T_END:g} ms run before it, {m['failed_or_not_closed']} failed or never closed).")
+
+
 def viscous_range(data, table, columns, count, fr):
     """The same draws closed with the viscous friction at the bearing estimate's two ends and over the
     range the studies drew before (the pendulum's Cv), each draw mapped along its range: their fractions
@@ -166,7 +210,7 @@ def viscous_range(data, table, columns, count, fr):
                                              * (old_hi - old_lo)})})
     viscous = {f"Cv {lo:g}-{hi:g} N m s/rad (bearing estimate, this study)": fr}
     for name, t in variants.items():
-        d = sweep(data, runs=t, evaluate=closing_poles, columns=columns, label=f"tolerance study, {name}")
+        d = sweep(data, runs=t, evaluate=closing_poles, columns=columns, t_end=T_END, label=f"tolerance study, {name}")
         viscous[name] = fractions(out_of_limits(d, count))
     half = {k: 0.5 * (v["fraction_95ci"][1] - v["fraction_95ci"][0]) for k, v in fr.items()}
     low, high = (viscous[name] for name in ends)
@@ -187,7 +231,7 @@ def nominal_vector(rig, table):
 
 
 def plot(ok, fr, n, path):
-    fig, axes = plt.subplots(2, 3, figsize=(14, 7.5))
+    fig, axes = plt.subplots(2, 4, figsize=(18, 7.5))
     for ax, (col, label, scale, unit) in zip(axes.flat, PANELS):
         v = scale * ok[col].to_numpy(float)
         v = v[np.isfinite(v)]
@@ -198,7 +242,8 @@ def plot(ok, fr, n, path):
             ax.hist(v, bins=max(8, min(50, int(np.sqrt(max(v.size, 1))) * 2)), color="tab:blue", alpha=0.8)
         ax.set_xlabel(f"{label} ({unit})")
         ax.set_ylabel("closings")
-        key = {"zone_speed_min_m_s": "zone_speed"}.get(col, col)
+        key = {"zone_speed_min_m_s": "zone_speed", "zone_speed_max_m_s": "zone_speed",
+               "kinetic_margin_J": "latches"}.get(col, col)
         if key in LIMITS:
             lo, hi, s, _, _ = LIMITS[key]
             for lim in (lo, hi):
@@ -247,11 +292,11 @@ def main():
     table, specs, sources = tolerance_design(rig, factors, n, DEFAULT_SEED)
     columns = pole_columns(count)
     df = sweep(data, runs=table, evaluate=closing_poles, columns=columns, output=str(out / "design_tolerance_runs.csv"),
-               force=True, label=f"tolerance study ({n} closings)")
+               force=True, t_end=T_END, label=f"tolerance study ({n} closings)")
     ok = df[df.status == "ok"]
     fr = fractions(out_of_limits(df, count))
 
-    nominal = closing_poles(rig)
+    nominal = closing_poles(rig, t_end=T_END)
     paths, nominal_values = nominal_vector(rig, table)
     shifts = {}
     for col, scale, unit in SHIFTED:
@@ -271,6 +316,7 @@ def main():
                    for col, (lo_, hi_, _, _, why) in LIMITS.items()},
         "out_of_any_limit": fr["any"],
         "viscous_range": viscous_range(data, table, columns, count, fr),
+        "kinetic_margin": margin_summary(df, nominal),
         "bounce": {**bounce_distributions(ok, count), "over_limit_by_restitution": bounce_by_restitution(ok, count)},
         "mean_against_nominal": shifts, "nominal": nominal,
         "statistics": {}, "quick": bool(args.quick), "sweep_wall_s": df.attrs["wall_s"],
@@ -311,6 +357,8 @@ def report(summary, rig, factors, specs, sources, n, quick, paths):
           markdown_table(["limit", "value", "out of it (95 % Wilson interval)", "source"],
                          [[col, limit_text(col), pct(fr[col]), fr[col]["source"]] for col in LIMITS]),
           f"\nOut of at least one limit (a failed run counts as out): {pct(summary['out_of_any_limit'])}.\n",
+          "## The kinetic margin after the touch\n",
+          margin_text(summary["kinetic_margin"], fr) + "\n",
           "## The viscous range\n",
           "The same draws closed with the viscous shaft friction of each row (the other inputs unchanged):\n",
           markdown_table(["viscous friction", *LIMITS, "any"],

@@ -7,7 +7,13 @@ class InputError(ValueError):
     def __init__(self, path, field, message):
         self.path = str(path)
         self.field = field
+        self.message = message
         super().__init__(f"{self.path}: {field}: {message}")
+
+    def __reduce__(self):
+        """Pickled with its three parts: an InputError raised in a worker process reaches the command
+        line as itself (one line, status 2), not as a broken process pool."""
+        return (InputError, (self.path, self.field, self.message))
 
 
 class SimulationError(RuntimeError):

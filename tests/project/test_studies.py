@@ -5,6 +5,8 @@ import subprocess
 import sys
 from pathlib import Path
 
+import numpy as np
+import pandas as pd
 import pytest
 
 STUDIES = Path(__file__).resolve().parents[2] / "studies"
@@ -199,3 +201,36 @@ def test_the_tolerance_study_prints_its_draws_to_four_figures(monkeypatch):
     assert draw_text("uniform:0.0040000000000000036:0.097") == "uniform 0.004-0.097"
     assert draw_text("uniform:0.5:0.8999999999999999") == "uniform 0.5-0.9"
     assert draw_text("normal:0.3:0.002063532571516432") == "normal 0.3, sd 0.002064"
+
+
+def test_the_tolerance_study_counts_a_build_that_does_not_latch_as_out(monkeypatch):
+    """A build whose cam turns back short of its latch (latched 0), or whose run ends first (empty),
+    is out of the latching limit, as a failed run is; the kinetic margin's spread is over the builds
+    that latch."""
+    monkeypatch.syspath_prepend(str(STUDIES))
+    study = _load_study("design_tolerance")
+    poles = {f"pole_{i}_{k}": [1.2] * 4 if k == "zone_speed_m_s" else [1e-3] * 4
+             for i in (1, 2, 3) for k in ("zone_speed_m_s", "bounce_s")}
+    df = pd.DataFrame({"status": ["ok", "ok", "ok", "failed: x"], "pole_spread_s": [1e-4] * 4,
+                       "latched": [1.0, 0.0, np.nan, np.nan], "kinetic_margin_J": [50.0, np.nan, np.nan, np.nan],
+                       **poles})
+    bad = study.out_of_limits(df, 3)
+    assert list(bad["latches"]) == [False, True, True, True] and not bad["zone_speed"][:3].any()
+    m = study.margin_summary(df, {"kinetic_margin_J": 78.5, "kinetic_at_touch_J": 282.0})
+    assert (m["latched"], m["turned_back_short"], m["run_ended_first"], m["failed_or_not_closed"]) == (1, 1, 1, 1)
+    assert m["min_J"] == m["median_J"] == 50.0
+
+
+def test_the_optimum_must_latch(monkeypatch):
+    """A design whose cam turns back short of its latch is infeasible whatever its speed; one whose run
+    ended before the latch is not judged on it; the table says which."""
+    monkeypatch.syspath_prepend(str(STUDIES))
+    study = _load_study("design_optimum")
+    ok = {"closing_speed_m_s": 1.25, "closing_time_s": 0.04, "zone_speed_min_m_s": 1.24, "zone_speed_max_m_s": 1.26,
+          "pole_spread_s": 5e-4, "preload_N": 3000.0, "min_spring_force_N": 500.0, "latched": True,
+          "kinetic_margin_J": 60.0, "kinetic_at_touch_J": 270.0}
+    assert study.violation(ok) == 0.0 and study.margin_text(ok) == "60.0 of 270"
+    short = dict(ok, latched=False, kinetic_margin_J=None)
+    assert study.violation(short) == 1.0 and study.margin_text(short) == "not latched"
+    assert study.violation(dict(short, latched=0.0)) == 1.0  # as read back from a sweep's table
+    assert study.violation(dict(short, latched=None)) == 0.0 and study.margin_text(dict(short, latched=None)) == "-"

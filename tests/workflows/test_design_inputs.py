@@ -73,3 +73,7 @@ def test_closing_poles_reports_every_pole(rig):
     assert out["closing_speed_m_s"] == pytest.approx(np.mean(zones))
     assert out["bounce_count"] == max(out[f"pole_{i}_bounces"] for i in (1, 2, 3))
     assert out["bounce_duration_s"] == max(out[f"pole_{i}_bounce_s"] for i in (1, 2, 3))
+    # the kinetic margin after the touch: the reference's cam reaches its latch at 51.8 ms
+    assert out["latched"] is True and 0.0 < out["kinetic_margin_J"] < out["kinetic_at_touch_J"]
+    short = closing_poles(rig, t_end=0.045)  # the run ends before the cam reaches its latch: not known
+    assert short["latched"] is None and short["kinetic_margin_J"] is None

@@ -33,6 +33,7 @@ from vcbmodel.analysis.diagnosis import side_by_side
 from vcbmodel.analysis.diagnosis.side_by_side import cannot_win, pruned
 from vcbmodel.analysis.diagnosis.start import fit_start
 from vcbmodel.analysis.diagnosis.evidence import evidence_text
+from vcbmodel.analysis.diagnosis.result import Diagnosis
 from vcbmodel.analysis.diagnosis.state import Candidate, SelectionStep, State, Verdict, adopt
 from vcbmodel.analysis.fit import FitAborted, FitResult, Parameter, SimulationPool
 from vcbmodel.analysis.noise import NoiseModel
@@ -379,6 +380,27 @@ def test_the_verdict_explains_noise_and_locates_what_is_left():
     assert not out.explained
     t0, t1 = out.left["window"]
     assert t0 <= 3.0 <= t1 and out.left["excess"] > SIGMA
+
+
+def test_the_disagreement_window_has_a_width_or_the_evidence_says_nothing_stands_out():
+    """A residual at its noise has no stretch above twice the noise: its window is the running rms's
+    own span around the peak (it was [t, t]) and the evidence says nothing stands out; a bump is
+    located, its window covering it."""
+    ctx = ctx_of(record=record_of(unit="rad"), implied={})
+    quiet = fit_of(noise(3))
+    t0, t1 = window(ctx, quiet)
+    assert t1 - t0 >= (N // 50 - 1) * 1e-3  # at least the running window (2 % of the record)
+    text = evidence_text(ctx, quiet, quiet, [], (t0, t1), {}, explained_verdict(ctx), None)
+    assert "nowhere standing out" in text and "largest in t" not in text
+    loud = fit_of(noise(3) + bump(centre=3.0))
+    t0, t1 = window(ctx, loud)
+    assert t0 < 3.0 - 0.1 and t1 > 3.0 + 0.1
+    text = evidence_text(ctx, loud, quiet, [], (t0, t1), {}, explained_verdict(ctx), None)
+    assert f"largest in t = [{t0:.4g}, {t1:.4g}] s" in text
+    # the report's line says the same
+    for fit, words in ((quiet, "disagreement: nowhere standing out"), (loud, f"disagreement largest in t = [{t0:.4g}")):
+        d = Diagnosis(None, None, NoiseModel.white(SIGMA), fit, [], [], fit, window(ctx, fit), {}, "")
+        assert d.disagreement_line().strip().startswith(words)
 
 
 def test_a_pair_kept_together_is_no_tie():

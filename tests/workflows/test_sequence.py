@@ -3,11 +3,13 @@ text or one JSON object; what it refuses."""
 import json
 from pathlib import Path
 
+import matplotlib
 import pytest
 
 from vcbmodel.app.cli import main
 from vcbmodel.compiled import compiler_works
-from vcbmodel.experiments.sequence import parse_sequence
+from vcbmodel.experiments.loading import load_rig
+from vcbmodel.experiments.sequence import parse_sequence, run_sequence
 
 CYCLE = Path(__file__).resolve().parents[2] / "results" / "synthetic" / "vcb_cycle.rig.json"
 
@@ -42,7 +44,7 @@ def test_text_output_names_each_operation(capsys):
     assert out.startswith("sequence O\nO at 0 s\n") and "opening time from the coil" in out and " ms" in out
 
 
-@pytest.mark.parametrize("option", [["-o", "x.csv"], ["--t-end", "0.1"], ["--effects", ""], ["--plot", "x.png"]])
+@pytest.mark.parametrize("option", [["-o", "x.csv"], ["--t-end", "0.1"], ["--effects", ""]])
 def test_options_of_one_run_are_refused(option, capsys, tmp_path, monkeypatch):
     monkeypatch.chdir(tmp_path)
     assert main(["simulate", str(CYCLE), "--sequence", "O"] + option) == 2
@@ -73,3 +75,66 @@ def test_an_operation_still_moving_at_the_next_command_fails(capsys):
     assert main(["simulate", str(CYCLE), "--sequence", "O-10ms-CO", "--backend", "compiled", "-q"]) == 1
     err = capsys.readouterr().err.strip().splitlines()
     assert len(err) == 1 and "comes to rest" in err[0] and "CO commanded at 0.01 s" in err[0]
+
+
+def _markers(ax, marker):
+    """{colour: (x, y)} of the single-point markers of one kind drawn in ``ax``."""
+    return {line.get_color(): (float(line.get_xdata()[0]), float(line.get_ydata()[0])) for line in ax.lines
+            if line.get_marker() == marker and len(line.get_xdata()) == 1}
+
+
+@pytest.mark.skipif(not compiler_works(), reason="no working C compiler")
+def test_the_sequence_figure_shows_each_operation_as_an_analyser_does():
+    """O - 0.3 s - CO: a row per operation; the O's travel with its opening zone shaded after the
+    parting and each pole's parting marked where the report has it, each pole's opening speed over
+    the zone as a bar at its value; the CO's closing panels (touches at the poles' touch times) and
+    its trip marked; the headline figures are the report's."""
+    from vcbmodel.app.closing_plot import pole_colour
+    from vcbmodel.app.sequence_plot import sequence_figure
+    from vcbmodel.experiments.closing_evaluation import figures_of_merit
+    from vcbmodel.experiments.sequence import commands_for, with_commands
+
+    rig = load_rig(str(CYCLE))
+    results = []
+    report = run_sequence(rig, "O-0.3s-CO", backend="compiled", results=results)
+    fig = sequence_figure(report, results, rig, "test")
+    assert len(fig.axes) == 8
+    o_travel, o_speed, o_timing, o_end, co_travel, _, co_timing, co_bounce = fig.axes
+    foms = [figures_of_merit(r, with_commands(rig, commands_for(rig, op))) for r, op in zip(results, ("O", "CO"))]
+    opening = foms[0]["opening"]
+    # the opening zone: 0-4 mm of travel after the parting, below the gap
+    zone = next(p for p in o_travel.patches if p.get_label().startswith("opening zone"))
+    gap = 1e3 * rig.breaker.poles.contact_gap
+    assert zone.get_label() == "opening zone, 0-4 mm after parting"
+    assert (zone.get_y(), zone.get_y() + zone.get_height()) == pytest.approx((gap - 4.0, gap))
+    partings = _markers(o_travel, "X")
+    for i, (part, pole_gap) in enumerate(zip(opening["parting_s"], rig.breaker.poles.gap_offsets), start=1):
+        assert partings[pole_colour(i)] == pytest.approx((1e3 * (opening["trip_s"] + part), gap + 1e3 * pole_gap))
+    bars = [c for c in o_speed.collections if c.get_segments()]
+    speeds = sorted(float(seg[0][1]) for c in bars for seg in c.get_segments())
+    assert speeds == pytest.approx(sorted(opening["opening_speeds_m_s"]))
+    assert "overtravel 0.021 mm" in o_end.get_title(loc="left")
+    # the CO: touches where the closing's figures put them, its trip as a dashed line in the timing panel
+    touches = _markers(co_travel, "o")
+    assert sorted(x for x, _ in touches.values()) == pytest.approx(sorted(1e3 * t for t in foms[1]["per_pole"]["touch_s"]))
+    trip = 1e3 * foms[1]["opening"]["trip_s"]
+    assert any(line.get_linestyle() == "--" and float(line.get_xdata()[0]) == pytest.approx(trip) for line in co_timing.lines)
+    assert "bounces" in co_bounce.get_title(loc="left")
+    heads = [t.get_text() for ax in (o_travel, co_travel) for t in ax.texts]
+    assert heads[0].startswith("O at 0 s") and "3.07 ms from the pawl" in heads[0]
+    assert heads[1].startswith("CO at 0.3 s") and "kinetic margin 78.3 J" in heads[1]
+    matplotlib.pyplot.close(fig)
+
+
+@pytest.mark.skipif(not compiler_works(), reason="no working C compiler")
+def test_sequence_plot_is_written_and_never_replaces_a_file_without_force(tmp_path, capsys):
+    out = tmp_path / "seq.png"
+    assert main(["simulate", str(CYCLE), "--sequence", "O", "--backend", "compiled", "--plot", str(out), "-q"]) == 0
+    assert out.read_bytes()[:8] == b"\x89PNG\r\n\x1a\n"
+    capsys.readouterr()
+    out.write_bytes(b"mine")
+    assert main(["simulate", str(CYCLE), "--sequence", "O", "--backend", "compiled", "--plot", str(out), "-q"]) == 2
+    err = capsys.readouterr().err.strip().splitlines()
+    assert len(err) == 1 and "--force" in err[0] and out.read_bytes() == b"mine"
+    assert main(["simulate", str(CYCLE), "--sequence", "O", "--plot", str(CYCLE), "--force", "-q"]) == 2
+    assert "input" in capsys.readouterr().err

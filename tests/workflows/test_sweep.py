@@ -184,6 +184,8 @@ def test_cli_end_to_end_on_a_tiny_pendulum_sweep(rig, tmp_path, capsys):
     captured = capsys.readouterr()
     assert captured.out == ""
     assert "4/4 done" in captured.err and "/min" in captured.err and "left" in captured.err
+    # a swing has no closing: its runs are ok or failed, never "not closed"
+    assert ": 4 ok, 0 failed in" in captured.err and "closed" not in captured.err
     rows = read_rows(out)
     assert rows[0] == ["run", "friction.mu_k", "friction.viscous", "first_peak_rad", "stop_time_s", "status"]
     assert [r[0] for r in rows[1:]] == ["1", "2", "3", "4"] and all(r[-1] == "ok" for r in rows[1:])
@@ -218,6 +220,17 @@ def test_every_experiment_gives_its_figures_of_merit(data):
     df = S.sweep(copy.deepcopy(data), ["cam.initial_velocity=0:0:1"], workers=1, verbose=False)
     assert list(df.columns) == ["run", "cam.initial_velocity", *experiment_of(data["experiment"]).figure_columns, "status"]
     assert df.status[0] == "ok" and df[list(experiment_of(data["experiment"]).figure_columns)].notna().all(axis=None)
+    if data["experiment"] == "vcb_closing":  # every pole is judged: the slowest and fastest, not a mean at touch
+        assert "touch_speed_m_s" not in df.columns
+        assert df.zone_speed_min_m_s[0] < df.closing_speed_m_s[0] < df.zone_speed_max_m_s[0]
+
+
+def test_a_closing_sweep_says_how_many_runs_did_not_close(caplog):
+    """The closing line counts a closing's own status apart: a run that ends before any pole touches."""
+    data = copy.deepcopy(P.REFERENCE_BREAKER)
+    with caplog.at_level("INFO", logger="vcbmodel"):
+        S.sweep(data, ["cam.initial_velocity=0:0:1"], workers=1, t_end=0.01, verbose=True)
+    assert ": 0 ok, 1 not closed, 0 failed in" in caplog.text
 
 
 def test_the_pool_works_from_a_script_without_a_main_guard(tmp_path):

@@ -62,12 +62,11 @@ def free_length_for(rig: Rig, pull: float, stiffness: float | None = None) -> fl
 
 # --- evaluations ---------------------------------------------------------------------------------
 
-#: Columns of :func:`closing_design`: the closing's figures of merit, the springs' charged pull
-#: and stored energy, their smallest static pull during the run and the energy they give up to the
-#: first touch.
-DESIGN_COLUMNS = experiment_of("vcb_closing").figure_columns + ("preload_N", "stored_energy_J", "min_spring_force_N",
-                                                                  "released_to_touch_J", "zone_speed_min_m_s",
-                                                                  "zone_speed_max_m_s")
+#: Columns of :func:`closing_design`: the closing's figures of merit (the slowest and fastest
+#: pole's zone speed among them), the springs' charged pull and stored energy, their smallest static
+#: pull during the run and the energy they give up to the first touch.
+DESIGN_COLUMNS = experiment_of("vcb_closing").figure_columns + ("latched", "preload_N", "stored_energy_J",
+                                                                  "min_spring_force_N", "released_to_touch_J")
 
 
 def closing_design(rig: Rig, t_end: float | None = None) -> dict:
@@ -78,37 +77,30 @@ def closing_design(rig: Rig, t_end: float | None = None) -> dict:
     result = simulate(rig, t_end=t_end, backend="fast")
     fom = record.figures_of_merit(result, rig)
     out = {k: fom.get(k) for k in experiment_of(rig.experiment).figure_columns}
+    out["latched"] = fom.get("latched")  # the cam reached its latch (True), turned back (False), run too short (None)
     s = rig.closing_spring
     lengths = spring_length(rig, result.channels["cam_angle"])
     out.update(preload_N=preload(rig), stored_energy_J=stored_energy(rig),
                min_spring_force_N=float(s.stiffness * (np.min(lengths) - s.free_length)),
-               released_to_touch_J=released_to_touch(rig, result, fom.get("first_touch_s")),
-               **zone_extremes(fom))
+               released_to_touch_J=released_to_touch(rig, result, fom.get("first_touch_s")))
     return out
-
-
-def zone_extremes(fom: dict) -> dict:
-    """The slowest and fastest pole's closing speed over the analyser's zone (m/s; None when a pole
-    has none): the spec's speed limit holds for every pole."""
-    zones = fom.get("per_pole", {}).get("closing_speed_m_s", [])
-    if not zones or any(v is None for v in zones):
-        return {"zone_speed_min_m_s": None, "zone_speed_max_m_s": None}
-    return {"zone_speed_min_m_s": float(min(zones)), "zone_speed_max_m_s": float(max(zones))}
 
 
 def pole_columns(count: int) -> tuple:
     """Columns of :func:`closing_poles` for a breaker of ``count`` poles."""
     per = tuple(f"pole_{i + 1}_{name}" for i in range(count) for name in ("zone_speed_m_s", "bounces", "bounce_s"))
-    return experiment_of("vcb_closing").figure_columns + ("zone_speed_min_m_s", "zone_speed_max_m_s") + per
+    return experiment_of("vcb_closing").figure_columns + ("latched",) + per
 
 
 def closing_poles(rig: Rig, t_end: float | None = None) -> dict:
     """A closing's figures of merit with every pole's own: its closing speed over the analyser's zone
-    (m/s), its bounce count and bounce duration (s), and the slowest and fastest pole's zone speed."""
+    (m/s), its bounce count and bounce duration (s); and ``latched``: whether the cam reached its
+    holding latch after the touch (True), turned back short of it (False: the closing fails), or the
+    run ended first (None: give a longer ``t_end``)."""
     result = simulate(rig, t_end=t_end, backend="fast")
     fom = experiment_of(rig.experiment).figures_of_merit(result, rig)
     out = {k: fom.get(k) for k in experiment_of(rig.experiment).figure_columns}
-    out.update(zone_extremes(fom))
+    out["latched"] = fom.get("latched")
     per = fom.get("per_pole", {})
     for i, (v, n, d) in enumerate(zip(per.get("closing_speed_m_s", []), per.get("bounces", []),
                                       per.get("bounce_duration_s", []))):

@@ -124,7 +124,7 @@ def record_setup(rig, measurement, sigma) -> RecordSetup:
     else:
         window_start = float(t[0])
         j = _departure_end(t, y, level, onset, sigma)
-        release = _parabola_release(t, y, level, sigma, float(t[0]), float(t[max(j, 3)]))
+        release = _parabola_release(t, y, level, sigma, float(t[0]), float(t[min(max(j, 3), t.size - 1)]))
         offset = None
     if "release_time" in pinned:
         release = float(pinned["release_time"])
@@ -171,7 +171,7 @@ def _pendulum_start(t, y, sigma, onset, level, still, notes, accel):
     j = _departure_end(t, y, level, onset, sigma)
     towards = np.sign(centre - level) == np.sign(y[j] - level)
     if still and towards:
-        release = _parabola_release(t, y, level, sigma, float(t[max(0, onset - 400)]), float(t[max(j, 3)]))
+        release = _parabola_release(t, y, level, sigma, float(t[max(0, onset - 400)]), float(t[min(max(j, 3), t.size - 1)]))
         if release - t[0] > 5 * (t[1] - t[0]):
             notes.append(f"record starts at rest: pre-trigger of about {release - t[0]:.3g} s before the release")
         return float(t[0]), release, level, False

@@ -26,7 +26,7 @@ from ..analysis.sweep import DEFAULT_SEED, SAMPLING, sweep
 from ..errors import InputError, SimulationError
 from ..experiments import experiment_of
 from ..experiments.report import Report, lines_report, report_json, report_text
-from ..experiments.loading import load_pair, load_rig, require_experiment
+from ..experiments.loading import load_record, load_rig, require_experiment, rig_of
 from ..experiments.sequence import run_sequence, sequence_lines
 from ..experiments.run_checks import require_motion
 from ..experiments.simulation import compiled_path_has, model_spec, output_times, simulate
@@ -34,6 +34,7 @@ from ..model.choice import choose, parse_effects_option
 from .outputs import check_distinct, check_output, protected_inputs, write_file
 from .templates import TEMPLATES, explain, template
 from .closing_plot import plot_closing
+from .sequence_plot import plot_sequence
 from .plots import plot_diagnosis, plot_simulation, supported_image_formats
 from .table_plot import plot_fit, plot_sweep
 
@@ -91,7 +92,7 @@ def build_parser() -> argparse.ArgumentParser:
                    help="exudyn (the model, default); compiled (the same laws traced to C: massless and lumped "
                         "springs); fast (compiled where it covers the model, else exudyn)")
     s.add_argument("--sequence", help="run an operating sequence of a breaker instead (C, O, CO, O-0.3s-CO, ...): "
-                   "figures per operation (no CSV; --json for JSON)")
+                   "figures per operation (no CSV; --json for JSON; --plot draws each operation as an analyser shows it)")
 
     c = sub.add_parser("check", parents=[common], help="validate a rig and say what simulate would run, without solving")
     c.add_argument("rig", help="rig file NAME.rig.json")
@@ -229,19 +230,24 @@ def cmd_simulate(args: argparse.Namespace) -> int:
 def simulate_sequence(rig: Rig, args: argparse.Namespace) -> int:
     """``simulate --sequence``: the operations' figures (:mod:`vcbmodel.experiments.sequence`), as
     text or one JSON object; options that shape one run's CSV are refused."""
-    for option, value in (("-o", args.output), ("--plot", args.plot), ("--t-end", args.t_end),
+    for option, value in (("-o", args.output), ("--t-end", args.t_end),
                           ("--spring-model", args.spring_model), ("--effects", args.effects)):
         if value is not None:
-            raise InputError(option, "--sequence", "a sequence reports figures per operation: it writes no CSV or "
-                             "plot and runs the rig's own model and run lengths; leave this option out")
+            raise InputError(option, "--sequence", "a sequence reports figures per operation: it writes no CSV "
+                             "and runs the rig's own model and run lengths; leave this option out")
     if rig.experiment != "vcb_closing":
         raise InputError(rig.path, "experiment", f"--sequence operates a breaker (vcb_closing), not a {rig.experiment}")
+    check_output(args.plot, "--plot", inputs=protected_inputs(args.rig, rig.data), force=args.force,
+                 formats=supported_image_formats())
     log.info("simulate %s: sequence %s", rig.name, args.sequence)
-    report = run_sequence(rig, args.sequence, backend=args.backend)
+    results = []
+    report = run_sequence(rig, args.sequence, backend=args.backend, results=results)
     if args.json:
         print(json.dumps({**envelope(rig, {"*_s": "s", "*_m": "m", "*_m_s": "m/s", "*_J": "J"}), **_plain(report)}))
     else:
         print("\n".join(sequence_lines(report)))
+    if args.plot:  # each operation as an analyser shows it, at the solver's step
+        plot_sequence(report, results, rig, args.plot, rig.name)
     return 0
 
 
@@ -292,11 +298,12 @@ def cmd_init(args: argparse.Namespace) -> int:
 
 
 def cmd_identify(args: argparse.Namespace) -> int:
-    pairs = [load_pair(m, args.rig) for m in args.measurements]
-    for rig, _ in pairs:
+    rigs = [rig_of(m, args.rig) for m in args.measurements]
+    for rig in rigs:
         require_experiment(rig, "pendulum", "identify")
-    check_output(args.plot, "--plot", inputs=tuple(args.measurements) + tuple(r.path for r, _ in pairs), force=args.force,
+    check_output(args.plot, "--plot", inputs=tuple(args.measurements) + tuple(r.path for r in rigs), force=args.force,
                  formats=supported_image_formats())
+    pairs = [(rig, load_record(m, rig)) for m, rig in zip(args.measurements, rigs)]
     with results_only_on_stdout():
         result = identify(pairs, law=args.law)
         if args.plot:
@@ -312,12 +319,14 @@ def cmd_identify(args: argparse.Namespace) -> int:
 
 
 def cmd_diagnose(args: argparse.Namespace) -> int:
-    rig, meas = load_pair(args.measurement, args.rig)
-    held_out = [load_pair(path, None) for path in args.held_out]
-    for other, _ in held_out:  # records of the same rig: the same experiment
+    rig = rig_of(args.measurement, args.rig)
+    others = [rig_of(path, None) for path in args.held_out]
+    for other in others:  # records of the same rig: the same experiment
         require_experiment(other, rig.experiment, "diagnose --held-out")
     check_output(args.plot, "--plot", inputs=protected_inputs(rig.path, rig.data, (args.measurement, *args.held_out)), force=args.force,
                  formats=supported_image_formats())
+    meas = load_record(args.measurement, rig)  # the records once the command is known to be sound
+    held_out = [(other, load_record(path, other)) for path, other in zip(args.held_out, others)]
     with results_only_on_stdout():
         d = diagnose(rig, meas, processes=max(1, args.processes), held_out=held_out)
         if args.plot:

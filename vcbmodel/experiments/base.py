@@ -23,6 +23,19 @@ if TYPE_CHECKING:
 MIN_SAMPLE_INTERVAL = 1e-7
 #: Most samples in a record (two million: 100 s at 20 kHz); a denser record is decimated first.
 MAX_SAMPLES = 2_000_000
+#: Fewest samples of a record any command reads: the noise comes from the record's third differences
+#: (8 samples at least), the residual's whiteness is tested over 20 lags, the release is fitted on
+#: the samples before the motion departs (5 at least) and a diagnosis fits up to about ten
+#: parameters; 50 leaves each of these samples to spare. An analyser records hundreds (10 kHz over
+#: 50 ms: 500), a camera at 12 kHz 300 over a 25 ms drop.
+MIN_SAMPLES = 50
+
+
+def check_samples(t: np.ndarray, source: str) -> None:
+    """Refuse (InputError, field ``data``) a record of fewer than MIN_SAMPLES samples."""
+    if np.size(t) < MIN_SAMPLES:
+        raise InputError(source, "data", f"{np.size(t)} samples: too few to analyse (a record needs at least "
+                         f"{MIN_SAMPLES}: its noise, its release and the fitted parameters each take samples)")
 
 
 def no_guesses(rig: Rig, measurement: Measurement) -> list[dict[str, float]]:
@@ -124,6 +137,7 @@ class Experiment:
     min_duration: float = 0.0  # s: a shorter record cannot show the experiment's motion
     max_magnitude: float = math.inf  # largest plausible |measured value| in ``unit``
     unit_hint: str = ""  # what a value beyond max_magnitude suggests ("degrees?")
+    channel_hint: str = ""  # what a record without measured_channel should rename (an analyser's export)
     figure_units: tuple = ()  # ((column, unit), ...): what a sweep tabulates
     missing_means: tuple = ()  # ((column, status), ...): see run_status
     free_swing: bool = False  # a free swing: may start by hand, its centre gives the sensor offset, it has a period
@@ -171,6 +185,7 @@ class Experiment:
         long, sampled implausibly fast or densely, a measured channel beyond its plausible range
         (a unit slip: degrees for rad, mm for m), or with no channel (``y`` and ``others``) that ever
         changes (one line, InputError)."""
+        check_samples(t, source)
         self.check_duration(float(t[-1] - t[0]), source, "column 't'")
         spacing = float(np.min(np.diff(t)))
         if spacing < MIN_SAMPLE_INTERVAL:

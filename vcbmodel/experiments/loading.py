@@ -88,7 +88,8 @@ def load_record(measurement_path: str | Path, rig: Rig) -> Measurement:
     time axis (seconds)."""
     record = EXPERIMENTS[rig.experiment]
     known = known_channels(rig)
-    meas = load_measurement(measurement_path, record.measured_channel, known, {c: unit_of(c) for c in known})
+    meas = load_measurement(measurement_path, record.measured_channel, known, {c: unit_of(c) for c in known},
+                            record.channel_hint)
     record.check_record(meas.t, meas.channel(record.measured_channel), meas.path,
                         [v for name, v in meas.channels.items() if name != record.measured_channel])
     check_contacts(meas)
@@ -118,11 +119,17 @@ def load_pair(measurement_path: str | Path, rig_path: str | Path | None = None) 
     tuple of (Rig, Measurement)
         The checked rig (SI units) and the record (``t`` in s; channels in rad, m, or 0/1 contacts).
     """
+    rig = rig_of(measurement_path, rig_path)
+    return rig, load_record(measurement_path, rig)
+
+
+def rig_of(measurement_path: str | Path, rig_path: str | Path | None = None) -> Rig:
+    """The rig of a measurement (``rig_path``, else its sibling ``NAME.rig.json``), read before the
+    record so that what is wrong with the rig or the command is said before the record is read."""
     if str(measurement_path).endswith(".rig.json"):
         raise InputError(measurement_path, "file", "is a rig file: give the measurement NAME.csv (its rig "
                          "NAME.rig.json is found beside it, or give it with --rig)")
-    rig = load_rig(rig_path or sibling_rig_path(measurement_path))
-    return rig, load_record(measurement_path, rig)
+    return load_rig(rig_path or sibling_rig_path(measurement_path))
 
 
 def require_experiment(rig: Rig, name: str, command: str) -> None:

@@ -237,9 +237,9 @@ def pole_rows(fom: dict, extra: list[dict], rig: Rig) -> list[Row]:
     return rows
 
 
-#: Whole-run figures the report shows elsewhere (per pole, in the notes) or leaves out: the mean of the
-#: poles' touch speeds moves with one pole caught mid-vibration (per pole in the table instead).
-NOT_BREAKER_ROWS = {"touch_speed_m_s", "closing_speed_m_s", "first_touch_s", "bounce_count", "bounce_duration_s",
+#: Whole-run figures the report shows elsewhere (per pole, in the notes) or leaves out: the poles'
+#: mean, slowest and fastest zone speed are in the per-pole table's row.
+NOT_BREAKER_ROWS = {"closing_speed_m_s", "zone_speed_min_m_s", "zone_speed_max_m_s", "first_touch_s", "bounce_count", "bounce_duration_s",
                     "final_travel_m", "end_s", "contacts_reopen_s", "cam_falls_back_s", "lift_lost_m",
                     "shaft_velocity_end_rad_s", "cam_angle_end_deg", "roller_first_lift_off_s", "max_pressure_angle_deg"}
 

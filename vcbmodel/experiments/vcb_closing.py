@@ -90,11 +90,15 @@ VCB_CLOSING = Experiment(
     sample_rate=12000.0, noise_sigma=5e-5, default_duration=P.BREAKER_T_END, max_duration=1.0,
     # the follower moves a few centimetres at most: a value above 0.5 is millimetres
     min_duration=2e-3, max_magnitude=0.5, unit_hint=": is it in millimetres? follower_displacement must be in m",
+    channel_hint=("the drive's travel (an analyser's travel transducer on the operating rod or main shaft): "
+                  "name that column 'follower_displacement'; each pole's pole_N_travel and pole_N_contact "
+                  "are read beside it"),
     build=build, channels=closing_channels, step=default_step, figures_of_merit=figures_of_merit,
     signature=spring_signature,
     # a breaker analyser's timing and travel channels (vcbmodel.records.analyser), fitted when present
     extra_channels=(r"pole_\d+_contact", r"pole_\d+_travel"),
-    figure_units=(("closing_time_s", "s"), ("touch_speed_m_s", "m/s"), ("closing_speed_m_s", "m/s"), ("pole_spread_s", "s"), ("bounce_count", "-"),
+    figure_units=(("closing_time_s", "s"), ("closing_speed_m_s", "m/s"), ("zone_speed_min_m_s", "m/s"),
+                  ("zone_speed_max_m_s", "m/s"), ("pole_spread_s", "s"), ("bounce_count", "-"),
                   ("bounce_duration_s", "s"), ("wipe_m", "m"), ("overtravel_m", "m"), ("rebound_m", "m"),
                   ("travel_settled_s", "s"), ("peak_cam_roller_force_N", "N"), ("kinetic_at_touch_J", "J"),
                   ("kinetic_margin_J", "J")),

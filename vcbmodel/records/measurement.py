@@ -2,8 +2,9 @@
 ``t``, channels in SI units or in the units the header states (the experiment records say which
 channels exist). A breaker analyser's export reads as written: ``t [ms]``, ``pole_1_travel [mm]``,
 or a units row under the header (``ms,mm,-``); every column is converted to SI on reading
-(:mod:`.units`). Reading refuses anything malformed with one line naming the file and the line or
-column; writing is the inverse (SI)."""
+(:mod:`.units`), units such as ``µs``, ``µm`` or ``°`` included (UTF-8). The time column may be
+headed ``t`` or ``time`` (``Time [ms]``, as analysers write it). Reading refuses anything malformed
+with one line naming the file and the line or column; writing is the inverse (SI)."""
 from __future__ import annotations
 
 import math
@@ -39,16 +40,18 @@ class Measurement:
 
 
 def _lines(path, raw):
-    """(line number, text) of each line; comment lines may hold any bytes (free text)."""
+    """(line number, text) of each line; comment lines may hold any bytes (free text), the others
+    are UTF-8 (a header's or units row's ``µs``, ``°``)."""
     for i, line in enumerate(text_bytes(path, raw).splitlines(), start=1):
         s = line.strip()
         if s.startswith(b"#"):
             yield i, s.decode("utf-8", errors="replace")
             continue
         try:
-            yield i, s.decode("ascii")
+            yield i, s.decode("utf-8")
         except UnicodeDecodeError:
-            raise InputError(path, f"line {i}", "holds characters other than numbers and names") from None
+            raise InputError(path, f"line {i}", "is not UTF-8 text (an analyser's export in another encoding, "
+                             "e.g. Windows-1252 for 'µs' or '°': save it as UTF-8)") from None
 
 
 #: A number as measurement files write it: digits with an optional point and exponent (no
@@ -112,6 +115,8 @@ def _header(cells, path, line, units):
         m = HEADER_UNIT.fullmatch(cell)
         name, unit = (m.group("name"), next(u for u in m.group("a", "b", "c") if u is not None).strip()) if m else (cell, None)
         name = name.lower()
+        if not names and name in TIME_NAMES:  # the time column as an analyser heads it: Time [ms]
+            name = "t"
         want = "s" if name == "t" else (units or {}).get(name)
         factors.append(None if unit is None else _factor(unit, name, want, path, f"column {cell[:40]!r}", ""))
         names.append(name)
@@ -119,8 +124,10 @@ def _header(cells, path, line, units):
 
 
 #: A cell of a units row (a logger's second header line: ``s,rad`` or ``[s];[m]``): a unit symbol,
-#: bracketed or not, or ``-`` for a dimensionless channel.
-UNIT_CELL = re.compile(r"[\[(]?\s*(?P<unit>[A-Za-z][A-Za-z0-9/^.*]*|-|1)\s*[\])]?")
+#: bracketed or not (``µs``, ``°`` too), or ``-`` for a dimensionless channel.
+UNIT_CELL = re.compile(r"[\[(]?\s*(?P<unit>°|[^\W\d_][\w/^.*]*|-|1)\s*[\])]?")
+#: Names of the time column (the first) besides ``t``, lower-cased: analysers head it ``Time``.
+TIME_NAMES = ("t", "time")
 
 
 def _units_row(cells, header, path, line, units) -> list[float] | None:
@@ -141,7 +148,7 @@ def _units_row(cells, header, path, line, units) -> list[float] | None:
 
 
 def load_measurement(path: str | Path, channel: str | None = None, known: Iterable[str] | None = None,
-                     units: dict[str, str] | None = None) -> Measurement:
+                     units: dict[str, str] | None = None, channel_hint: str = "") -> Measurement:
     """Read and check ``NAME.csv``; ``channel``: a column the file must have; ``known``: the
     channel names a file may carry (default: any); ``units``: {channel: SI unit} that units stated in
     the header or a units row are converted to (``ms`` to ``s``, ``mm`` to ``m``, ``deg`` to ``rad``;
@@ -155,6 +162,7 @@ def load_measurement(path: str | Path, channel: str | None = None, known: Iterab
     channel : a column the file must have.
     known : the channel names a file may carry (default: any).
     units : {channel: SI unit, e.g. ``rad``, ``m``} that stated units are converted to.
+    channel_hint : what the refusal of a file without ``channel`` says to rename (with its columns).
 
     Returns
     -------
@@ -162,7 +170,24 @@ def load_measurement(path: str | Path, channel: str | None = None, known: Iterab
         ``t`` in s; each channel in its SI unit (rad, m; 0/1 for contact channels).
     """
     path = str(path)
-    comments, rows, header, header_line, units_row = [], [], None, 0, None
+    comments, header, header_line, factors, rows = _parse(path, known, units)
+    if len(rows) < 3:
+        raise InputError(path, "data", f"needs at least 3 samples, has {len(rows)}")
+    arr = np.array(rows) * np.array([1.0 if f is None else f for f in factors])
+    t = arr[:, 0]
+    bad = np.nonzero(np.diff(t) <= 0)[0]
+    if bad.size:
+        raise InputError(path, f"column 't' near t = {t[bad[0] + 1]:g}", "time is not strictly increasing")
+    channels = {col: arr[:, j] for j, col in enumerate(header) if j > 0}
+    if channel is not None and channel not in channels:
+        hint = f" (it has {', '.join(header)}): {channel_hint}" if channel_hint else ""
+        raise InputError(path, f"line {header_line}", f"this record needs the column {channel!r}{hint}")
+    return Measurement(path=path, t=t, channels=channels, comments=tuple(comments))
+
+
+def _parse(path: str, known: Iterable[str] | None, units: dict[str, str] | None) -> tuple:
+    """(comments, header, its line, factors to SI, rows of values) of a measurement file."""
+    comments, rows, header, header_line, units_row, factors = [], [], None, 0, None, []
     dialect = (",", False)
     for i, s in _lines(path, read_bytes(path)):
         if not s:
@@ -185,17 +210,7 @@ def load_measurement(path: str | Path, channel: str | None = None, known: Iterab
         rows.append(_data_row(cells, header, dialect, path, i))
     if header is None:
         raise InputError(path, "header", "missing (no line other than comments)")
-    if len(rows) < 3:
-        raise InputError(path, "data", f"needs at least 3 samples, has {len(rows)}")
-    arr = np.array(rows) * np.array([1.0 if f is None else f for f in factors])
-    t = arr[:, 0]
-    bad = np.nonzero(np.diff(t) <= 0)[0]
-    if bad.size:
-        raise InputError(path, f"column 't' near t = {t[bad[0] + 1]:g}", "time is not strictly increasing")
-    channels = {col: arr[:, j] for j, col in enumerate(header) if j > 0}
-    if channel is not None and channel not in channels:
-        raise InputError(path, f"line {header_line}", f"this record needs the column {channel!r}")
-    return Measurement(path=path, t=t, channels=channels, comments=tuple(comments))
+    return comments, header, header_line, factors, rows
 
 
 def _merge_units(header: list, factors: list, units_row: list, path: str, line: int) -> list:
@@ -222,7 +237,7 @@ def _data_row(cells: list, header: list, dialect: tuple, path: str, line: int) -
 
 def _check_header(header, path, line, known):
     if header[0] != "t":
-        raise InputError(path, f"line {line}", f"the first column must be 't', got {header[0][:40]!r}")
+        raise InputError(path, f"line {line}", f"the first column must be the time, 't' or 'time', got {header[0][:40]!r}")
     for col in header[1:]:
         if known is not None and col not in known:
             raise InputError(path, f"column {col[:40]!r}", f"unknown channel{did_you_mean(col, known)} "

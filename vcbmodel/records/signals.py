@@ -159,12 +159,21 @@ def running_rms(residual: np.ndarray, width: int) -> np.ndarray:
     return np.sqrt(np.convolve(r2, kernel, mode="same"))
 
 
+def stands_out(peak: float, sigma: float) -> bool:
+    """Whether a residual's running-rms peak (:func:`disagreement_window`'s) stands out of noise of
+    standard deviation ``sigma``: above twice it, the level the window is cut at."""
+    return peak > 2.0 * sigma
+
+
 def disagreement_window(t: np.ndarray, residual: np.ndarray, sigma: float, width: int | None = None) -> tuple[float, float, float]:
     """The time window [t0, t1] (s) around the largest disagreement.
 
     The running rms of the residual (over ~2 % of the record) is compared with the noise
     level; the window is the contiguous stretch around its maximum where it stays above
-    ``max(2 sigma, half the maximum)``. Returns (t0, t1, peak_running_rms).
+    ``max(2 sigma, half the maximum)``, widened by half the running window on each side (the
+    samples its values average). Where nothing stands out (the peak below 2 sigma, a residual at
+    its noise) it is the running window around the peak: never a window of zero width. Returns
+    (t0, t1, peak_running_rms); :func:`stands_out` tells whether the peak stands out.
     """
     t = np.asarray(t)
     width = width or max(5, t.size // 50)
@@ -178,7 +187,8 @@ def disagreement_window(t: np.ndarray, residual: np.ndarray, sigma: float, width
     b = i
     while b < t.size - 1 and above[b + 1]:
         b += 1
-    return float(t[a]), float(t[b]), float(rr[i])
+    half = max(1, min(width, t.size) // 2)
+    return float(t[max(0, a - half)]), float(t[min(t.size - 1, b + half)]), float(rr[i])
 
 
 def dominant_frequency(t: np.ndarray, residual: np.ndarray) -> float:

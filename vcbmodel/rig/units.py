@@ -30,7 +30,7 @@ TO_SI = {
 
 def to_si(unit: str) -> tuple[str, float] | None:
     """(SI unit, factor) of a stated unit (``ms`` -> (``s``, 1e-3)); None if unknown."""
-    return TO_SI.get(unit.strip())
+    return TO_SI.get(unit.strip().replace("\u03bc", "\u00b5"))  # the Greek mu typed for the micro sign
 
 
 class Display(NamedTuple):

@@ -7,7 +7,7 @@ from __future__ import annotations
 import numpy as np
 
 from ...records.analyser import figures_of_merit
-from ...records.signals import dominant_frequency, lag1_autocorrelation
+from ...records.signals import disagreement_window, dominant_frequency, lag1_autocorrelation, stands_out
 from .state import Verdict
 from .witnesses import witness_text
 
@@ -127,9 +127,12 @@ def _start_text(ctx, baseline, window, signature, verdict: Verdict, period) -> s
     """The starting residual and what the record's signature shows."""
     unit = ctx.record.unit
     sigma = ctx.search.noise.marginal_sd
+    peak = disagreement_window(baseline.times[0], baseline.residuals[0], sigma)[2]
+    where = (f"largest in t = [{window[0]:.4g}, {window[1]:.4g}] s" if stands_out(peak, sigma) else
+             "nowhere standing out: its running rms stays under twice the noise")
     text = (f"The starting model leaves an rms residual of {baseline.rms:.3g} {unit}, "
             f"{baseline.rms / sigma:.2f}x the noise {sigma:.3g} {unit} (lag-1 correlation of the noise "
-            f"{ctx.search.noise.lag1:.2f}), largest in t = [{window[0]:.4g}, {window[1]:.4g}] s.")
+            f"{ctx.search.noise.lag1:.2f}), {where}.")
     if "amplitude_decay" in signature and signature["amplitude_decay"].get("shape") != "unknown":
         d = signature["amplitude_decay"]
         def stops(s):

@@ -18,6 +18,7 @@ from __future__ import annotations
 import time
 from typing import Callable, NamedTuple
 
+from ...experiments.base import check_samples
 from ..fit import SimulationPool
 from .align import align
 from .context import Budget, Context
@@ -57,6 +58,8 @@ def diagnose(rig: object, measurement: object, processes: int = 2, verbose: bool
     the processes' time, overrides the options' own). ``held_out``: (rig, measurement) pairs of the
     same rig's other records, predicted with the values fitted here (:mod:`.held_out`): the
     verdict ``explained`` requires each at its noise."""
+    for _, record in ((rig, measurement), *held_out):  # a record built in Python, not read: checked here
+        check_samples(record.t, record.path)
     if time_budget is not None:
         options = options.with_(time_budget=time_budget)
     started = time.monotonic()

@@ -7,6 +7,7 @@ from __future__ import annotations
 from dataclasses import dataclass, field
 
 from ...experiments import experiment_of
+from ...records.signals import disagreement_window, stands_out
 from ..fit import FitResult
 from ..noise import NoiseModel, excess
 from .options import DEFAULT_OPTIONS, DiagnosisOptions
@@ -102,6 +103,13 @@ class Diagnosis:
             "model_forms": self.model_forms.to_json() if self.model_forms is not None else None,
         }
 
+    def disagreement_line(self) -> str:
+        """Where the starting model's residual stands out most, or that it stands out nowhere."""
+        peak = disagreement_window(self.baseline.times[0], self.baseline.residuals[0], self.noise)[2]
+        if not stands_out(peak, self.noise):
+            return "  disagreement: nowhere standing out (the starting residual's running rms stays under twice the noise)"
+        return f"  disagreement largest in t = [{self.window[0]:.4g}, {self.window[1]:.4g}] s"
+
     def report(self) -> str:
         u = self.unit
         nz = self.noise_model
@@ -112,7 +120,7 @@ class Diagnosis:
                  f"rms {self.baseline.rms:.3g} {u}",
                  "  nuisance: " + ", ".join(f"{k} {v:.5g}" for k, v in self.nuisance.get("values", {}).items())
                  + (f" ({self.nuisance['caveat']})" if self.nuisance.get("caveat") else ""),
-                 f"  disagreement largest in t = [{self.window[0]:.4g}, {self.window[1]:.4g}] s",
+                 self.disagreement_line(),
                  "  candidates (delta BIC of the whitened residual, positive = better):"]
         for c in self.candidates:
             held = f"  held-out dchi2 {c.held_out_delta:.1f}" if c.held_out_delta else ""

@@ -280,7 +280,9 @@ def _execute(p, finished, client, workers, output, stream, evaluate, t_end, verb
     values_of = p.table.to_numpy(dtype=float)
     bar = Progress(len(todo), p.name, verbose)
     every = max(1, len(todo) // 100)
-    seconds, counts = [], {"failed": 0, "not_closed": 0}
+    # the statuses this experiment's runs can end in besides ok and failed (a closing: not_closed)
+    missing = [status for _, status in experiment_of(p.experiment).missing_means]
+    seconds, counts = [], {"failed": 0, **dict.fromkeys(missing, 0)}
     t0 = time.perf_counter()
     try:
         for run, values, status, secs in runner:
@@ -292,7 +294,8 @@ def _execute(p, finished, client, workers, output, stream, evaluate, t_end, verb
             rows[run] = typed_row(dict(zip(p.header, line)), p.paths, p.columns)
             seconds.append(secs)
             counts["failed"] += status.startswith("failed")
-            counts["not_closed"] += status == "not_closed"
+            for name in missing:
+                counts[name] += status == name
             # at most about 100 progress lines, and every run that is not ok
             bar.verbose = verbose and (status != "ok" or (bar.done + 1) % every == 0 or bar.done + 1 == len(todo))
             bar.step(f"run {run} {status}")
@@ -314,9 +317,10 @@ def _execute(p, finished, client, workers, output, stream, evaluate, t_end, verb
                      "seed": (DEFAULT_SEED if seed is None else seed) if p.kind == "random" else None,
                      "workers": None if client is not None else n_workers, "scheduler": address,
                      "runs_done": len(todo), "wall_s": wall, "run_s": seconds, "failed": counts["failed"],
-                     "not_closed": counts["not_closed"], "column_units": p.column_units, "simulated_with": p.backend})
+                     "not_closed": counts.get("not_closed", 0), "column_units": p.column_units, "simulated_with": p.backend})
     if verbose:
-        ok = len(todo) - counts["failed"] - counts["not_closed"]
-        progress(f"{p.name}: {ok} ok, {counts['not_closed']} not closed, {counts['failed']} failed in {wall:.1f} s"
+        ok = len(todo) - sum(counts.values())
+        apart = "".join(f"{counts[name]} {name.replace('_', ' ')}, " for name in missing)
+        progress(f"{p.name}: {ok} ok, {apart}{counts['failed']} failed in {wall:.1f} s"
                  + (f"; table in {output}" if output else ""))
     return df
