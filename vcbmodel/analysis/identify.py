@@ -34,7 +34,7 @@ from ..laws.friction import effective_static, zeta_from_viscous
 from ..records.signals import first_peak_amplitude
 from ..rig.spring_model import SpringModel
 from .fit import Dataset, FitResult, SimulationPool, fit, make_parameters, staged_fit
-from .release import released_pairs
+from .release import release_parameter, release_setup, released_pairs, was_cut
 from .held_out import HeldOut, held_out_validation
 from .model_forms import ModelForms, fit_forms
 
@@ -211,10 +211,12 @@ def identify(pairs: Sequence[tuple[Rig, Measurement]], law: str = "hybrid", verb
     spec = LAWS[law]
     pairs = released_pairs(pairs)  # each record from its release, found
     pairs = [usual_rate(pair) for pair in pairs]
-    datasets = [Dataset(rig, meas) for rig, meas in pairs]
+    # a record cut at a release found in it: its release refitted, as the diagnosis fits it
+    datasets = [Dataset(rig, meas, setup=release_setup(meas) if was_cut(meas) else None) for rig, meas in pairs]
     rig0, meas0 = pairs[0]
     guesses = experiment_of(rig0.experiment).start_guesses(rig0, meas0)
     params = make_parameters(rig0, spec["effects"], initial=guesses[0], vary=spec["vary"])
+    params.update({p.name: p for p in (release_parameter(i, d.setup) for i, d in enumerate(datasets) if d.setup)})
     if not any(p.vary for p in params.values()):
         raise InputError(rig0.path, "friction", f"gives every value of the {law} law: nothing to fit "
                          "(remove the values to identify from the rig's friction section)")

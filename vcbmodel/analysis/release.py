@@ -17,8 +17,8 @@ from ..errors import InputError
 from ..experiments import experiment_of
 from ..experiments.simulation import simulate
 from ..records.signals import noise_estimate_floored
-from .fit import make_parameters
-from .nuisance import record_setup, release_from_model
+from .fit import Parameter, make_parameters
+from .nuisance import RecordSetup, record_setup, release_from_model
 
 if TYPE_CHECKING:
     from collections.abc import Sequence
@@ -59,8 +59,36 @@ def from_release(rig: Rig, meas: Measurement) -> Measurement:
     log.info("identify: %s: released at %.4g s%s; fitted from there, the release at t = 0", meas.path, start,
              f" ({'; '.join(setup.notes)})" if setup.notes else "")
     shifted = replace(meas, t=t[k:] - t[k], channels={name: v[k:] for name, v in meas.channels.items()},
-                      comments=meas.comments + (f"vcbmodel: released at {start:.6g} s, shifted to t = 0",))
+                      comments=meas.comments + (f"{CUT_NOTE} {start:.6g} s, shifted to t = 0",))
     return shifted
+
+
+#: The comment :func:`from_release` adds to a record it cut at the release it found.
+CUT_NOTE = "vcbmodel: released at"
+#: How far (s) a fit may move the release of a record cut at a release found in it: the estimate
+#: scatters by about 10 ms on 1 kHz swings (MIN_PRE_TRIGGER's reason), and the cut rounds it to a sample.
+RELEASE_REFIT_SPAN = 0.02
+
+
+def was_cut(meas: Measurement) -> bool:
+    """Whether :func:`from_release` cut ``meas`` at a release it found (not at its first sample)."""
+    return any(c.startswith(CUT_NOTE) for c in meas.comments)
+
+
+def release_setup(meas: Measurement) -> RecordSetup:
+    """The alignment of a record cut at its found release: the release (t = 0 after the cut) refitted
+    within :data:`RELEASE_REFIT_SPAN` as the diagnosis fits it (a ``release`` parameter), the whole
+    record fitted; the sensor's offset and gain are not fitted (none is a parameter)."""
+    t = np.asarray(meas.t, float)
+    return RecordSetup(window=(float(t[0]), float(t[-1])), still_start=True, release=0.0,
+                       release_bounds=(-RELEASE_REFIT_SPAN, RELEASE_REFIT_SPAN), offset=0.0, gain=1.0,
+                       initial_angle=None, initial_angle_prior=None)
+
+
+def release_parameter(i: int, setup: RecordSetup) -> Parameter:
+    """Dataset ``i``'s release time (s in its record's time) as a fit parameter over ``setup``'s bounds."""
+    return Parameter(f"release_time_{i}", setup.release, setup.release_bounds[0], setup.release_bounds[1],
+                     unit="s", kind="release", dataset=i)
 
 
 #: How much of the model's swing from its release is simulated to place the release (s): its departure
@@ -83,7 +111,8 @@ def _model_start(rig: Rig, meas: Measurement, start: float) -> tuple[np.ndarray,
 
 def released_pairs(pairs: Sequence[tuple[Rig, Measurement]]) -> list[tuple[Rig, Measurement]]:
     """Each (rig, measurement) pair of pendulum records with the record from its release
-    (:func:`from_release`); InputError for no pairs, or a pair that is not a pendulum test."""
+    (:func:`from_release`; :func:`was_cut` tells which were cut); InputError for no pairs, or a pair
+    that is not a pendulum test."""
     pairs = list(pairs)
     if not pairs:
         raise InputError("identify", "measurements", "no records given: identify needs one pendulum record or more")
