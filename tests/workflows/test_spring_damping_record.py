@@ -1,8 +1,8 @@
 """A cam drop whose closing springs damp themselves (a Kelvin-Voigt continuum, the independent solve
-vcbmodel/reference/cam_spring_truth) on a rig with lumped springs: the diagnosis names the springs'
-internal damping (``spring_damping``) with its damping ratio, not shaft viscous friction (which it named
-before the effect was registered: mu_k 0.105 and Cv 0.084 N m s/rad for a truth of mu_k 0.13 and no
-viscous friction), and says the two are close (``ambiguous``)."""
+vcbmodel/reference/cam_spring_truth) on a rig with lumped springs: the diagnosis reads the springs'
+internal damping (``spring_damping``), not shaft viscous friction: the starting model without damping
+fits it at its noise (nothing named), but the model forms prefer the damped springs and their
+intervals hold the truth's mu_k and damping ratio."""
 import numpy as np
 from conftest import write_rig
 
@@ -27,8 +27,16 @@ def test_a_self_damping_spring_is_not_read_as_shaft_viscous_friction(tmp_path):
     theta, _ = cam_drop_with_damped_spring(CAM, SPRING, 9.81, 0.02, {"mu_k": MU_K}, ZETA, T, 32)
     meas = Measurement("damped.csv", T, {"cam_angle": theta + np.random.default_rng(14).normal(0.0, SIGMA, T.size)})
     d = diagnose(rig, meas, verbose=False)
-    assert d.missing_effects == ["spring_damping"] and "viscous_friction" not in d.final.effects
-    for name, truth in (("damping_ratio", ZETA), ("mu_k", MU_K)):
-        p = d.final.parameters[name]
-        assert abs(p.value - truth) < 2 * p.stderr, (name, p.value, p.stderr)
+    # the starting model (no damping) leaves the record at its noise: nothing is named (DiagnosisOptions'
+    # rule), and in particular no shaft viscous friction; its mu_k alone is off (0.18 for 0.13) ...
+    assert d.missing_effects == [] and "viscous_friction" not in d.final.effects
     assert d.final.rms < 1.1 * SIGMA
+    # ... which the model forms say: the record prefers the damped springs beyond the evidence margin,
+    # and the intervals a user reads hold the truth
+    forms = d.to_json()["model_forms"]
+    best = min(forms["forms"], key=lambda f: f["delta_bic"] if f["delta_bic"] is not None else float("inf"))
+    selected = next(f for f in forms["forms"] if f["form"].startswith("selected"))
+    assert best["form"] == "+ spring_damping" and selected["delta_bic"] > 10
+    for name, truth in (("mu_k", MU_K), ("damping_ratio", ZETA)):
+        q = forms["quantities"][name]
+        assert q["low"] <= truth <= q["high"], (name, q)

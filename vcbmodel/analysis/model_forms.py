@@ -296,7 +296,8 @@ def alternative_parameters(rig, base: FitResult, alt: Alternative) -> tuple[dict
 #: one); of air drag and viscous friction together, either alone may do the work (the diagnosis named a
 #: drag 10 times the largest paddle's beside viscous friction on a record without drag).
 #: Each decay effect's parameter: an effect added to the best form starts at 0 (the form itself).
-DECAY_SHARES = {"coulomb_friction": "mu_k", "viscous_friction": "viscous", "aerodynamic_drag": "drag"}
+DECAY_SHARES = {"coulomb_friction": "mu_k", "viscous_friction": "viscous", "aerodynamic_drag": "drag",
+                "spring_damping": "damping_ratio"}
 #: Decay effects that may stand in for each other (both dissipate more at speed).
 PARTNERS = {"viscous_friction": "aerodynamic_drag", "aerodynamic_drag": "viscous_friction"}
 
@@ -507,14 +508,24 @@ def quantities_over(rig, fits: list[FormFit], pinned: dict) -> tuple[dict, dict]
         for f, (values, _) in zip(fits, per_form):
             v, se = values.get(name, (0.0, 0.0))
             rows.append((f, v, math.hypot(se, pinned.get(name, 0.0))))
-        out[name] = _average(rig, name, units.get(name, "-"), rows)
+        if all(se == 0.0 for _, _, se in rows) and len({v for _, v, _ in rows}) == 1:
+            continue  # no form fits it: a value the rig gives (mu_k of a closing), not one the record states
+        out[name] = _average(rig, name, units.get(name, "-"), rows, _physical_bounds(name, fits))
     return out, {f.alternative.label: s for f, (_, s) in zip(fits, per_form) if s}
 
 
-def _average(rig, name: str, unit: str, rows: list) -> Quantity:
+def _physical_bounds(name: str, fits: list[FormFit]) -> tuple[float, float]:
+    """The widest bounds the forms' fits give parameter ``name`` (mu_k, a viscous coefficient, a damping
+    ratio cannot be negative): an interval is cut there, as the fits are."""
+    params = [f.fit.parameters[name] for f in fits if name in f.fit.parameters]
+    return (min((p.min for p in params), default=-math.inf), max((p.max for p in params), default=math.inf))
+
+
+def _average(rig, name: str, unit: str, rows: list, physical: tuple = (-math.inf, math.inf)) -> Quantity:
     """The model average of one quantity over (form fit, value, stderr) rows: over the forms within
     the evidence margin (the others' weights, below exp(-5) of the best's, are dropped and the rest
-    renormalised: a rejected form whose fit states no error must not make the quantity unknown)."""
+    renormalised: a rejected form whose fit states no error must not make the quantity unknown), its
+    interval cut at the parameter's ``physical`` bounds."""
     by_form = {f.alternative.label: (float(x), float(s)) for f, x, s in rows}
     rows = [row for row in rows if row[0].within_margin]
     w = np.array([f.weight for f, _, _ in rows])
@@ -535,6 +546,7 @@ def _average(rig, name: str, unit: str, rows: list) -> Quantity:
     if not finite:  # no error: the forms' values and, what is known without the record, the plausible range
         values = [x for x, _ in near] + (list(bounds) if bounds else [])
         low, high = min(values), max(values)
+    low, high = max(low, physical[0]), min(high, physical[1])
     meaning = ("the Coulomb level at speed: the friction at speed less C_v w, over r F" if name == "mu_k" else
                "the friction level at rest" if name == "mu_s" else "")
     return Quantity(name, unit, mean, sd, float(low), float(high), determined, by_form, meaning)

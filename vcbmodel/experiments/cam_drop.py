@@ -85,6 +85,9 @@ CAM_DROP = Experiment(
     name="cam_drop", description="cam released and turned by the closing springs (paper section 3, eq. 7-13)",
     measured_channel="cam_angle", unit="rad", sections=("cam", "closing_spring"), read_sections=read_cam_and_spring,
     provides=("journal", "closing_spring", "shaft_torque"),
+    # model-form uncertainty: a drive's dissipation at speed is shared between the shaft's viscous
+    # friction and the closing springs' internal damping; a record at the noise may hold either
+    form_alternatives=("viscous_friction", "spring_damping"),
     # high-speed camera at 12000 frames/s, sigma 2 mrad (the example data's sensor)
     sample_rate=12000.0, noise_sigma=2e-3, default_duration=P.CAM_T_END, max_duration=1.0,
     # a drop shorter than 2 ms barely moves the cam; cam angles beyond two turns are degrees

@@ -86,6 +86,9 @@ VCB_CLOSING = Experiment(
     name="vcb_closing", description="whole-breaker closing: cam, roller follower, push rods, poles (paper section 4)",
     measured_channel="follower_displacement", unit="m", sections=("cam", "closing_spring", "breaker"),
     read_sections=read_closing, provides=("journal", "closing_spring", "breaker"),
+    # model-form uncertainty: a drive's dissipation at speed is shared between the shaft's viscous
+    # friction and the closing springs' internal damping; a record at the noise may hold either
+    form_alternatives=("viscous_friction", "spring_damping"),
     # the cam drop's camera (12 kHz) filming the follower: about 0.1 mm resolved over a 100 mm field
     sample_rate=12000.0, noise_sigma=5e-5, default_duration=P.BREAKER_T_END, max_duration=1.0,
     # the follower moves a few centimetres at most: a value above 0.5 is millimetres
