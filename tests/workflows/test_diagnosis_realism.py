@@ -149,7 +149,8 @@ def test_analyser_figures_of_merit():
 def test_contact_channels_must_be_zero_or_one(tmp_path):
     rig_path = write_rig(tmp_path, P.REFERENCE_BREAKER, "closing")
     csv = tmp_path / "closing.csv"
-    csv.write_text("t,follower_displacement,pole_1_contact\n0,0,0\n0.001,0,0.5\n0.002,0,1\n")
+    rows = "".join(f"{i * 1e-3:g},0,{0.5 if i == 30 else int(i > 30)}\n" for i in range(60))
+    csv.write_text("t,follower_displacement,pole_1_contact\n" + rows)
     with pytest.raises(InputError, match="pole_1_contact"):
         load_pair(csv, rig_path)
 
