@@ -120,6 +120,9 @@ def evidence_text(ctx, baseline, final, missing, window, signature, verdict: Ver
     text += _selection_text(ctx, baseline, final, missing, backward, start_at_noise)
     text += _ties_text(ctx, verdict)
     text += _verdict_text(ctx, final, verdict)
+    if verdict.implausible:
+        text += (" Not explained: the final fit's values are not a physical rig's ("
+                 + "; ".join(f["message"] for f in verdict.implausible) + ").")
     return text + artefact_sentences(verdict, ctx.record.unit)
 
 

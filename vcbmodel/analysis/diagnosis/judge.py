@@ -16,6 +16,7 @@ from ...records.signals import disagreement_window, dominant_frequency, lag1_aut
 from ..fit import FitAborted, FitResult
 from ..fit.dataset import time_scale_name
 from ..noise import excess
+from ..plausibility import implausible
 from .artefacts import found_named
 from .at_noise import judge_noise
 from .fits import fit_record, parameters
@@ -161,6 +162,17 @@ def judge(ctx, state) -> None:
     _rescore(ctx, state)
     held = predict_held_out(ctx, state) if ctx.held_out else []
     state.verdict = verdict(ctx, final, held)
+    state.verdict.implausible = implausible_values(ctx.rig, final)
+    state.verdict.explained = state.verdict.explained and not state.verdict.implausible
     state.verdict.ambiguous = ties(ctx, state.path, state.candidates)
     state.verdict.period = state.period
     state.verdict.spring_model_refined = _spring_refined(ctx, state)
+
+
+def implausible_values(rig, fit) -> list[dict]:
+    """The fitted model values of ``fit`` no physical rig has or that break their law's constraint
+    (:func:`vcbmodel.analysis.plausibility.implausible`, ranges with sources in parameters.py), as JSON."""
+    varied = {name: p for name, p in fit.parameters.items() if p.vary and p.kind == "model"}
+    findings = implausible(rig, {name: p.value for name, p in varied.items()},
+                           {name: p.stderr for name, p in varied.items()})
+    return [f.to_json() for f in findings]

@@ -125,6 +125,9 @@ class Verdict:
     period: dict | None = None
     spring_model_refined: dict | None = None
     held_out: list = field(default_factory=list)  # per held-out record: its prediction's judgement (dict)
+    #: the final fit's values no physical rig has, or that break the law's constraint (plausibility
+    #: Finding JSON): with any, the record is not explained, whatever its residual
+    implausible: list = field(default_factory=list)
 
     @property
     def tests(self) -> dict:
@@ -143,6 +146,8 @@ class Verdict:
             out["ambiguous"] = self.ambiguous
         if self.held_out:
             out["held_out"] = self.held_out
+        if self.implausible:
+            out["implausible"] = self.implausible
         return out
 
 
