@@ -19,6 +19,7 @@ from __future__ import annotations
 import copy
 import json
 import tempfile
+import logging
 from collections.abc import Callable
 from pathlib import Path
 from typing import TYPE_CHECKING
@@ -28,6 +29,8 @@ from .closing_evaluation import figures_of_merit
 from .loading import load_rig
 from .sequence import RUN_LENGTH
 from .simulation import simulate
+
+log = logging.getLogger("vcbmodel")
 
 if TYPE_CHECKING:
     from ..rig.data import Rig
@@ -83,9 +86,25 @@ def bisect_peak(fails: Callable[[float], bool], low: float, high: float, toleran
     return high
 
 
+def valid_high(rig: Rig, high: float, folder: Path, backend: str) -> float:
+    """The largest of ``high``, high / 2, high / 4, ... (A; not below the rig's own peak) whose closing is
+    a valid run: at a current far beyond any rating Holm's force (mega-newtons at 1 MA) makes the fixed
+    step unstable, and such a run (its energy check fails) is no evidence of latching either way."""
+    while True:
+        try:
+            closing_figures(with_peak(rig, high, folder), backend)
+            return high
+        except SimulationError:
+            if high / 2.0 < rig.breaker.making_current.peak:
+                raise
+            log.info("making limit: the closing at %.3g A is not a valid run; searching up to %.3g A", high, high / 2.0)
+            high /= 2.0
+
+
 def making_limits(rig: Rig, high: float = 1e6, tolerance: float = 1e3, backend: str = "fast") -> dict:
     """The making-current limits of the rig's closing (module docstring): ``fails_to_latch_A`` and
-    ``blown_open_A`` (None: not up to ``high`` A), the searched ``high_A`` and ``tolerance_A``, and at
+    ``blown_open_A`` (None: not up to ``high_A``, the largest current up to ``high`` whose run is valid:
+    :func:`valid_high`), ``tolerance_A``, and at
     the rig's own peak whether it latches and its kinetic margin (J)."""
     if rig.breaker is None or rig.breaker.making_current is None:
         raise InputError(rig.path, "breaker.making_current", "missing: the making limit needs the making current's "
@@ -94,6 +113,7 @@ def making_limits(rig: Rig, high: float = 1e6, tolerance: float = 1e3, backend: 
         folder = Path(tmp)
         baseline = closing_figures(with_peak(rig, 0.0, folder), backend)
         own = closing_figures(rig, backend)
+        high = valid_high(rig, high, folder, backend)
         latch_fail = bisect_peak(lambda p: not latches(closing_figures(with_peak(rig, p, folder), backend)), 0.0, high,
                                  tolerance)
         blow = bisect_peak(lambda p: blown_open(closing_figures(with_peak(rig, p, folder), backend), baseline), 0.0,
