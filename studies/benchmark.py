@@ -123,7 +123,7 @@ def speed_targets(prig, crig, brig, law, h, repeats):
 
 #: The rows of the speed table: (key in issue18_targets, workload, format of "now")
 TABLE_ROWS = (
-    ("pendulum_6s_compiled_friction_over_no_friction", "6 s pendulum: Exudyn symbolic friction / Exudyn without friction", "{:.1f}x"),
+    ("pendulum_6s_compiled_friction_over_no_friction", "6 s pendulum: Exudyn symbolic friction / Exudyn without friction", "{:.2f}x"),
     ("cam_drop_35ms_lumped2_with_friction", "35 ms cam drop, lumped-2, with friction", "{:.4f} s"),
     ("cam_drop_35ms_massless_simulate_auto_over_python_uf", "35 ms massless cam drop, simulate() auto / Python UF", "{:.2f}x"),
     ("vcb_closing_45ms_lumped2", "45 ms closing, lumped-2", "{:.4f} s"),

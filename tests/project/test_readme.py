@@ -61,3 +61,5 @@ def test_quick_start_runs_as_written(tmp_path):
     assert json.loads((out / "my.rig.json").read_text())["experiment"] == "cam_drop"
     assert "a valid cam_drop rig" in run.stdout and "cam angle at the end" in run.stdout
     assert (out / "drop.csv").stat().st_size > 1000 and (out / "diagnosis.png").stat().st_size > 1000
+    cycle = json.loads((out / "cycle.json").read_text())  # O - 0.3 s - CO: an opening, then a closing and opening
+    assert [op["op"] for op in cycle["operations"]] == ["O", "CO"], cycle["operations"]
