@@ -32,6 +32,7 @@ from __future__ import annotations
 
 from collections.abc import Callable, Sequence
 
+from ..laws.traced import TracedArithmetic
 from ..compiled.trace import CONST, Expr, Graph, TraceOps
 from .exudyn_loader import exudyn_modules
 from .symbolic_writer import Tape, Writer, min_max, tree_cost
@@ -94,7 +95,7 @@ def _fingerprint(law: Callable, n_args: int) -> tuple | None:
     return (n_args, tuple(steps), _Step.mark(result))
 
 
-class _Step:
+class _Step(TracedArithmetic):
     """A value in a fingerprint: operations on it record steps."""
 
     __slots__ = ("steps", "index")
@@ -114,25 +115,10 @@ class _Step:
         self.steps.append((name, _Step.mark(other), self.index))
         return _Step(self.steps, len(self.steps) - 1)
 
-    __add__ = lambda s, o: s._op("add", o)  # noqa: E731
-    __radd__ = lambda s, o: s._rop("add", o)  # noqa: E731
-    __sub__ = lambda s, o: s._op("sub", o)  # noqa: E731
-    __rsub__ = lambda s, o: s._rop("sub", o)  # noqa: E731
-    __mul__ = lambda s, o: s._op("mul", o)  # noqa: E731
-    __rmul__ = lambda s, o: s._rop("mul", o)  # noqa: E731
-    __truediv__ = lambda s, o: s._op("div", o)  # noqa: E731
-    __rtruediv__ = lambda s, o: s._rop("div", o)  # noqa: E731
     __pow__ = lambda s, o: s._op("pow", o)  # noqa: E731
-    __lt__ = lambda s, o: s._op("lt", o)  # noqa: E731
-    __le__ = lambda s, o: s._op("le", o)  # noqa: E731
-    __gt__ = lambda s, o: s._op("gt", o)  # noqa: E731
-    __ge__ = lambda s, o: s._op("ge", o)  # noqa: E731
-    __eq__ = lambda s, o: s._op("eq", o)  # noqa: E731
-    __ne__ = lambda s, o: s._op("ne", o)  # noqa: E731
     __neg__ = lambda s: s._op("neg")  # noqa: E731
     __pos__ = lambda s: s._op("pos")  # noqa: E731
     __abs__ = lambda s: s._op("abs")  # noqa: E731
-    __hash__ = object.__hash__
 
     def __bool__(self):
         raise TypeError("a fingerprint cannot branch on the state")

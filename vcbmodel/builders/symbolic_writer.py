@@ -31,6 +31,7 @@ from __future__ import annotations
 import math
 from collections.abc import Sequence
 
+from ..laws.traced import TracedArithmetic
 from ..compiled.trace import Graph
 
 def min_max(graph: Graph, i: int) -> tuple[str, int, int] | None:
@@ -492,7 +493,7 @@ _OPERATORS = {"add": lambda a, b: a + b, "sub": lambda a, b: a - b, "mul": lambd
               "eq": lambda a, b: a == b, "ne": lambda a, b: a != b}
 
 
-class _Ref:
+class _Ref(TracedArithmetic):
     """A recorded value (a step of a :class:`Tape`): arithmetic and comparisons record steps."""
 
     __slots__ = ("tape", "index")
@@ -507,21 +508,6 @@ class _Ref:
     def _rop(self, name, other):
         return self.tape.add("operator", name, self.tape.add("real", float(other)), self)
 
-    __add__ = lambda s, o: s._op("add", o)  # noqa: E731
-    __radd__ = lambda s, o: s._rop("add", o)  # noqa: E731
-    __sub__ = lambda s, o: s._op("sub", o)  # noqa: E731
-    __rsub__ = lambda s, o: s._rop("sub", o)  # noqa: E731
-    __mul__ = lambda s, o: s._op("mul", o)  # noqa: E731
-    __rmul__ = lambda s, o: s._rop("mul", o)  # noqa: E731
-    __truediv__ = lambda s, o: s._op("div", o)  # noqa: E731
-    __rtruediv__ = lambda s, o: s._rop("div", o)  # noqa: E731
-    __lt__ = lambda s, o: s._op("lt", o)  # noqa: E731
-    __le__ = lambda s, o: s._op("le", o)  # noqa: E731
-    __gt__ = lambda s, o: s._op("gt", o)  # noqa: E731
-    __ge__ = lambda s, o: s._op("ge", o)  # noqa: E731
-    __eq__ = lambda s, o: s._op("eq", o)  # noqa: E731
-    __ne__ = lambda s, o: s._op("ne", o)  # noqa: E731
-    __hash__ = object.__hash__
 
     def __neg__(self):
         return self.tape.add("operator", "neg", self)

@@ -20,6 +20,8 @@ from __future__ import annotations
 import math
 from collections.abc import Iterable, Sequence
 
+from ..laws.traced import TracedArithmetic
+
 CONST, PARAM, STATE = 0, 1, 2
 
 _C_BINARY = {"add": "+", "sub": "-", "mul": "*", "div": "/"}
@@ -214,7 +216,7 @@ class Graph:
         return lines
 
 
-class Expr:
+class Expr(TracedArithmetic):
     """A traced value: a node of a :class:`Graph`; arithmetic and comparisons record nodes."""
 
     __slots__ = ("graph", "index")
@@ -234,21 +236,6 @@ class Expr:
     def _rop(self, op, other):
         return self.graph.apply(op, other, self)
 
-    __add__ = lambda s, o: s._op("add", o)  # noqa: E731
-    __radd__ = lambda s, o: s._rop("add", o)  # noqa: E731
-    __sub__ = lambda s, o: s._op("sub", o)  # noqa: E731
-    __rsub__ = lambda s, o: s._rop("sub", o)  # noqa: E731
-    __mul__ = lambda s, o: s._op("mul", o)  # noqa: E731
-    __rmul__ = lambda s, o: s._rop("mul", o)  # noqa: E731
-    __truediv__ = lambda s, o: s._op("div", o)  # noqa: E731
-    __rtruediv__ = lambda s, o: s._rop("div", o)  # noqa: E731
-    __lt__ = lambda s, o: s._op("lt", o)  # noqa: E731
-    __le__ = lambda s, o: s._op("le", o)  # noqa: E731
-    __gt__ = lambda s, o: s._op("gt", o)  # noqa: E731
-    __ge__ = lambda s, o: s._op("ge", o)  # noqa: E731
-    __eq__ = lambda s, o: s._op("eq", o)  # noqa: E731
-    __ne__ = lambda s, o: s._op("ne", o)  # noqa: E731
-    __hash__ = object.__hash__
 
     def __neg__(self):
         return self._op("neg")
