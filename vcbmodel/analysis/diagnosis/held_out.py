@@ -8,6 +8,7 @@ a model that absorbed a missing effect into wrong values fits its own record at 
 mispredicts a record at another amplitude or speed. Units: the record's (rad or m)."""
 from __future__ import annotations
 
+from collections.abc import Iterator
 from dataclasses import replace
 
 from ...errors import SimulationError
@@ -46,17 +47,23 @@ def prediction(hctx: Context, model: FitResult) -> FitResult:
     return kept[1]
 
 
+def prediction_pairs(ctx: Context, current: FitResult, fit: FitResult) -> Iterator[tuple[Context, FitResult, FitResult]]:
+    """(held-out context, prediction by ``current``, prediction by ``fit``) for each held-out record
+    both models predict (a record either cannot simulate is left out)."""
+    for h in held_out_contexts(ctx):
+        try:
+            yield h, prediction(h, current), prediction(h, fit)
+        except (FitAborted, SimulationError):
+            continue
+
+
 def held_out_evidence(ctx, current: FitResult, fit: FitResult) -> tuple[float, float]:
     """What the held-out records say of ``fit`` against ``current`` (both fitted on the diagnosed
     record), summed over the records: the drop of the whitened chi^2 of their predictions (under
     each record's noise model, from the better prediction's residual) and the share of each
     record's noise variance removed. Predictions are out of sample: no parameter is charged."""
     delta = gain = 0.0
-    for h in held_out_contexts(ctx):
-        try:
-            before, after = prediction(h, current), prediction(h, fit)
-        except (FitAborted, SimulationError):
-            continue
+    for h, before, after in prediction_pairs(ctx, current, fit):
         noise = noise_of_best([before, after], h.sigma_hf, h.quantisation)
         delta += before.chi2_with(noise) - after.chi2_with(noise)
         gain += variance_gain(before, after, h.sigma_hf)
@@ -67,11 +74,7 @@ def held_out_share_left(ctx, current: FitResult, fit: FitResult) -> float:
     """The share of the held-out records' prediction variance in excess of their noise (summed
     over the records) that ``fit`` still leaves, against ``current``."""
     before = after = 0.0
-    for h in held_out_contexts(ctx):
-        try:
-            a, b = prediction(h, current), prediction(h, fit)
-        except (FitAborted, SimulationError):
-            continue
+    for h, a, b in prediction_pairs(ctx, current, fit):
         before += max(a.rms**2 - h.sigma_hf**2, 0.0)
         after += max(b.rms**2 - h.sigma_hf**2, 0.0)
     return after / before if before > 0 else 0.0
