@@ -38,10 +38,10 @@ def levenberg_marquardt(obj, x0, lo, hi, max_iterations: int, chi2_tolerance: fl
     damped step's own prediction does not decide it: in a narrow valley of correlated parameters
     (Coulomb, viscous and drag friction with the release time) a damped step is short and
     predicts little while the Gauss-Newton step still predicts hundreds; the damping is then
-    lowered (:func:`_damped_steps`). Parameters at a
-    bound whose gradient points outwards are held there. When no damping gives descent (a
-    free swing's cost has kinks where a stop comes a step earlier or later), the Jacobian is
-    taken once more with ten times the difference step, which averages over the kinks.
+    lowered (:func:`_damped_steps`). Parameters at a bound whose gradient points outwards are
+    held there. When no damping gives descent (a free swing's cost has kinks where a stop comes a
+    step earlier or later), the Jacobian is taken once more with ten times the difference step,
+    which averages over the kinks.
     ``final_jacobian=False``: after a small step that the linear model predicted well and that
     leaves less than the tolerance of the Gauss-Newton step's predicted change, stop without a new
     Jacobian (the one before the step serves for the standard errors; used by a polish that starts
