@@ -168,6 +168,28 @@ def test_levenberg_marquardt_solves_a_linear_problem_and_holds_a_bound():
     assert x[0] == pytest.approx(np.linalg.lstsq(A[:, :1], b, rcond=None)[0][0], rel=0.01)
 
 
+@pytest.mark.parametrize("final_jacobian", [True, False])
+def test_levenberg_marquardt_reaches_the_floor_of_a_narrow_valley(final_jacobian):
+    """Two nearly collinear columns (as a swing's Coulomb, viscous and drag friction with its release
+    time), started far along the valley: the first damped step predicts a chi^2 change under the
+    tolerance while the Gauss-Newton step predicts 400; the fit must go on to the floor, to within the
+    tolerance (2e-3 of the samples: 4) and one standard error."""
+    rng = np.random.default_rng(2)
+    u, v = rng.normal(size=2000), rng.normal(size=2000)
+    A = np.column_stack([u, u + 3e-3 * v])
+    b = A @ np.array([1.0, 1.0]) + rng.normal(size=2000)  # unit noise: the residual is already scaled
+    obj = LinearObjective(A, b)
+    best = np.linalg.lstsq(A, b, rcond=None)[0]
+    floor = float(np.sum((A @ best - b) ** 2))
+    x0 = np.array([151.0, -149.0])
+    assert float(np.sum(obj.residual(x0) ** 2)) > floor + 400
+    x, cost, _, ok, _ = levenberg_marquardt(obj, x0, np.full(2, -1e3), np.full(2, 1e3), 14,
+                                            final_jacobian=final_jacobian)
+    assert ok and cost <= floor + 4.0
+    d = x - best
+    assert d @ (A.T @ A) @ d <= 1.0  # within one standard error (Mahalanobis) of the least-squares point
+
+
 # --- the rooms -------------------------------------------------------------------------------------
 
 def _imports(path):

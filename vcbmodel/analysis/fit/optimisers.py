@@ -20,22 +20,32 @@ INITIAL_DAMPING = 1e-3
 RELATIVE_TOLERANCE = 2e-3
 #: Damping increases tried per Levenberg-Marquardt iteration before it gives up descending.
 DAMPING_ATTEMPTS = 6
+#: Least damping (relative to the diagonal of J^T J): the Gauss-Newton step, kept solvable.
+MIN_DAMPING = 1e-7
+#: A too-damped step is replaced by the least-damped one (damping tenfold lower each time) that
+#: reaches this share of the Gauss-Newton step's predicted chi^2 change.
+UNDAMPED_SHARE = 0.5
 
 
 def levenberg_marquardt(obj, x0, lo, hi, max_iterations: int, chi2_tolerance: float = 0.1,
                         final_jacobian: bool = True, jacobian=None, relative_tolerance: float | None = None) -> tuple:
     """Bounded Levenberg-Marquardt on the objective's scaled residuals (chi^2 = sum r^2).
 
-    Stops when the step the linear model predicts would lower chi^2 by less than a tolerance
-    (``chi2_tolerance``, or :data:`RELATIVE_TOLERANCE` of the chi^2 that noise alone would
-    leave: a change far below what any comparison of models or any standard error can see), so
-    a converged fit ends on a Jacobian, without a last confirming simulation. Parameters at a
-    bound whose gradient points outwards are held there. When no damping gives descent (a
-    free swing's cost has kinks where a stop comes a step earlier or later), the Jacobian is
-    taken once more with ten times the difference step, which averages over the kinks.
-    ``final_jacobian=False``: after a small step that the linear model predicted well, stop
-    without a new Jacobian (the one before the step serves for the standard errors; used by a
-    polish that starts next to the optimum).
+    Stops when the Gauss-Newton step (least damping) is predicted to lower chi^2 by less than a
+    tolerance (``chi2_tolerance``, or :data:`RELATIVE_TOLERANCE` of the chi^2 that noise alone
+    would leave: a change far below what any comparison of models or any standard error can
+    see), so a converged fit ends on a Jacobian, without a last confirming simulation. The
+    damped step's own prediction does not decide it: in a narrow valley of correlated parameters
+    (Coulomb, viscous and drag friction with the release time) a damped step is short and
+    predicts little while the Gauss-Newton step still predicts hundreds; the damping is then
+    lowered (:func:`_damped_steps`). Parameters at a bound whose gradient points outwards are
+    held there. When no damping gives descent (a free swing's cost has kinks where a stop comes a
+    step earlier or later), the Jacobian is taken once more with ten times the difference step,
+    which averages over the kinks.
+    ``final_jacobian=False``: after a small step that the linear model predicted well and that
+    leaves less than the tolerance of the Gauss-Newton step's predicted change, stop without a new
+    Jacobian (the one before the step serves for the standard errors; used by a polish that starts
+    next to the optimum).
 
     Parameters
     ----------
@@ -71,7 +81,7 @@ def levenberg_marquardt(obj, x0, lo, hi, max_iterations: int, chi2_tolerance: fl
         attempt = _damped_steps(obj, J, r, x, cost, lam, lo, hi, tolerance, it)
         lam = attempt.damping
         if attempt.outcome == "converged":
-            return x, cost, J, True, f"converged (predicted chi2 change {attempt.predicted:.2g}) after {it} iterations"
+            return x, cost, J, True, f"converged (predicted chi2 change {attempt.undamped:.2g}) after {it} iterations"
         if attempt.outcome == "no descent":
             if widened:
                 return x, cost, J, True, f"no further descent after {it} iterations"
@@ -80,10 +90,11 @@ def levenberg_marquardt(obj, x0, lo, hi, max_iterations: int, chi2_tolerance: fl
             continue
         gain = cost - attempt.cost
         x, r, cost = attempt.x, attempt.r, attempt.cost
-        if not final_jacobian and gain >= 0.7 * attempt.predicted and attempt.predicted < 0.1 * cost:
+        if (not final_jacobian and gain >= 0.7 * attempt.predicted and attempt.predicted < 0.1 * cost
+                and attempt.undamped - attempt.predicted < tolerance):
             return x, cost, J, True, f"converged: a last step as predicted (chi2 change {gain:.3g})"
         J = jacobian(x)
-        if gain < tolerance:
+        if gain < tolerance and attempt.predicted >= UNDAMPED_SHARE * attempt.undamped:  # not merely too damped
             return x, cost, J, True, f"converged (chi2 change {gain:.2g}) after {it + 1} iterations"
     return x, cost, J, True, f"at the iteration limit ({max_iterations})"
 
@@ -91,12 +102,14 @@ def levenberg_marquardt(obj, x0, lo, hi, max_iterations: int, chi2_tolerance: fl
 @dataclass
 class _Attempt:
     """One Levenberg-Marquardt iteration's outcome: ``"accepted"`` (a step lowered chi^2 to
-    ``cost`` at ``x``), ``"converged"`` (the predicted change is below the tolerance) or
-    ``"no descent"``; ``damping``: the damping to go on with."""
+    ``cost`` at ``x``), ``"converged"`` (the Gauss-Newton step's predicted change is below the
+    tolerance) or ``"no descent"``; ``damping``: the damping to go on with; ``predicted``: the
+    step's predicted chi^2 change, ``undamped``: the Gauss-Newton step's."""
 
     outcome: str
     damping: float
     predicted: float = 0.0
+    undamped: float = 0.0
     x: np.ndarray | None = None
     r: np.ndarray | None = None
     cost: float = math.inf
@@ -104,31 +117,57 @@ class _Attempt:
 
 def _damped_steps(obj, J, r, x, cost, lam, lo, hi, tolerance, it) -> _Attempt:
     """Damped Gauss-Newton steps from ``x``, the damping raised tenfold after each that does
-    not lower chi^2, until one does (at most :data:`DAMPING_ATTEMPTS`)."""
+    not lower chi^2, until one does (at most :data:`DAMPING_ATTEMPTS`). A step predicted to gain
+    less than ``tolerance`` ends the fit only when the Gauss-Newton step (:data:`MIN_DAMPING`)
+    is too; otherwise the damping is lowered once (:func:`_less_damping`), and a step that then
+    fails all the way back up to a negligible one is ``"no descent"``."""
     g = J.T @ r
     H = J.T @ J
     d = np.maximum(np.diag(H), 1e-12 * max(1.0, float(np.max(np.diag(H)))))
     free = np.ones(x.size, bool)
     free &= ~((x <= lo + 1e-12) & (g > 0))
     free &= ~((x >= hi - 1e-12) & (g < 0))
+    undamped = _predicted(H, g, d, MIN_DAMPING, x, lo, hi, free)
+    lowered = False
     for _ in range(DAMPING_ATTEMPTS):
-        step = bounded_step(H, g, d, lam, x, lo, hi, free)
-        x_new = np.clip(x + step, lo, hi)
-        step = x_new - x
-        predicted = -(2 * g @ step + step @ H @ step)
+        predicted = _predicted(H, g, d, lam, x, lo, hi, free)
         if predicted < tolerance:
             if predicted < -1e-9 * max(cost, 1.0):  # not a descent step (bounds): damp more
                 lam *= 10.0
                 continue
-            return _Attempt("converged", lam, predicted)
+            if undamped < tolerance:
+                return _Attempt("converged", lam, predicted, undamped)
+            if lowered:  # the less damped steps failed: the linear model does not hold here
+                return _Attempt("no descent", lam, predicted, undamped)
+            lam, predicted = _less_damping(H, g, d, lam, x, lo, hi, free, undamped)
+            lowered = True
+        x_new = np.clip(x + bounded_step(H, g, d, lam, x, lo, hi, free), lo, hi)
         r_new = obj.residual(x_new)
         cost_new = float(np.dot(r_new, r_new))
-        log.debug("LM it %d lam %.2g cost %.6g -> %.6g predicted %.3g free %d", it, lam, cost, cost_new,
-                  predicted, free.sum())
+        log.debug("LM it %d lam %.2g cost %.6g -> %.6g predicted %.3g (undamped %.3g) free %d", it, lam, cost,
+                  cost_new, predicted, undamped, free.sum())
         if cost_new < cost:
-            return _Attempt("accepted", max(lam / 5.0, 1e-7), predicted, x_new, r_new, cost_new)
+            return _Attempt("accepted", max(lam / 5.0, MIN_DAMPING), predicted, undamped, x_new, r_new, cost_new)
         lam *= 10.0
-    return _Attempt("no descent", lam)
+    return _Attempt("no descent", lam, undamped=undamped)
+
+
+def _predicted(H, g, d, lam, x, lo, hi, free) -> float:
+    """The chi^2 change the linear model predicts for the damped step at damping ``lam`` (the
+    step clipped to the bounds)."""
+    step = np.clip(x + bounded_step(H, g, d, lam, x, lo, hi, free), lo, hi) - x
+    return float(-(2 * g @ step + step @ H @ step))
+
+
+def _less_damping(H, g, d, lam, x, lo, hi, free, undamped) -> tuple[float, float]:
+    """The damping lowered tenfold at a time until its step is predicted to gain
+    :data:`UNDAMPED_SHARE` of the Gauss-Newton step's ``undamped`` change (at most to
+    :data:`MIN_DAMPING`): (damping, predicted change). No simulation runs."""
+    predicted = _predicted(H, g, d, lam, x, lo, hi, free)
+    while predicted < UNDAMPED_SHARE * undamped and lam > MIN_DAMPING:
+        lam = max(lam / 10.0, MIN_DAMPING)
+        predicted = _predicted(H, g, d, lam, x, lo, hi, free)
+    return lam, predicted
 
 
 def bounded_step(H, g, d, lam, x, lo, hi, free) -> np.ndarray:
