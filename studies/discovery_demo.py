@@ -379,8 +379,8 @@ def markdown(cases, summaries):
             md.append(f"Coefficient {check['found']:.4g} +- {check['stderr']:.2g} against the truth {check['truth']:.4g}: "
                       f"{100 * check['relative_error']:.0f} % off, {check['errors_off']:.1f} stated errors. The stated "
                       "error is the larger of the fit's (its Jacobian) and the chi^2 profile's; Coulomb, viscous and "
-                      "speed-squared friction trade against each other along a decaying swing, and the fits stop in "
-                      "that valley within their tolerance (docs/findings.md, discovery).\n")
+                      "speed-squared friction trade against each other along a decaying swing: a long, flat valley "
+                      "in which the refit stops within its tolerance of the floor (docs/findings.md, discovery).\n")
         md += registered_lines(s)
         md.append("```\n" + case["discovery"].report() + "\n```\n")
     return "\n".join(md)
