@@ -129,6 +129,8 @@ def json_hint(path: str | Path, text: str, error: json.JSONDecodeError) -> str:
     line = text.splitlines()[error.lineno - 1].strip() if error.lineno <= len(text.splitlines()) else ""
     if str(path).lower().endswith((".toml", ".yaml", ".yml", ".ini")):
         return " (rig files are JSON: NAME.rig.json; TOML and YAML are not read)"
+    if str(path).lower().endswith((".csv", ".tsv", ".txt")):
+        return " (this is a record, not a rig: its rig is the NAME.rig.json beside it, which check and simulate take)"
     if line.startswith(("//", "/*", "#")):
         return " (JSON has no comments: write them as keys starting with _, e.g. \"_note\": \"...\")"
     return ""
