@@ -371,7 +371,8 @@ MAIN_SHAFT_FIRST_ESTIMATE_DIAMETER = 0.04
 #: - contact force closed at least 3 kN: 40 kA interrupters need 3-4 kN against electrodynamic repulsion.
 REFERENCE_LIMITS = {
     "closing_speed": {"min": 1.0, "max": 1.5, "unit": "m/s", "source": "contacts must move at 1.0-1.5 m/s"},
-    "closing_time": {"max": 80, "unit": "ms", "source": "spring mechanisms close 40-80 ms after the command, coils included; judged here from the latch release (loose)"},
+    "closing_time": {"max": 80, "unit": "ms", "source": "spring mechanisms close 40-80 ms after the command, "
+                     "coils included; judged here from the latch release (loose)"},
     "pole_spread": {"max": 2, "unit": "ms", "source": "assumed manufacturer practice (IEC 62271-100: 5 ms at 50 Hz)"},
     "bounce_duration": {"max": 2, "unit": "ms", "source": "assumed manufacturer practice (IEC 62271-100: none)"},
     "contact_force_closed": {"min": 3, "unit": "kN", "source": "40 kA interrupters need 3-4 kN"},

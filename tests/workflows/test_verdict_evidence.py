@@ -221,9 +221,10 @@ def test_time_scale_is_an_alignment_parameter(pendulum_rig):
 
 # --- ties ---------------------------------------------------------------------------------------------
 
-def _candidate(effect, delta_bic, residual, t):
+def _candidate(effect, delta_bic, residual, t, held_out_delta=0.0):
     fit = SimpleNamespace(times=[t], residuals=[residual])
-    return SimpleNamespace(effect=effect, delta_bic=delta_bic, round=1, fit=fit)
+    return SimpleNamespace(effect=effect, delta_bic=delta_bic, round=1, fit=fit, held_out_delta=held_out_delta,
+                           evidence=delta_bic + held_out_delta)
 
 
 def test_a_kept_effect_within_the_margin_of_a_rival_is_a_tie():
@@ -245,6 +246,23 @@ def test_a_kept_effect_within_the_margin_of_a_rival_is_a_tie():
     assert tie["delta_bic_between"] == pytest.approx(3.0)
     t0, t1 = tie["separate_by"]["window"]
     assert 0.018 <= t0 < t1 <= 0.032 and tie["separate_by"]["channel"] == "cam_angle"
+
+
+def test_held_out_records_that_separate_two_effects_leave_no_tie():
+    """Two effects the record alone cannot tell apart (BIC 3 apart) are not ambiguous when the held-out
+    records' predictions separate them (their chi^2 drop 9936 against 676, as on the shipped two-record
+    rig): the tie is judged on the evidence the selection used."""
+    t = np.linspace(0.0, 0.05, 501)
+    bump = np.where((t > 0.02) & (t < 0.03), 5e-3, 0.0)
+    chosen = _candidate("viscous_friction", 9.9, np.zeros_like(t), t, held_out_delta=9935.7)
+    rival = _candidate("aerodynamic_drag", 6.9, bump, t, held_out_delta=675.9)
+    ctx = SimpleNamespace(dataset=SimpleNamespace(t=t), search=SimpleNamespace(noise=SimpleNamespace(marginal_sd=1e-3)),
+                          record=SimpleNamespace(measured_channel="pendulum_angle"), options=DEFAULT_OPTIONS)
+    path = [SelectionStep("viscous_friction", 1, 9.9, 0.0, "massless", None, chosen.fit)]
+    assert _ties(ctx, path, [chosen, rival]) == []
+    # without the held-out evidence the same two are a tie
+    bare = [_candidate("viscous_friction", 9.9, np.zeros_like(t), t), _candidate("aerodynamic_drag", 6.9, bump, t)]
+    assert [tie["between"] for tie in _ties(ctx, path, bare)] == [["viscous_friction", "aerodynamic_drag"]]
 
 
 def test_rounding_is_not_taken_for_timing_jitter():

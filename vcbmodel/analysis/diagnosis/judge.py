@@ -104,7 +104,7 @@ def _tie(ctx, chosen: Candidate, rival: Candidate) -> dict:
     difference = np.asarray(chosen.fit.residuals[0]) - np.asarray(rival.fit.residuals[0])
     t0, t1, _ = disagreement_window(t, difference, ctx.search.noise.marginal_sd)
     return {"between": [chosen.effect, rival.effect], "round": chosen.round,
-            "delta_bic_between": float(chosen.delta_bic - rival.delta_bic),
+            "delta_bic_between": float(chosen.evidence - rival.evidence),
             "separate_by": {"window": [float(t0), float(t1)],
                             "largest_model_difference": float(np.max(np.abs(difference))),
                             "channel": ctx.record.measured_channel}}
@@ -112,8 +112,8 @@ def _tie(ctx, chosen: Candidate, rival: Candidate) -> dict:
 
 def ties(ctx, path: list[SelectionStep], candidates: list[Candidate]) -> list:
     """Selections the evidence does not settle: a kept effect whose runner-up in the same round
-    also improves on the model before and trails it by no more than the margin
-    (scored with the final noise model). For each: what would separate them, the part of the
+    also improves on the model before and trails it by no more than the margin (scored with the
+    final noise model, plus the held-out records' evidence where there are any). For each: what would separate them, the part of the
     record where the two fitted models differ most."""
     out = []
     margin = ctx.options.bic_margin
@@ -126,8 +126,10 @@ def ties(ctx, path: list[SelectionStep], candidates: list[Candidate]) -> list:
         # a rival that improves on the model before and trails the kept effect by no more than the
         # margin: the evidence does not prefer one (also when the rival itself falls short of the
         # margin over the model before: then the kept effect barely earns it)
+        # (the evidence the selection used: the record's BIC drop plus, with held-out records, their
+        # predictions' chi^2 drop, which can separate two effects the record alone cannot)
         rivals = [c for c in candidates if c.round == chosen.round and c is not chosen and "+" not in c.effect
-                  and c.delta_bic > 0 and chosen.delta_bic - c.delta_bic <= margin]
+                  and c.evidence > 0 and chosen.evidence - c.evidence <= margin]
         out.extend(_tie(ctx, chosen, rival) for rival in sorted(rivals, key=lambda c: -c.delta_bic))
     return out
 
