@@ -226,7 +226,8 @@ def _search(dataset, fit, sel, sigma, quantisation, pool, should_stop, kw) -> Di
     if not found["support"]:
         best = max(tried, key=lambda row: row["delta_bic"]) if tried else None
         why = ("the library holds nothing that fits: " + (
-            f"its best term, {best['terms'][0]}, lowers BIC by {best['delta_bic']:.1f} (margin {kw['bic_margin']:g}) "
+            f"its best term, {best['terms'][0]}, {'lowers' if best['delta_bic'] > 0 else 'raises'} BIC by "
+            f"{abs(best['delta_bic']):.1f} (a term must lower it by more than {kw['bic_margin']:g}) "
             f"and removes {best['variance_gain']:.3f} of the noise variance (needed {kw['min_gain']:g})"
             if best else "no term could be refitted"))
         return _nothing(fit, sigma, unit_, why, tried=tried, ties=ties, **kw)
