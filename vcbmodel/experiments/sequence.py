@@ -265,7 +265,9 @@ def sequence_lines(report: dict) -> list[str]:
             lines.append(f"  closing time from the coil {ms(e['closing_time_from_coil_s'])}"
                          + (f" ({ms(rng[0])} to {ms(rng[1])})" if rng else "")
                          + f"; from the latch {ms(e['closing_time_from_latch_s'])}")
-            margin = e["kinetic_margin_J"]
+            margin, speed = e["kinetic_margin_J"], e.get("closing_speed_m_s")
+            if speed is not None:
+                lines.append(f"  closing speed {speed:.3g} m/s (the poles' mean over the zone)")
             lines.append(f"  bounce {e['bounce_count']} ({ms(e['bounce_duration_s'])}); kinetic margin "
                          + ("not latched" if margin is None else f"{margin:.1f} J of {e['kinetic_at_touch_J']:.1f} J at touch"))
         if "opening_time_from_pawl_s" in e:
