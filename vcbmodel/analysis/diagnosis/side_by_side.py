@@ -1,8 +1,10 @@
 """Candidates fitted side by side: threads share the simulation pool, simplest candidate first.
 Two rules spare work once a candidate's residual is at the noise (:mod:`.at_noise`; a "winner"):
 
-- Occam's pruning (:func:`pruned`): pending candidates with at least as many new parameters are
-  not started (they could not beat it by the margin).
+- Occam's pruning (:func:`pruned`): pending candidates with more new parameters are not started
+  (they could not beat it by the margin). One with as many is fitted: it may fit better and win, or
+  tie, and the round's choice must not depend on which of two equal candidates finished first
+  (under load a pending viscous friction was pruned by an air drag that happened to finish first).
 - Cancelling (:func:`cannot_win`): running candidates with *more* new parameters are stopped.
   Each extra parameter costs ln(n) in BIC (8 for 3000 samples); against a model whose residual is
   already what the noise leaves, it can only gain what fitting the noise gives (about one unit of
@@ -10,7 +12,8 @@ Two rules spare work once a candidate's residual is at the noise (:mod:`.at_nois
   as many parameters as the winner runs on: it may fit better and win, or tie.
 A pruned or cancelled candidate is reported under ``stopped``. It is not scored, so it cannot be
 reported as a tie either: one with a single parameter more than the winner and as good a fit would
-trail it by ln(n), inside the margin. Both rules follow the timing of the fits (what has finished)."""
+trail it by ln(n), inside the margin. Which candidates are scored follows the timing of the fits (what
+has finished); the choice among those that could win does not."""
 from __future__ import annotations
 
 import threading
@@ -24,9 +27,10 @@ from .at_noise import at_noise
 
 
 def pruned(size: int, winners: list) -> bool:
-    """Occam: a candidate adding ``size`` parameters is not started once one adding no more
-    (a size in ``winners``) has reached the noise."""
-    return any(size >= k for k in winners)
+    """Occam: a candidate adding ``size`` parameters is not started once one adding fewer (a size
+    in ``winners``) has reached the noise: the same rule as :func:`cannot_win` for a running one,
+    so the round's choice does not depend on the order in which its fits finish."""
+    return cannot_win(size, winners)
 
 
 def cannot_win(size: int, winners: list) -> bool:
