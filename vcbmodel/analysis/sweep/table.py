@@ -65,13 +65,18 @@ def _table_locked(real: Path, output: str) -> int | None:
         fd = os.open(real, os.O_RDONLY)
     except OSError:
         return None
+    _lock_or_refuse(fd, output, "through another name for it, a hard link")
+    return fd
+
+
+def _lock_or_refuse(fd: int, output: str, through: str) -> None:
+    """flock ``fd`` at once, or close it and refuse: another sweep writes the table (``through``: how)."""
     try:
         fcntl.flock(fd, fcntl.LOCK_EX | fcntl.LOCK_NB)
     except BlockingIOError:
         os.close(fd)
-        raise InputError(output, "output", "another vcbmodel sweep is writing this table now (through another "
-                         "name for it, a hard link): wait for it, or give another -o") from None
-    return fd
+        raise InputError(output, "output", f"another vcbmodel sweep is writing this table now ({through}): wait "
+                         "for it, or give another -o") from None
 
 
 def _locked(lock_path: Path, output: str) -> int:
@@ -80,12 +85,7 @@ def _locked(lock_path: Path, output: str) -> int:
     its lock: locking the unlinked file would let a third sweep in beside this one)."""
     for _ in range(20):
         fd = os.open(lock_path, os.O_CREAT | os.O_RDWR, 0o644)
-        try:
-            fcntl.flock(fd, fcntl.LOCK_EX | fcntl.LOCK_NB)
-        except BlockingIOError:
-            os.close(fd)
-            raise InputError(output, "output", "another vcbmodel sweep is writing this table now (through this path "
-                             "or another, a symlink to it): wait for it, or give another -o") from None
+        _lock_or_refuse(fd, output, "through this path or another, a symlink to it")
         try:
             same = os.fstat(fd).st_ino == os.stat(lock_path).st_ino
         except FileNotFoundError:
