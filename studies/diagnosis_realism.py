@@ -47,7 +47,10 @@ record should carry no value more than 3 of its stated errors (the model forms' 
 truth: the count of those that do is listed.
 
 The gap is the rms residual before (starting model) and after (final model) in multiples of the
-true noise. Records are made and diagnosed RECORD_WORKERS at a time, each diagnosis with its own
+true noise. The diagnosis runs with its discovery step off (``options.discovery``): discovery
+changes no fit, name, verdict or interval scored here (it is reported beside them), it is scored by
+``discovery_demo.py``, and on the records left unexplained it was most of this study's time.
+Records are made and diagnosed RECORD_WORKERS at a time, each diagnosis with its own
 pool of simulation processes as alone; the records, their order and the summary are those of one
 at a time. Writes results/diagnosis_realism.{json,md,png}.
 """
@@ -62,7 +65,7 @@ from pathlib import Path
 import numpy as np
 from _common import markdown_table, parse_args, write_json
 
-from vcbmodel.analysis.diagnose import diagnose
+from vcbmodel.analysis.diagnose import DEFAULT_OPTIONS, diagnose
 from vcbmodel.analysis.realistic import (FRICTION_TRUTH_CHOICES, GROUPS, OPTIONAL_EXTRA, TORQUE_TRUTHS, draw_cases,
                                          hidden_answer, realistic_record)
 from vcbmodel.app.plots import plt, save
@@ -177,12 +180,16 @@ def form_comparisons(j, truth, before):
     return out
 
 
+#: The diagnosis as a user runs it, less the discovery step (module docstring).
+SCORED_OPTIONS = DEFAULT_OPTIONS.with_(discovery=False)
+
+
 def run_one(case, seed, complications, folder, t_end=None, friction_truth="hybrid"):
     rig_path, meas_path, truth = realistic_record(case, seed, folder, complications, t_end=t_end,
                                                   friction_truth=friction_truth)
     rig, meas = load_pair(meas_path)
     t0, c0 = time.time(), cpu_seconds()
-    d = diagnose(rig, meas, verbose=False)
+    d = diagnose(rig, meas, verbose=False, options=SCORED_OPTIONS)
     seconds, cpu = time.time() - t0, cpu_seconds() - c0
     j = d.to_json()
     named = sorted(j["missing_effects"])

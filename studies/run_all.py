@@ -1,10 +1,10 @@
 """Regenerate results/: every study (--quick: a smoke run; --out DIR: write there; --log FILE: where
 the studies' own output goes, default a file in the temporary folder, named at the end).
 
-The studies are independent processes (none reads another's output), run in two lanes at once
-so the 2 cores stay busy: the realism study (itself two diagnoses at a time, each of which keeps
-the cores only partly busy while its fits wait on their simulations) beside all the others in
-turn. The benchmark runs last and alone: its wall times are the speed evidence. Times a study
+The studies are independent processes (none reads another's output), run two at a time so the
+2 cores stay busy: two lanes take the next study from one queue, longest first (the realism study,
+itself two diagnoses at a time, then the others by their measured time), so neither lane idles while
+the other has a queue. The benchmark runs last and alone: its wall times are the speed evidence. Times a study
 reports of its own work (a fit's, a diagnosis's seconds) are wall times beside the other lane.
 
 The console gets one line per study: its status, wall and processor time and the files it wrote
@@ -22,13 +22,14 @@ import time
 from pathlib import Path
 
 HERE = Path(__file__).resolve().parent
-#: Lanes run at once, each its studies in turn; then the studies in ALONE, one at a time.
-LANES = (["diagnosis_realism.py"],
-         ["friction_identification.py", "spring_reading.py", "spring_models.py", "vcb_closing.py", "vcb_cycle.py", "discrepancy_demo.py",
-          "discovery_demo.py", "diagnosis_sweep.py", "design_sensitivity.py", "design_tolerance.py",
-          "design_conclusion_map.py", "design_optimum.py"])
+#: The studies two lanes take in turn from one queue, longest first (wall seconds on 2 cores,
+#: results/run_all_timing.json); then the studies in ALONE, one at a time.
+QUEUE = ["diagnosis_realism.py", "design_tolerance.py", "spring_models.py", "discovery_demo.py", "vcb_closing.py",
+         "design_sensitivity.py", "diagnosis_sweep.py", "friction_identification.py", "vcb_cycle.py",
+         "discrepancy_demo.py", "design_optimum.py", "design_conclusion_map.py", "spring_reading.py"]
+LANES = 2
 ALONE = ["benchmark.py"]
-STUDIES = [s for lane in LANES for s in lane] + ALONE
+STUDIES = QUEUE + ALONE
 
 
 def output_folder(args):
@@ -115,6 +116,15 @@ class Runner:
         for s in scripts:
             self.run(s)
 
+    def take(self, queue, lock):
+        """Run studies from the shared ``queue`` until it is empty."""
+        while True:
+            with lock:
+                if not queue:
+                    return
+                script = queue.pop(0)
+            self.run(script)
+
 
 def owner(path, script, spans, changed):
     """Which study wrote ``path`` of those that changed it: one whose name the file carries
@@ -132,7 +142,8 @@ def main():
     runner = Runner(extra, out, log)
     start = time.time()
     print(f"run_all: {len(STUDIES)} studies into {out}; their output goes to {log}", flush=True)
-    threads = [threading.Thread(target=runner.lane, args=(lane,)) for lane in LANES]
+    queue, lock = list(QUEUE), threading.Lock()
+    threads = [threading.Thread(target=runner.take, args=(queue, lock)) for _ in range(LANES)]
     for t in threads:
         t.start()
     for t in threads:
@@ -141,7 +152,7 @@ def main():
     if runner.failed:
         sys.exit(f"run_all: failed: {', '.join(runner.failed)} (the full output: {log})")
     timing = {"quick": "--quick" in extra, "python": platform.python_version(), "cores": os.cpu_count(),
-              "lanes": [list(lane) for lane in LANES], "alone": ALONE,
+              "lanes": LANES, "queue": QUEUE, "alone": ALONE,
               "studies_s": {s: runner.wall[s] for s in STUDIES},
               "studies_processor_s": {s: runner.cpu[s] for s in STUDIES},
               "total_min": round((time.time() - start) / 60, 2)}

@@ -146,3 +146,18 @@ def test_break_away_when_the_torque_exceeds_static_friction(pendulum_rig):
     held = simulate(pendulum_rig, ("coulomb_friction", "stribeck"), dict(values, mu_s=1.02 * limit), t_end=1.0)
     freed = simulate(pendulum_rig, ("coulomb_friction", "stribeck"), dict(values, mu_s=0.98 * limit), t_end=1.0)
     assert np.ptp(held.measured) == 0.0 and np.ptp(freed.measured) > 1e-3
+
+
+def test_the_friction_torque_computed_from_the_state_is_the_connectors_own(pendulum_rig, monkeypatch):
+    """The pendulum's friction is a function of the shaft's own (t, theta, omega): its channel is
+    computed after the solve from the recorded state (no force sensor evaluating the law per step);
+    it must be what the connector applied, as a force sensor of the connector records it."""
+    from vcbmodel.builders import core, pendulum
+    effects = ("coulomb_friction", "stribeck", "viscous_friction")
+    derived = simulate(pendulum_rig, effects, FRICTION, t_end=3.0)
+    real = core.add_friction_connector
+    monkeypatch.setattr(pendulum, "add_friction_connector",
+                        lambda *a, **k: real(*a, **{**k, "state_only": False}))
+    sensed = simulate(pendulum_rig, effects, FRICTION, t_end=3.0)
+    a, b = derived.channels["friction_torque"], sensed.channels["friction_torque"]
+    assert np.max(np.abs(a)) > 1.0 and np.max(np.abs(a - b)) < 1e-9 * np.max(np.abs(b))

@@ -74,10 +74,35 @@ def _load_study(name):
 
 def test_run_all_runs_every_study_once_and_the_benchmark_alone():
     run_all = _load_study("run_all")
-    in_lanes = [s for lane in run_all.LANES for s in lane]
     assert sorted(run_all.STUDIES) == sorted(EXPECTED)
     assert len(set(run_all.STUDIES)) == len(run_all.STUDIES)
-    assert "benchmark.py" in run_all.ALONE and "benchmark.py" not in in_lanes  # its wall times are the speed evidence
+    assert "benchmark.py" in run_all.ALONE and "benchmark.py" not in run_all.QUEUE  # its wall times are the speed evidence
+    assert run_all.QUEUE[0] == "diagnosis_realism.py"  # the longest first
+
+
+def test_run_all_lanes_drain_one_queue_each_study_once():
+    import threading
+    import time as clock
+    run_all = _load_study("run_all")
+    ran, lock = [], threading.Lock()
+
+    class Fake:
+        take = run_all.Runner.take
+
+        def run(self, script):
+            clock.sleep(0.02 if script == "long" else 0.001)
+            with lock:
+                ran.append((script, threading.current_thread().name))
+
+    queue = ["long"] + [f"s{i}" for i in range(8)]
+    threads = [threading.Thread(target=Fake().take, args=(queue, lock), name=f"lane{k}") for k in range(2)]
+    for t in threads:
+        t.start()
+    for t in threads:
+        t.join()
+    assert sorted(s for s, _ in ran) == sorted(["long"] + [f"s{i}" for i in range(8)]) and not queue
+    long_lane = next(lane for s, lane in ran if s == "long")
+    assert all(lane != long_lane for s, lane in ran if s != "long")  # the other lane took the rest meanwhile
 
 
 #: Run in a fresh process (the study forks its record workers; a test worker may run threads): the
@@ -122,7 +147,7 @@ def fake_run_all(tmp_path, monkeypatch, statuses):
         (folder / f"{name}.py").write_text(text.replace("STATUS", str(status)).replace("FIGURE", str(k)))
     names = [f"{n}.py" for n in statuses]
     monkeypatch.setattr(run_all, "HERE", folder)
-    monkeypatch.setattr(run_all, "LANES", ([names[0]], names[1:-1]))
+    monkeypatch.setattr(run_all, "QUEUE", names[:-1])
     monkeypatch.setattr(run_all, "ALONE", names[-1:])
     monkeypatch.setattr(run_all, "STUDIES", names)
     out, log = tmp_path / "out", tmp_path / "run.log"

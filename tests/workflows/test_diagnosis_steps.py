@@ -443,6 +443,12 @@ def test_discover_searches_only_an_unexplained_record_and_changes_no_fit(monkeyp
     assert not state.discovery["attempted"] and "does not search vcb_closing" in state.discovery["reason"] and not seen
     discover_step.discover(ctx_of(measurement=None, pool=None, rig=pendulum), state)
     assert state.discovery["attempted"] and state.discovery["found"] and state.discovery["report"]
+    seen_before, state.discovery = dict(seen), {}
+    seen.clear()
+    off = ctx_of(measurement=None, pool=None, rig=pendulum, options=DEFAULT_OPTIONS.with_(discovery=False))
+    discover_step.discover(off, state)  # switched off: not searched, and said so
+    assert not state.discovery["attempted"] and "options.discovery" in state.discovery["reason"] and not seen
+    seen.update(seen_before)
     assert seen["final"] is current and seen["starting"] is start  # both bases, the diagnosis's threshold
     assert seen["margin"] == DEFAULT_OPTIONS.bic_margin and seen["gain"] > 0
     assert state.final is current

@@ -18,7 +18,7 @@ import numpy as np
 
 from ..errors import SimulationError
 from ..laws.discovered import discovered_torque
-from ..laws.friction import NumericOps, shaft_friction
+from ..laws.friction import ArrayOps, NumericOps, shaft_friction
 from ..laws.mechanics import aerodynamic_drag_torque, cam_inertia, cam_loads
 from .exudyn_loader import exudyn_modules
 from .symbolic import lean_expression
@@ -31,6 +31,10 @@ class ExudynModel:
         self.SC = exu.SystemContainer()
         self.mbs = self.SC.AddSystem()
         self.sensors = {}
+        #: channels computed after the solve from the recorded shaft state: {name: torque(t, theta,
+        #: omega, ops)}, evaluated with ArrayOps on the ``angle`` and ``velocity`` sensors
+        #: (:func:`add_friction_connector`'s ``state_only``)
+        self.derived = {}
         self.keep = []  # symbolic user functions must outlive the solve
 
     def add_sensor(self, name: str, node, output: str) -> None:
@@ -73,7 +77,21 @@ class ExudynModel:
                                       "usual cause (docs/rig-format.md)")
             out[name] = data
         self.SC.Reset()  # frees symbolic user functions (exudyn-notes: they leak otherwise)
+        out.update(self.derived_channels(out))
         return out
+
+    def derived_channels(self, out: dict) -> dict[str, np.ndarray]:
+        """The :attr:`derived` channels from the recorded shaft state, as a sensor's (t, value) rows."""
+        channels = {}
+        for name, torque in self.derived.items():
+            t, theta, omega = out["angle"][:, 0], out["angle"][:, 1], out["velocity"][:, 1]
+            with np.errstate(all="ignore"):  # ArrayOps computes every branch and chooses
+                value = np.broadcast_to(np.asarray(torque(t, theta, omega, ArrayOps), float), t.shape)
+            if not np.all(np.isfinite(value)):
+                raise SimulationError(f"the {name} of the solved state is not finite: the law's inputs are outside "
+                                      "its range (docs/rig-format.md)")
+            channels[name] = np.column_stack([t, value])
+        return channels
 
 
 @dataclass
@@ -104,10 +122,15 @@ def add_shaft(model, inertia, theta0, omega0, position=(0.0, 0.0)) -> Shaft:
     return Shaft(nShaft, oShaft, mGroundCoordinate, mShaftCoordinate)
 
 
-def add_friction_connector(model, shaft: Shaft, friction_of_state, user_function):
+def add_friction_connector(model, shaft: Shaft, friction_of_state, user_function, record: str = "friction_torque",
+                           state_only: bool = False):
     """Friction torque connector on the shaft; ``friction_of_state(t, theta, omega, ops)`` -> T_f
     (N m). ``user_function``: 'symbolic' (compiled), 'python', or 'none' (no friction item).
-    The torque is recorded as ``friction_torque``."""
+    The torque is recorded as ``record``: by a sensor of the connector's force, or, when
+    ``state_only`` (the torque is a function of the shaft's own t, theta, omega and of nothing another
+    body holds), computed after the solve by the same function on the recorded angle and speed
+    (:meth:`ExudynModel.derived_channels`): the same values to rounding, and no evaluation of the
+    law per step for the record (a force sensor costs 6 % of a 6 s pendulum's solve)."""
     exu, it = exudyn_modules()
     mbs = model.mbs
     if user_function == "none":
@@ -132,7 +155,10 @@ def add_friction_connector(model, shaft: Shaft, friction_of_state, user_function
         mbs.SetObjectParameter(oFriction, "springForceUserFunction", friction_torque_uf)
     else:
         raise ValueError(f"unknown user_function {user_function!r}")
-    model.sensors["friction_torque"] = mbs.AddSensor(it.SensorObject(
+    if state_only:
+        model.derived[record] = friction_of_state
+        return
+    model.sensors[record] = mbs.AddSensor(it.SensorObject(
         objectNumber=oFriction, outputVariableType=exu.OutputVariableType.Force,
         storeInternal=True, writeToFile=False))
 
@@ -213,13 +239,11 @@ def add_drag_torque(model, shaft: Shaft, drag: float, user_function) -> None:
 
 
 def add_shaft_torque(model, shaft: Shaft, torque, user_function, sensor: str) -> None:
-    """``torque(t, theta, omega, ops)`` (N m, applied to the shaft) by a connector of its own, recorded
-    as ``sensor`` (the torque the connector applies against the shaft: minus it)."""
+    """``torque(t, theta, omega, ops)`` (N m, applied to the shaft; a function of the shaft's own
+    state) by a connector of its own, recorded as ``sensor`` (the torque the connector applies against
+    the shaft: minus it)."""
     def against(t, theta, omega, ops):  # a connector's torque opposes its coordinate
         return -torque(t, theta, omega, ops)
 
-    kept = model.sensors.pop("friction_torque", None)
-    add_friction_connector(model, shaft, against, "python" if user_function == "none" else user_function)
-    model.sensors[sensor] = model.sensors.pop("friction_torque")
-    if kept is not None:
-        model.sensors["friction_torque"] = kept
+    add_friction_connector(model, shaft, against, "python" if user_function == "none" else user_function,
+                           record=sensor, state_only=True)

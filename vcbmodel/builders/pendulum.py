@@ -41,5 +41,5 @@ def build_pendulum(rig: Rig, law: FrictionLaw, user_function: str = "symbolic", 
 
     add_discovered_torque(model, shaft, discovered, kind)
     add_drag_torque(model, shaft, drag, kind)
-    add_friction_connector(model, shaft, friction_of_state, kind)
+    add_friction_connector(model, shaft, friction_of_state, kind, state_only=True)  # a function of (t, theta, omega)
     return model

@@ -24,6 +24,9 @@ def discover(ctx, state) -> None:
     if state.verdict is not None and state.verdict.explained:
         state.discovery = skipped("the registered model explains the record")
         return
+    if not ctx.options.discovery:
+        state.discovery = skipped("switched off (options.discovery)")
+        return
     if not covers(ctx.rig.experiment):
         state.discovery = skipped(f"discovery does not search {ctx.rig.experiment} records")
         return

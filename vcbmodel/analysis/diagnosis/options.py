@@ -69,6 +69,10 @@ class DiagnosisOptions:
     #: starts; ``wall_factor`` times it in wall time stops it in any case.
     time_budget: float = 50.0
     wall_factor: float = 4.0
+    #: Whether step 6 searches outside the registry when the verdict is "not explained". It changes
+    #: no fit, name or verdict of the registered search (it is reported beside them), so a study
+    #: that scores only those may switch it off; a user's diagnosis has it on.
+    discovery: bool = True
 
     def with_(self, **changes) -> DiagnosisOptions:
         """A copy with ``changes`` (names of fields)."""
