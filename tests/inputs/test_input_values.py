@@ -50,9 +50,9 @@ def test_a_duplicate_json_key_is_refused_naming_it(tmp_path, capsys):
     text = CAM_RIG.read_text().replace('"stiffness":', '"stiffness": 20000.0, "stiffness":', 1)
     f = tmp_path / "dup.rig.json"
     f.write_text(text)
-    with pytest.raises(InputError, match="stiffness: is given twice"):
+    with pytest.raises(InputError, match=r"closing_spring\.stiffness: is given twice"):  # the dotted field
         read_json(f)
-    refused(capsys, ["simulate", str(f)], "dup.rig.json", "stiffness", "twice")
+    refused(capsys, ["simulate", str(f)], "dup.rig.json", "closing_spring.stiffness", "twice")
 
 
 def test_underscore_numerals_are_refused_not_read_as_digit_separators(tmp_path, capsys):

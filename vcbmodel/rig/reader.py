@@ -107,20 +107,40 @@ def read_json(path: str | Path) -> Any:
     def unique_keys(pairs):
         seen = {}
         for key, value in pairs:
-            if key in seen:
-                raise DuplicateKey(key)
+            if key in seen:  # marked, and found with its dotted path once the whole tree is read
+                seen.setdefault(_TWICE, key)
             seen[key] = value
         return seen
 
     try:  # a number out of range (1e400) reads as inf: Reader.value refuses it, naming the field
-        return json.loads(text, parse_constant=bad_constant, object_pairs_hook=unique_keys)
-    except DuplicateKey as e:
-        raise InputError(path, str(e), "is given twice in the same object: JSON readers keep only one of "
-                         "them, so say which value you mean") from None
+        data = json.loads(text, parse_constant=bad_constant, object_pairs_hook=unique_keys)
     except json.JSONDecodeError as e:
         raise InputError(path, f"line {e.lineno}", f"malformed JSON: {e.msg}{json_hint(path, text, e)}") from None
     except (ValueError, RecursionError) as e:
         raise InputError(path, "JSON", str(e) or "cannot be parsed") from None
+    twice = _given_twice(data)
+    if twice is not None:
+        raise InputError(path, twice, "is given twice in the same object: JSON readers keep only one of "
+                         "them, so say which value you mean")
+    return data
+
+
+def _given_twice(node, prefix: str = "") -> str | None:
+    """The dotted path (``cam.mass``; list items by index) of the first key an object of ``node``
+    names twice (:func:`read_json`'s mark), or None."""
+    if isinstance(node, dict):
+        if _TWICE in node:
+            return prefix + node[_TWICE]
+        items = node.items()
+    elif isinstance(node, list):
+        items = ((str(i), v) for i, v in enumerate(node))
+    else:
+        return None
+    for key, value in items:
+        found = _given_twice(value, f"{prefix}{key}.")
+        if found is not None:
+            return found
+    return None
 
 
 def json_hint(path: str | Path, text: str, error: json.JSONDecodeError) -> str:
@@ -136,8 +156,9 @@ def json_hint(path: str | Path, text: str, error: json.JSONDecodeError) -> str:
     return ""
 
 
-class DuplicateKey(ValueError):
-    """A JSON object names the same key twice."""
+#: The key under which an object that names a key twice records it (not a JSON string a file can hold:
+#: a key read from JSON is a str, this is not one).
+_TWICE = ("given twice",)
 
 
 def did_you_mean(name: str, known: Iterable[str]) -> str:
