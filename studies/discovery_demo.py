@@ -380,7 +380,8 @@ def markdown(cases, summaries):
                       f"{100 * check['relative_error']:.0f} % off, {check['errors_off']:.1f} stated errors. The stated "
                       "error is the larger of the fit's (its Jacobian) and the chi^2 profile's; Coulomb, viscous and "
                       "speed-squared friction trade against each other along a decaying swing: a long, flat valley "
-                      "in which the refit stops within its tolerance of the floor (docs/findings.md, discovery).\n")
+                      "whose floor the fixed step's kinks make rough, so the refit runs from every start it has and "
+                      "keeps the lowest (docs/findings.md, discovery).\n")
         md += registered_lines(s)
         md.append("```\n" + case["discovery"].report() + "\n```\n")
     return "\n".join(md)
