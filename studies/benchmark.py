@@ -167,6 +167,19 @@ def rss_mb():
     return resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1024.0
 
 
+class Laps:
+    """Wall seconds of each part of the benchmark, into ``res["sections_s"]`` (where its own time goes)."""
+
+    def __init__(self, res: dict):
+        self.sections = res.setdefault("sections_s", {})
+        self.last = time.perf_counter()
+
+    def __call__(self, name: str) -> None:
+        now = time.perf_counter()
+        self.sections[name] = round(now - self.last, 2)
+        self.last = now
+
+
 def main():
     args = parse_args(__doc__)
     repeat = 1 if args.quick else 3
@@ -182,6 +195,7 @@ def main():
     res = {"machine": {"python": platform.python_version(), "processor": platform.processor() or platform.machine()},
            "pendulum_6s": {"step_s": h}}
     pend = res["pendulum_6s"]
+    lap = Laps(res)
     for name, uf in (("floor_no_friction", "none"), ("symbolic_user_function", "symbolic"), ("python_user_function", "python")):
         pend[name + "_s"] = median_time(lambda: build_pendulum(prig, law, uf).solve(t_end, h, 1e-3), repeat)
     pend["scipy_reference_dop853_s"] = median_time(
@@ -190,6 +204,7 @@ def main():
     pend["target_compiled_over_floor"] = 2.0
     pend["target_met"] = pend["compiled_over_floor"] <= 2.0
     print(pend, flush=True)
+    lap("pendulum")
 
     cam = res["cam_drop_35ms"] = {}
     models = ["massless", "lumped-1", "lumped-2", "lumped-3"]
@@ -208,6 +223,7 @@ def main():
     cam["ancf_8_rigid_ties_s"] = median_time(lambda: simulate_rigid_ties(
         crig, eff, sample_times=output_times(crig, 0.035)), 1)
     print(cam, flush=True)
+    lap("cam_drop")
 
     write_rig(P.REFERENCE_BREAKER, tmp / "b.rig.json")
     brig = load_rig(tmp / "b.rig.json")
@@ -218,11 +234,14 @@ def main():
     closing["target_lumped2_s"] = 10.0
     closing["lumped2_target_met"] = closing["lumped2_s"] <= 10.0
     print(closing, flush=True)
+    lap("closing")
 
     res["issue18_targets"] = speed_targets(prig, crig, brig, law, h, 3 if args.quick else 7)
     print(res["issue18_targets"], flush=True)
+    lap("speed_targets")
     res["identification"] = identification_cost(tmp, truth, args.quick)
     print(res["identification"], flush=True)
+    lap("identification")
     if not args.quick:
         pairs = []
         for i, rd in enumerate((P.REFERENCE_PENDULUM, P.REFERENCE_PENDULUM_15)):
@@ -235,6 +254,7 @@ def main():
         res["hybrid_identification_target_s"] = 60.0
         res["diagnosis_s"] = diagnosis_times(tmp)
         print(res["diagnosis_s"], flush=True)
+        lap("two_record_identification_and_diagnoses")
         d = res["diagnosis_s"]
         res["issue18_targets"]["one_diagnosis_realism_median"] = {"now": d["median_s"], "target": 4.0, "unit": "s",
                                                                   "met": d["median_s"] <= 4.0}
@@ -247,7 +267,9 @@ def main():
         build_pendulum(prig, law, "symbolic").solve(0.5, h, 1e-3)
     res["memory"] = {"peak_rss_mb": rss_mb(), "rss_growth_over_builds_mb": rss_mb() - before,
                      "builds": 10 if args.quick else 100}
+    lap("memory")
     res["sweep_scaling"] = sweep_scaling(args.quick)
+    lap("sweep_scaling")
     minutes = res["sweep_scaling"]["estimate_10000_runs"]["2_cores_min"]
     res["issue18_targets"]["tolerance_study_10000_closings_2_cores"] = {
         "now": minutes, "target": 30.0, "unit": "min", "met": minutes <= 30.0,
