@@ -180,6 +180,15 @@ class IdentifyResult:
                 + ("\n" + self.held_out.report() if self.held_out is not None else ""))
 
 
+def further_starts(rig: Rig, meas: Measurement, law: str, first: dict, splits: bool) -> list[dict]:
+    """Starts beside a record's own first guess ``first``: mu_s as multiples of its mu_k (the hybrid
+    law), and (``splits``) the swing's decay shared out between Coulomb and viscous friction."""
+    scan = [{"mu_s": f * first.get("mu_k", 0.1)} for f in (1.3, 2.0)] if law == "hybrid" else []
+    if splits:
+        scan += decay_split_guesses(rig, meas, DECAY_SPLITS)
+    return scan
+
+
 def identify(pairs: Sequence[tuple[Rig, Measurement]], law: str = "hybrid", verbose: bool = True, polish: bool = False,
              processes: int = 2, forms: bool = True, hold_out: bool = True) -> IdentifyResult:
     """Fit ``law`` to the (rig, measurement) pairs at once (shared friction parameters).
@@ -216,6 +225,7 @@ def identify(pairs: Sequence[tuple[Rig, Measurement]], law: str = "hybrid", verb
     rig0, meas0 = pairs[0]
     guesses = experiment_of(rig0.experiment).start_guesses(rig0, meas0)
     params = make_parameters(rig0, spec["effects"], initial=guesses[0], vary=spec["vary"])
+    splits = "viscous" in spec["vary"] and params["viscous"].vary
     params.update({p.name: p for p in (release_parameter(i, d.setup) for i, d in enumerate(datasets) if d.setup)})
     if not any(p.vary for p in params.values()):
         raise InputError(rig0.path, "friction", f"gives every value of the {law} law: nothing to fit "
@@ -224,11 +234,8 @@ def identify(pairs: Sequence[tuple[Rig, Measurement]], law: str = "hybrid", verb
     if law == "stick-slip":  # ws follows w0: the Stribeck branch is empty
         params["stribeck_velocity"].vary = False
         params["stribeck_velocity"].tied_to = "stick_velocity"
-    # further starts, tried only when the first does not reach the noise: mu_s as multiples
-    # of the mu_k guess, and the decay shared out between Coulomb and viscous friction
-    scan = [{"mu_s": f * guesses[0].get("mu_k", 0.1)} for f in (1.3, 2.0)] if law == "hybrid" else []
-    if "viscous" in spec["vary"] and params["viscous"].vary:
-        scan += decay_split_guesses(rig0, meas0, DECAY_SPLITS)
+    # further starts, tried only when the first does not reach the noise
+    scan = further_starts(rig0, meas0, law, guesses[0], splits)
     with SimulationPool(processes, inline_single=True) as pool:
         # from the record's own starting values; the other starts only if that misses the noise
         result = staged_fit(datasets, effects, MASSLESS, params, verbose=verbose, label=f"{law} (least squares)",
@@ -252,10 +259,15 @@ def identify(pairs: Sequence[tuple[Rig, Measurement]], law: str = "hybrid", verb
     if forms or (hold_out and len(datasets) > 1):
         with SimulationPool(processes, inline_single=True) as pool:
             def refit(effects, params, starts, label, on=datasets, **options):
-                return fit(on, effects, MASSLESS, params, pool=pool, sigma=result.sigma, starts=starts, verbose=False,
-                           label=label, **options)
+                options.setdefault("sigma", result.sigma)
+                return fit(on, effects, MASSLESS, params, pool=pool, starts=starts, verbose=False, label=label,
+                           **options)
             if forms:
                 out.forms = fit_forms(rig0, result, refit, None, label=law)
             if hold_out and len(datasets) > 1:
-                out.held_out = held_out_validation(datasets, result, refit, peaks)
+                own = []
+                for rig, meas in pairs:
+                    g = experiment_of(rig.experiment).start_guesses(rig, meas)
+                    own.append(g + further_starts(rig, meas, law, g[0], splits))
+                out.held_out = held_out_validation(datasets, result, refit, peaks, own)
     return out
