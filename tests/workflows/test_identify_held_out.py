@@ -56,7 +56,6 @@ def test_air_drag_is_exposed_by_the_held_out_records(tmp_path):
     assert "INCONSISTENT" in r.report() and "MISSING EFFECT" in r.report()
 
 
-@pytest.mark.slow
 def test_records_of_one_law_are_consistent_and_nothing_moves(tmp_path):
     pairs = [load_pair(record(tmp_path, f"dry{d}", d, 0.0, seed)) for d, seed in ((10, 3), (20, 4))]
     r = identify(pairs, verbose=False, forms=False)
@@ -136,6 +135,9 @@ def test_the_value_the_records_need_most_is_named_and_none_below_the_roughness()
     assert "viscous must move most" in m["message"]
     needs["viscous"]["delta_chi2"] = H.ROUGHNESS_ALLOWANCE / 2
     assert H._most_moving(needs, [0.2, 0.3]) is None
+    # z: two records, one degree of freedom: the square root; an underflowing p-value stays finite
+    assert H._z_of(4.0, 1) == pytest.approx(2.0) and H._z_of(9.21, 2) == pytest.approx(2.576, abs=2e-3)
+    assert math.isfinite(H._z_of(1.5e5, 2))
 
 
 def test_a_records_nuisance_is_renumbered_when_it_is_fitted_alone():

@@ -263,7 +263,8 @@ def held_fits(datasets: Sequence, joint: FitResult, refit: Refit, singles: Seque
     """{name: {delta_chi2, z, values}}: how much the records need ``name`` to differ. Each record is
     refitted alone with ``name`` held at the joint fit's value and the other values free (from its
     own fit's); delta_chi2 is the sum over the records of that fit's chi^2 above the record's own
-    fit, z its two-sided normal equivalent under a chi^2 with (records - 1) degrees of freedom. A
+    fit, z its two-sided normal equivalent under a chi^2 with (records - 1) degrees of freedom
+    (:func:`_z_of`). A
     value the others can stand in for (the hybrid law's Stribeck fall on a record without one)
     needs nothing; the one the records disagree on needs much. The single fits' stated errors
     cannot say which: where the law's values trade against each other they reach 1e5 and more."""
@@ -276,10 +277,16 @@ def held_fits(datasets: Sequence, joint: FitResult, refit: Refit, singles: Seque
             r = refit(tuple(joint.effects), params, [], f"record {k + 1}, {name} held", on=[datasets[k]],
                       sigma=sigmas[k], **_converged([]))
             delta += max(record_chi2(r, [sigmas[k]])[0] - record_chi2(single, [sigmas[k]])[0], 0.0)
-        p = float(stats.chi2.sf(delta, max(1, len(singles) - 1)))
-        out[name] = {"delta_chi2": delta, "z": float(stats.norm.isf(p / 2)) if p > 0 else math.inf,
+        out[name] = {"delta_chi2": delta, "z": _z_of(delta, len(singles) - 1),
                      "values": [float(s.parameters[name].value) for s in singles]}
     return out
+
+
+def _z_of(delta: float, dof: int) -> float:
+    """The two-sided normal z of a chi^2 ``delta`` with ``dof`` degrees of freedom (one: its square
+    root; where the p-value underflows, the square root too, a lower bound for more)."""
+    p = float(stats.chi2.sf(delta, max(1, dof)))
+    return math.sqrt(delta) if dof <= 1 or p <= 0.0 else float(stats.norm.isf(p / 2))
 
 
 def _se(x: float | None) -> float:
