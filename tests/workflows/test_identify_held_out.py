@@ -54,6 +54,7 @@ def test_air_drag_is_exposed_by_the_held_out_records(tmp_path):
     assert singles[1]["value"] > singles[0]["value"]
     assert j["missing_effect"] and j["moving"][0]["delta_chi2"] > 20
     assert "INCONSISTENT" in r.report() and "MISSING EFFECT" in r.report()
+    assert "the records disagree on the values" in r.warning
 
 
 def test_records_of_one_law_are_consistent_and_nothing_moves(tmp_path):

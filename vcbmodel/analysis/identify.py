@@ -138,13 +138,19 @@ class IdentifyResult:
         """Why the fitted values should not be trusted as they stand, or None."""
         r = self.residual_to_noise
         implausible = "; ".join(f.message for f in self.forms.findings) if self.forms is not None else ""
-        if r <= WARN_RATIO:
-            return f"implausible values: {implausible}" if implausible else None
-        misfit = (f"the residual is {r:.1f} times the records' own noise: the {self.law} law does not describe these "
-                  "records to their noise (another friction behaviour, a rig value off, or a sensor artefact); the "
-                  "values are those of the best fit of a wrong model, and their stated errors are inflated by the "
-                  f"misfit ({self.fit.stderr_method}): read them as such. Try vcbmodel diagnose")
-        return (f"implausible values: {implausible}. " if implausible else "") + misfit
+        parts = [f"implausible values: {implausible}"] if implausible else []
+        if self.held_out is not None and not self.held_out.consistent:
+            c = self.held_out.consistency
+            parts.append(f"the records disagree on the values (likelihood ratio {c['statistic']:.1f} for {c['dof']} "
+                         f"degrees of freedom, p = {c['p_value']:.2g}): the {self.law} law lacks an effect that "
+                         "differs between them, and the joint values are a compromise")
+        if r > WARN_RATIO:
+            parts.append(f"the residual is {r:.1f} times the records' own noise: the {self.law} law does not describe "
+                         "these records to their noise (another friction behaviour, a rig value off, or a sensor "
+                         "artefact); the values are those of the best fit of a wrong model, and their stated errors "
+                         f"are inflated by the misfit ({self.fit.stderr_method}): read them as such. Try vcbmodel "
+                         "diagnose")
+        return ". ".join(parts) if parts else None
 
     def zeta(self) -> float:
         p, rig = self.datasets[0].rig.pendulum, self.datasets[0].rig
