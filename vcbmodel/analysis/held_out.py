@@ -18,8 +18,9 @@ slow part of the swing differently, a drifting level depends on how long the rec
   It is read in the test's F form (divided by the single fits' reduced chi^2, so a noise level
   misjudged or a misfit common to all records does not count as disagreement), after taking off
   :data:`ROUGHNESS_ALLOWANCE` for the cost's rough floor; the records disagree when its p-value is
-  below :data:`ALPHA`. Only then is a value said to move, the one whose single-record values differ
-  most in combined stated errors (its z);
+  below :data:`ALPHA`. Only then is a value said to move: the one whose holding at the joint value
+  (each record refitted alone, the other values free) costs the records most chi^2, with its z
+  (:func:`held_fits`);
 - each record is *held out* in turn: the law fitted to the others (with two records: the other's own
   fit) predicts it; its rms over its noise and its chi^2 above the record's own best fit are
   reported. They carry the trained values' uncertainty (a short record predicts a long one poorly
@@ -70,7 +71,7 @@ class HeldOut:
     predictions: list = field(default_factory=list)  # [{measurement, trained_on, rms, noise, ratio, at_noise, delta_chi2}]
     singles: dict = field(default_factory=dict)  # {parameter: [(value, stderr) per record]}
     consistency: dict = field(default_factory=dict)  # the likelihood-ratio test (:func:`consistency_test`)
-    moving: list = field(default_factory=list)  # [{parameter, z, records, values, message}]: only when it rejects
+    moving: list = field(default_factory=list)  # [{parameter, z, delta_chi2, records, values, message}]: only when it rejects
     needs: dict = field(default_factory=dict)  # {parameter: {delta_chi2, z, values}}: only when it rejects
     first_peaks: list = field(default_factory=list)  # rad, per record
 
