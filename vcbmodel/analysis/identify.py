@@ -138,13 +138,19 @@ class IdentifyResult:
         """Why the fitted values should not be trusted as they stand, or None."""
         r = self.residual_to_noise
         implausible = "; ".join(f.message for f in self.forms.findings) if self.forms is not None else ""
-        if r <= WARN_RATIO:
-            return f"implausible values: {implausible}" if implausible else None
-        misfit = (f"the residual is {r:.1f} times the records' own noise: the {self.law} law does not describe these "
-                  "records to their noise (another friction behaviour, a rig value off, or a sensor artefact); the "
-                  "values are those of the best fit of a wrong model, and their stated errors are inflated by the "
-                  f"misfit ({self.fit.stderr_method}): read them as such. Try vcbmodel diagnose")
-        return (f"implausible values: {implausible}. " if implausible else "") + misfit
+        parts = [f"implausible values: {implausible}"] if implausible else []
+        if self.held_out is not None and not self.held_out.consistent:
+            c = self.held_out.consistency
+            parts.append(f"the records disagree on the values (likelihood ratio {c['statistic']:.1f} for {c['dof']} "
+                         f"degrees of freedom, p = {c['p_value']:.2g}): the {self.law} law lacks an effect that "
+                         "differs between them, and the joint values are a compromise")
+        if r > WARN_RATIO:
+            parts.append(f"the residual is {r:.1f} times the records' own noise: the {self.law} law does not describe "
+                         "these records to their noise (another friction behaviour, a rig value off, or a sensor "
+                         "artefact); the values are those of the best fit of a wrong model, and their stated errors "
+                         f"are inflated by the misfit ({self.fit.stderr_method}): read them as such. Try vcbmodel "
+                         "diagnose")
+        return ". ".join(parts) if parts else None
 
     def zeta(self) -> float:
         p, rig = self.datasets[0].rig.pendulum, self.datasets[0].rig
@@ -178,6 +184,15 @@ class IdentifyResult:
                 + self.fit.report()
                 + ("\n" + self.forms.report() if self.forms is not None else "")
                 + ("\n" + self.held_out.report() if self.held_out is not None else ""))
+
+
+def further_starts(rig: Rig, meas: Measurement, law: str, first: dict, splits: bool) -> list[dict]:
+    """Starts beside a record's own first guess ``first``: mu_s as multiples of its mu_k (the hybrid
+    law), and (``splits``) the swing's decay shared out between Coulomb and viscous friction."""
+    scan = [{"mu_s": f * first.get("mu_k", 0.1)} for f in (1.3, 2.0)] if law == "hybrid" else []
+    if splits:
+        scan += decay_split_guesses(rig, meas, DECAY_SPLITS)
+    return scan
 
 
 def identify(pairs: Sequence[tuple[Rig, Measurement]], law: str = "hybrid", verbose: bool = True, polish: bool = False,
@@ -216,6 +231,7 @@ def identify(pairs: Sequence[tuple[Rig, Measurement]], law: str = "hybrid", verb
     rig0, meas0 = pairs[0]
     guesses = experiment_of(rig0.experiment).start_guesses(rig0, meas0)
     params = make_parameters(rig0, spec["effects"], initial=guesses[0], vary=spec["vary"])
+    splits = "viscous" in spec["vary"] and params["viscous"].vary
     params.update({p.name: p for p in (release_parameter(i, d.setup) for i, d in enumerate(datasets) if d.setup)})
     if not any(p.vary for p in params.values()):
         raise InputError(rig0.path, "friction", f"gives every value of the {law} law: nothing to fit "
@@ -224,11 +240,8 @@ def identify(pairs: Sequence[tuple[Rig, Measurement]], law: str = "hybrid", verb
     if law == "stick-slip":  # ws follows w0: the Stribeck branch is empty
         params["stribeck_velocity"].vary = False
         params["stribeck_velocity"].tied_to = "stick_velocity"
-    # further starts, tried only when the first does not reach the noise: mu_s as multiples
-    # of the mu_k guess, and the decay shared out between Coulomb and viscous friction
-    scan = [{"mu_s": f * guesses[0].get("mu_k", 0.1)} for f in (1.3, 2.0)] if law == "hybrid" else []
-    if "viscous" in spec["vary"] and params["viscous"].vary:
-        scan += decay_split_guesses(rig0, meas0, DECAY_SPLITS)
+    # further starts, tried only when the first does not reach the noise
+    scan = further_starts(rig0, meas0, law, guesses[0], splits)
     with SimulationPool(processes, inline_single=True) as pool:
         # from the record's own starting values; the other starts only if that misses the noise
         result = staged_fit(datasets, effects, MASSLESS, params, verbose=verbose, label=f"{law} (least squares)",
@@ -252,10 +265,15 @@ def identify(pairs: Sequence[tuple[Rig, Measurement]], law: str = "hybrid", verb
     if forms or (hold_out and len(datasets) > 1):
         with SimulationPool(processes, inline_single=True) as pool:
             def refit(effects, params, starts, label, on=datasets, **options):
-                return fit(on, effects, MASSLESS, params, pool=pool, sigma=result.sigma, starts=starts, verbose=False,
-                           label=label, **options)
+                options.setdefault("sigma", result.sigma)
+                return fit(on, effects, MASSLESS, params, pool=pool, starts=starts, verbose=False, label=label,
+                           **options)
             if forms:
                 out.forms = fit_forms(rig0, result, refit, None, label=law)
             if hold_out and len(datasets) > 1:
-                out.held_out = held_out_validation(datasets, result, refit, peaks)
+                own = []
+                for rig, meas in pairs:
+                    g = experiment_of(rig.experiment).start_guesses(rig, meas)
+                    own.append(g + further_starts(rig, meas, law, g[0], splits))
+                out.held_out = held_out_validation(datasets, result, refit, peaks, own)
     return out
