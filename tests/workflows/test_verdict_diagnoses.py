@@ -96,7 +96,7 @@ def test_a_gain_the_rig_pins_is_said_to_condition_the_stated_errors(tmp_path):
     """A pendulum read with a gain 2.9 % off that the rig does not mark uncertain: the friction
     absorbs it at a residual at the noise (mu_k 45 stated errors off). The diagnosis cannot see
     the error, but says that a plausible gain error (parameters.PINNED_GAIN_ERROR) moves the fitted
-    values beyond their stated errors, in the direction the true error moved them; marked
+    values beyond their stated errors, in the direction and by the size the true error moved them; marked
     uncertain, the gain is fitted and no such caveat is given."""
     d, truth = realistic("pend_coul", 15001, tmp_path, ("gain",))
     j = d.to_json()
@@ -106,7 +106,9 @@ def test_a_gain_the_rig_pins_is_said_to_condition_the_stated_errors(tmp_path):
     gain_error = truth["complications"]["gain"] - 1.0
     bias = j["fitted"]["mu_k"] - truth["truth_friction"]["mu_k"]
     predicted = item["shifts"]["mu_k"]["shift"] / item["plausible_error"] * gain_error
-    assert predicted * bias > 0 and 0.3 < predicted / bias < 3  # sign and size of what the gain did
+    # sign and size of what the gain did (measured by a refit: 1.04; a linearised shift on the swing's
+    # kinky cost said 0.48)
+    assert predicted * bias > 0 and 0.7 < predicted / bias < 1.4
     assert abs(bias) > 1.96 * j["stderr"]["mu_k"] and item["shifts"]["mu_k"]["stated_errors"] > 1.96
 
     def uncertain_gain(data):
