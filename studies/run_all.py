@@ -73,12 +73,14 @@ class Runner:
         self.extra, self.out, self.log = extra, out, log
         self.wall, self.cpu, self.failed, self.span, self.changed, self.status = {}, {}, [], {}, {}, {}
         self.lock = threading.Lock()
+        self.running, self.pending, self.tails = {}, [], {}
 
     def run(self, script):
         with self.lock:
             if self.failed:
                 return
             before, t0 = snapshot(self.out), time.time()
+            self.running[script] = t0
             capture = tempfile.TemporaryFile(mode="w+")
             p = subprocess.Popen([sys.executable, str(HERE / script), *self.extra], stdout=capture,
                                  stderr=subprocess.STDOUT)
@@ -98,9 +100,21 @@ class Runner:
             self.status[script] = "ok" if p.returncode == 0 else f"FAILED (exit status {p.returncode})"
             if p.returncode != 0:
                 self.failed.append(f"{script} (exit status {p.returncode})")
+                self.tails[script] = "\n".join("   | " + line for line in text.rstrip().splitlines()[-20:])
+            del self.running[script]
+            self.pending.append(script)
+            self.flush()
+
+    def flush(self):
+        """Print the line of each finished study that no running study overlaps (one that started
+        before it ended may still change files it would claim), in the order they finished."""
+        for script in list(self.pending):
+            if any(t0 < self.span[script][1] for t0 in self.running.values()):
+                continue
+            self.pending.remove(script)
             print(self.line(script), flush=True)
-            if p.returncode != 0:
-                print("\n".join("   | " + line for line in text.rstrip().splitlines()[-20:]), flush=True)
+            if script in self.tails:
+                print(self.tails[script], flush=True)
 
     def files(self, script):
         """The files ``script`` wrote: changed while it ran, less those another study running beside it

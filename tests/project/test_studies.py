@@ -259,3 +259,24 @@ def test_the_optimum_must_latch(monkeypatch):
     assert study.violation(short) == 1.0 and study.margin_text(short) == "not latched"
     assert study.violation(dict(short, latched=0.0)) == 1.0  # as read back from a sweep's table
     assert study.violation(dict(short, latched=None)) == 0.0 and study.margin_text(dict(short, latched=None)) == "-"
+
+
+def test_run_all_prints_a_study_only_when_no_running_study_overlaps_it(tmp_path, capsys):
+    """A study that ran beside one still running may yet lose files to it: its line waits until the
+    other finishes, so each file is attributed with both studies' changes known."""
+    run_all = _load_study("run_all")
+    runner = run_all.Runner([], tmp_path, tmp_path / "log")
+    for name, span, files in (("short_one.py", (1.0, 2.0), {"shared.csv", "long_one.json"}),
+                              ("long_one.py", (0.5, 3.0), {"shared.csv", "long_one.json"})):
+        runner.span[name], runner.changed[name] = span, files
+        runner.status[name], runner.wall[name], runner.cpu[name] = "ok", span[1] - span[0], 0.0
+    runner.running = {"long_one.py": 0.5}
+    runner.pending = ["short_one.py"]
+    runner.flush()
+    assert capsys.readouterr().out == ""  # long_one is still running beside it
+    runner.running = {}
+    runner.pending.append("long_one.py")
+    runner.flush()
+    lines = capsys.readouterr().out.strip().splitlines()
+    assert [line.split()[0] for line in lines] == ["short_one.py", "long_one.py"]
+    assert "long_one.json" not in lines[0] and "shared.csv" in lines[0] and "long_one.json" in lines[1]
