@@ -260,20 +260,27 @@ def identify(pairs: Sequence[tuple[Rig, Measurement]], law: str = "hybrid", verb
             polished.covariance = result.covariance
             polished.nfev += result.nfev
             result = polished
-    peaks = [first_peak_amplitude(d.t, d.y) for d in datasets]
-    out = IdentifyResult(law, result, datasets, peaks)
+    out = IdentifyResult(law, result, datasets, [first_peak_amplitude(d.t, d.y) for d in datasets])
     if forms or (hold_out and len(datasets) > 1):
-        with SimulationPool(processes, inline_single=True) as pool:
-            def refit(effects, params, starts, label, on=datasets, **options):
-                options.setdefault("sigma", result.sigma)
-                return fit(on, effects, MASSLESS, params, pool=pool, starts=starts, verbose=False, label=label,
-                           **options)
-            if forms:
-                out.forms = fit_forms(rig0, result, refit, None, label=law)
-            if hold_out and len(datasets) > 1:
-                own = []
-                for rig, meas in pairs:
-                    g = experiment_of(rig.experiment).start_guesses(rig, meas)
-                    own.append(g + further_starts(rig, meas, law, g[0], splits))
-                out.held_out = held_out_validation(datasets, result, refit, peaks, own)
+        _beside_the_fit(out, pairs, processes, forms, hold_out, splits)
     return out
+
+
+def _beside_the_fit(out: IdentifyResult, pairs: Sequence, processes: int, forms: bool, hold_out: bool,
+                    splits: bool) -> None:
+    """Sets ``out.forms`` (the forms the records cannot tell apart, :mod:`.model_forms`) and, with
+    several records, ``out.held_out`` (each fitted alone and tested for agreement, :mod:`.held_out`)."""
+    result, datasets, law = out.fit, out.datasets, out.law
+    with SimulationPool(processes, inline_single=True) as pool:
+        def refit(effects, params, starts, label, on=datasets, **options):
+            options.setdefault("sigma", result.sigma)
+            return fit(on, effects, MASSLESS, params, pool=pool, starts=starts, verbose=False, label=label,
+                       **options)
+        if forms:
+            out.forms = fit_forms(pairs[0][0], result, refit, None, label=law)
+        if hold_out and len(datasets) > 1:
+            own = []
+            for rig, meas in pairs:
+                g = experiment_of(rig.experiment).start_guesses(rig, meas)
+                own.append(g + further_starts(rig, meas, law, g[0], splits))
+            out.held_out = held_out_validation(datasets, result, refit, out.first_peaks, own)
