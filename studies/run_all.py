@@ -80,10 +80,10 @@ class Runner:
             if self.failed:
                 return
             before, t0 = snapshot(self.out), time.time()
-            self.running[script] = t0
             capture = tempfile.TemporaryFile(mode="w+")
             p = subprocess.Popen([sys.executable, str(HERE / script), *self.extra], stdout=capture,
                                  stderr=subprocess.STDOUT)
+            self.running[script] = t0  # once it runs: a study that could not start holds no line back
         _, status, usage = os.wait4(p.pid, 0)
         p.returncode = os.waitstatus_to_exitcode(status)
         with self.lock:

@@ -53,7 +53,9 @@ ALPHA = 0.01
 #: seeds: 12 records), each fitted alone from the joint values and from each of its own 8 starts, run
 #: to convergence as here: the 60 ends in the best one's valley lie above the best by a median 0.4,
 #: 90th percentile 3.2, 95th 5.8 and at most 9.7 units. The joint and single fits here are each the
-#: best of several such ends, so their error is mostly below the single end's 90th percentile.
+#: best of several such ends, so their error is mostly below the single end's 90th percentile. Only
+#: the one joint fit's excess raises the statistic (a single fit above its floor lowers it), so the
+#: allowance does not grow with the number of records.
 ROUGHNESS_ALLOWANCE = 4.0
 #: Levenberg-Marquardt's absolute chi^2 tolerance and iteration limit for the single and joint
 #: refits, the relative one off (the model forms' values, :mod:`.model_forms`): the default relative
@@ -285,7 +287,7 @@ def held_fits(datasets: Sequence, joint: FitResult, refit: Refit, singles: Seque
 
 def _z_of(delta: float, dof: int) -> float:
     """The two-sided normal z of a chi^2 ``delta`` with ``dof`` degrees of freedom (one: its square
-    root; where the p-value underflows, the square root too, a lower bound for more)."""
+    root; where the p-value underflows, the square root too, an upper bound for more: shown, not judged)."""
     p = float(stats.chi2.sf(delta, max(1, dof)))
     return math.sqrt(delta) if dof <= 1 or p <= 0.0 else float(stats.norm.isf(p / 2))
 
