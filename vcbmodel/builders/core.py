@@ -83,8 +83,10 @@ class ExudynModel:
     def derived_channels(self, out: dict) -> dict[str, np.ndarray]:
         """The :attr:`derived` channels from the recorded shaft state, as a sensor's (t, value) rows."""
         channels = {}
+        if not self.derived:
+            return channels
+        t, theta, omega = out["angle"][:, 0], out["angle"][:, 1], out["velocity"][:, 1]
         for name, torque in self.derived.items():
-            t, theta, omega = out["angle"][:, 0], out["angle"][:, 1], out["velocity"][:, 1]
             with np.errstate(all="ignore"):  # ArrayOps computes every branch and chooses
                 value = np.broadcast_to(np.asarray(torque(t, theta, omega, ArrayOps), float), t.shape)
             if not np.all(np.isfinite(value)):
