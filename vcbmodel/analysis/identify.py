@@ -36,7 +36,7 @@ from ..rig.spring_model import SpringModel
 from .fit import Dataset, FitResult, SimulationPool, fit, make_parameters, staged_fit
 from .release import release_parameter, release_setup, released_pairs, was_cut
 from .held_out import HeldOut, held_out_validation
-from .model_forms import ModelForms, fit_forms
+from .model_forms import MU_S_STARTS, ModelForms, fit_forms
 
 if TYPE_CHECKING:
     from ..records.measurement import Measurement
@@ -189,7 +189,7 @@ class IdentifyResult:
 def further_starts(rig: Rig, meas: Measurement, law: str, first: dict, splits: bool) -> list[dict]:
     """Starts beside a record's own first guess ``first``: mu_s as multiples of its mu_k (the hybrid
     law), and (``splits``) the swing's decay shared out between Coulomb and viscous friction."""
-    scan = [{"mu_s": f * first.get("mu_k", 0.1)} for f in (1.3, 2.0)] if law == "hybrid" else []
+    scan = [{"mu_s": f * first.get("mu_k", 0.1)} for f in MU_S_STARTS] if law == "hybrid" else []
     if splits:
         scan += decay_split_guesses(rig, meas, DECAY_SPLITS)
     return scan
