@@ -10,10 +10,13 @@ ROOT = Path(__file__).resolve().parents[1]
 sys.path.insert(0, str(ROOT))
 
 
-def parse_args(description):
+def parse_args(description, flags=None):
+    """--out and --quick, and the study's own on/off ``flags`` ({"--name": help})."""
     p = argparse.ArgumentParser(description=description)
     p.add_argument("--out", default=str(ROOT / "results"), help="output folder (default results/)")
     p.add_argument("--quick", action="store_true", help="smaller, faster run (smoke tests)")
+    for flag, text in (flags or {}).items():
+        p.add_argument(flag, action="store_true", help=text)
     a = p.parse_args()
     os.makedirs(a.out, exist_ok=True)
     logging.basicConfig(level=logging.INFO, format="%(message)s")  # the library's progress lines on stderr

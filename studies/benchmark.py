@@ -1,6 +1,9 @@
 """Speed and memory benchmark (targets from the issues); writes results/benchmark.json.
 
 Wall times are medians of several runs on this machine; tests never assert them.
+``--scaling-only`` runs the scale-out part alone (Dask against local processes, weak scaling over as
+many workers as the machine has cores) and writes scale_out.json and scale_out.md: how the 16-core
+table in results/scale_out_16_cores/ was made.
 """
 import copy
 import json
@@ -180,8 +183,30 @@ class Laps:
         self.last = now
 
 
+#: Closings per worker of ``--scaling-only`` (the benchmark's 120 halved: the table fits a 5-minute lease of a
+#: 16-core node; 60 closings are about 1.7 s of work per worker, above a Dask task's ~1 s of runs)
+SCALING_ONLY_PER_WORKER = 60
+
+
+def scaling_only(out: Path, quick: bool) -> None:
+    """The scale-out part alone (``--scaling-only``): scale_out.json and scale_out.md in ``out``, rewritten
+    after every round (an interrupted run leaves the rounds it finished)."""
+    machine = {"python": platform.python_version(), "processor": platform.processor() or platform.machine(),
+               "cores": default_workers(), "os_cpu_count": os.cpu_count()}
+
+    def write(scaling: dict) -> None:
+        write_json(out / "scale_out.json", {"machine": machine, "sweep_scaling": scaling})
+        (out / "scale_out.md").write_text(f"Machine: {machine['cores']} cores usable ({machine['os_cpu_count']} reported), "
+                                          f"{machine['processor']}, Python {machine['python']}.\n" + scaling_table(scaling))
+
+    write(sweep_scaling(quick, per_worker=None if quick else SCALING_ONLY_PER_WORKER, after_round=write))
+
+
 def main():
-    args = parse_args(__doc__)
+    args = parse_args(__doc__, flags={"--scaling-only": "run the scale-out part alone (scale_out.json, scale_out.md)"})
+    if args.scaling_only:
+        scaling_only(Path(args.out), args.quick)
+        return
     repeat = 1 if args.quick else 3
     out = Path(args.out)
     tmp = Path(tempfile.mkdtemp())
@@ -358,11 +383,18 @@ print(json.dumps({"wall_s": wall, "run_s": sum(df.attrs["run_s"]), "cpu_s": c1 -
 SCALING_WORKERS = (1, 2, 4, 8, 16)
 
 
+def study_environment() -> dict:
+    """This process's environment with the repository first on PYTHONPATH (what was there kept: a node whose
+    packages are installed into a folder of their own finds them in the sweep's processes too)."""
+    paths = [str(Path(__file__).resolve().parents[1])] + [p for p in os.environ.get("PYTHONPATH", "").split(os.pathsep) if p]
+    return dict(os.environ, PYTHONPATH=os.pathsep.join(paths))
+
+
 def timed_sweep(rig, runs_file, workers=None, scheduler=None):
     """{wall_s, run_s, ok, runs} of one sweep in a fresh process (SWEEP_DRIVER)."""
     arg = json.dumps({"rig": str(rig), "runs": str(runs_file), "workers": workers, "scheduler": scheduler})
     p = subprocess.run([sys.executable, "-c", SWEEP_DRIVER, arg], capture_output=True, text=True, timeout=1800,
-                       env=dict(os.environ, PYTHONPATH=str(Path(__file__).resolve().parents[1])))
+                       env=study_environment())
     if p.returncode != 0:
         raise RuntimeError(f"timed sweep failed: {p.stderr[-800:]}")
     return json.loads(p.stdout.strip().splitlines()[-1])
@@ -378,7 +410,7 @@ class DaskCluster:
     def __enter__(self):
         self.folder.mkdir(parents=True, exist_ok=True)
         address_file = self.folder / "scheduler.json"
-        env = dict(os.environ, PYTHONPATH=str(Path(__file__).resolve().parents[1]))
+        env = study_environment()
         quiet = {"stdout": subprocess.DEVNULL, "stderr": subprocess.DEVNULL, "env": env, "start_new_session": True}
         self.procs.append(subprocess.Popen([sys.executable, "-m", "dask", "scheduler", "--host", "127.0.0.1", "--port", "0",
                                             "--no-dashboard", "--scheduler-file", str(address_file)], **quiet))
@@ -417,7 +449,7 @@ def worker_check_seconds(address, workers):
     return {"first_s": times[0], "again_s": times[1]}
 
 
-def sweep_scaling(quick):
+def sweep_scaling(quick, per_worker=None, rounds=None, after_round=None):
     """Design studies at scale (vcbmodel sweep), on reference-breaker closings (the compiled path, Latin
     hypercube of friction.mu_k and breaker.poles.moving_mass): one run's parts measured in this process; then
     weak scaling: for each worker count the machine's cores allow (1, 2, 4, 8, 16), the same number of runs
@@ -439,8 +471,8 @@ def sweep_scaling(quick):
     one["simulated_with"] = simulate(rig, backend="fast", t_end=1e-3).info["backend"]
 
     cores = default_workers()
-    per_worker = 16 if quick else 120
-    rounds = 2 if quick else 3
+    per_worker = per_worker or (16 if quick else 120)
+    rounds = rounds or (2 if quick else 3)
     measured = [w for w in SCALING_WORKERS if w <= cores]
     tmp = Path(tempfile.mkdtemp(prefix="vcbmodel-scaling-"))
     rig_file = tmp / "breaker.rig.json"
@@ -459,6 +491,7 @@ def sweep_scaling(quick):
         for c in clusters:
             c.__enter__()
         check = worker_check_seconds(clusters[-1].address, measured[-1])
+        print(f"[{time.strftime('%H:%M:%S')}] clusters up, worker check {check}", file=sys.stderr, flush=True)
         for c, w in zip(clusters, measured):  # warm-up: each cluster's workers import and compile once
             timed_sweep(rig_file, runs_files[w], scheduler=c.address)
         variants = [(how, w) for w in measured for how in ("local", "dask")]
@@ -467,16 +500,26 @@ def sweep_scaling(quick):
                 c = clusters[measured.index(w)]
                 times[(how, w)].append(timed_sweep(rig_file, runs_files[w], workers=w if how == "local" else None,
                                                    scheduler=c.address if how == "dask" else None))
+                print(f"[{time.strftime('%H:%M:%S')}] round {r + 1} {how} {w} workers: {times[(how, w)][-1]}",
+                      file=sys.stderr, flush=True)
+            if after_round is not None:
+                after_round(scaling_result(one, cores, per_worker, r + 1, measured, times, check, load_before))
     finally:
         for c in clusters:
             if c.procs:
                 c.__exit__(None, None, None)
+    return scaling_result(one, cores, per_worker, rounds, measured, times, check, load_before)
+
+
+def scaling_result(one, cores, per_worker, rounds, measured, times, check, load_before) -> dict:
+    """The weak-scaling rows and ratios from the sweeps' ``times`` ({(how, workers): [runs]})."""
     rows = []
     med = {k: {f: statistics.median(x[f] for x in v) for f in ("wall_s", "run_s", "cpu_s")} for k, v in times.items()}
     for w in SCALING_WORKERS:
         if w not in measured:
             rows.append({"workers": w, "runs": per_worker * w, "measured": False,
-                         "note": f"not measured: this machine has {cores} cores"})
+                         "note": f"not measured: this machine has {cores} cores (a 16-core node's run: "
+                                 "results/scale_out_16_cores/)"})
             continue
         local, dask = med[("local", w)], med[("dask", w)]
         rows.append({"workers": w, "runs": per_worker * w, "measured": True, "local_s": local["wall_s"],
