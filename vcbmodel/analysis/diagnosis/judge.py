@@ -5,7 +5,9 @@ only when the final residual is at the noise by the diagnosis's one criterion (:
 the sensor's artefacts set aside, the whitened residual white at the record's level, and within
 the noise that witnesses the fit did not shape show) and every held-out record of the rig is
 predicted at its own noise (:mod:`.held_out`); otherwise it says what is left (window, size,
-signature). Selections the evidence does not settle are reported as ties. The starting model
+signature). Selections the evidence does not settle are reported as ties. Once the report step has
+fitted the model forms, a plausible form the record prefers by more than the margin that moves a
+stated value makes the record not explained (:func:`judge_forms`). The starting model
 keeps its own best alignment of the record: the gap is each model at its own best."""
 from __future__ import annotations
 

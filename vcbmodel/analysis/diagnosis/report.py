@@ -1,6 +1,8 @@
 """Step 7, report: the diagnosis as the user reads it (:class:`.result.Diagnosis`): the window
 where model and record disagree most, the residual's signature, the record's nuisance (with the
-sensor's artefacts and the record's time base), the evidence in words (:mod:`.evidence`), the
+sensor's artefacts and the record's time base), the model forms around the final model
+(:mod:`..model_forms`) with the verdict they can overturn (:func:`.judge.judge_forms`), the
+evidence in words (:mod:`.evidence`), the
 thresholds that produced it (:class:`.options.DiagnosisOptions`) and the time spent."""
 from __future__ import annotations
 
