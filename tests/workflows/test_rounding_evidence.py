@@ -13,7 +13,7 @@ from vcbmodel.analysis.diagnosis.options import DEFAULT_OPTIONS
 from vcbmodel.analysis.fit import FitResult, Parameter
 from vcbmodel.analysis.fit.dataset import AlignedModel
 from vcbmodel.analysis.model_forms import EVIDENCE_MARGIN, FormFit, ModelForms
-from vcbmodel.analysis.noise import NoiseModel, rounding_bic, run_lengths
+from vcbmodel.analysis.noise import NoiseModel, rounding_bic, rounding_weights, run_lengths
 
 Q = 1.45e-3  # a 12-bit logger's step over 340 degrees (rad)
 T = np.arange(6000) / 1000.0
@@ -70,16 +70,25 @@ def test_a_form_that_only_follows_the_rounding_at_low_speed_is_not_preferred():
     assert rounding_bic(wrong, noise) - rounding_bic(true, noise) > 1000
 
 
-def test_dithered_rounding_is_counted_nearly_as_the_plain_bic():
-    """Sensor noise of two steps before the rounding breaks the runs: the two measures' difference
-    between the true swing and a 2 % amplitude error agrees within 20 %."""
-    rng = np.random.default_rng(3)
-    record = np.round((SWING + rng.normal(0, 2 * Q, T.size)) / Q) * Q
-    noise = NoiseModel.white(math.hypot(2 * Q, Q / math.sqrt(12)), Q)
-    true, off = fit_of(SWING, record, 5), fit_of(1.02 * SWING, record, 5)
-    plain = off.bic_with(noise) - true.bic_with(noise)
-    honest = rounding_bic(off, noise) - rounding_bic(true, noise)
-    assert plain > 100 and honest == pytest.approx(plain, rel=0.2)
+def test_dithered_rounding_is_counted_as_the_plain_bic_and_partly_dithered_in_between():
+    """Sensor noise of two steps before the rounding makes it white (Widrow & Kollar): the two
+    measures agree on the difference between the true swing and a 2 % amplitude error. With a third of
+    a step of noise the rounding-aware count lies between the plain one and the count of fully
+    correlated runs (each run once)."""
+    def difference(level, high_frequency):
+        rng = np.random.default_rng(3)
+        record = np.round((SWING + rng.normal(0, level, T.size)) / Q) * Q
+        noise = NoiseModel(math.hypot(level, Q / math.sqrt(12)), (), Q, high_frequency)
+        true, off = fit_of(SWING, record, 5), fit_of(1.02 * SWING, record, 5)
+        return off.bic_with(noise) - true.bic_with(noise), rounding_bic(off, noise) - rounding_bic(true, noise)
+
+    plain, honest = difference(2 * Q, math.hypot(2 * Q, Q / math.sqrt(12)))
+    assert plain > 100 and honest == pytest.approx(plain, rel=1e-6)
+    level = Q / 3
+    plain, honest = difference(level, math.hypot(level, Q / math.sqrt(12)))
+    _, runs_once = difference(level, Q / math.sqrt(12))  # no other noise seen: every run counted once
+    assert runs_once < 0.6 * plain and runs_once < honest < plain
+    assert rounding_weights(np.array([0.0, 0.0, Q]), Q, 0.0).tolist() == [0.5, 0.5, 1.0]
 
 
 def _form(label, bic, effects, **values):

@@ -35,7 +35,8 @@ recorded values once (:func:`.noise.rounding_bic`): where the signal moves by le
 samples the rounding error is one deterministic error read many times, and a form that bends the
 trajectory at low speed would otherwise win by hundreds for fitting it (a clean 12-bit pendulum: a
 Gaussian-Stribeck form 328 ahead of the true hybrid law; with the runs counted once, 1.4 behind). On an
-unquantised record it is the plain BIC.
+unquantised record it is the plain BIC, and nearly so where sensor noise of half a step or more dithers the
+rounding.
 
 A quantity's value in a form that lacks it is its physical value there: 0 for an additive effect
 (viscous, drag, drift), the kinetic level for ``mu_s`` (no Stribeck fall: the static level is the
