@@ -211,6 +211,7 @@ def run_one(case, seed, complications, folder, t_end=None, friction_truth="hybri
             "forms": [{"form": f["form"], "delta_bic": f["delta_bic"], "weight": f["weight"]}
                       for f in (j.get("model_forms") or {}).get("forms", [])],
             "implausible": (j.get("model_forms") or {}).get("plausibility", []),
+            "rival_form": (j["verdict"].get("rival_form") or {}).get("form"),
             "simulations": j["timing"]["simulations"], "budget_used_s": j["timing"]["budget_used_s"],
             "budget_reached": j["timing"]["budget_reached"]}
 

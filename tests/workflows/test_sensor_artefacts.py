@@ -92,3 +92,8 @@ def test_a_12_bit_record_gets_no_friction_effect_named(tmp_path, complication):
     assert q["step"] == pytest.approx(LOGGER_STEP, rel=1e-6)
     assert q["rounding_noise"] == pytest.approx(LOGGER_STEP / math.sqrt(12), rel=1e-6)
     assert "counted as noise" in j["evidence"]
+    # the model forms count a run of identical rounded values once (noise.rounding_bic): no form that
+    # follows the rounding at low speed beats the selected law by the margin (counted per sample, the
+    # Gaussian-Stribeck form led the rounded record by 328), so the verdict names no rival form
+    assert j["model_forms"]["selected_delta_bic"] <= j["options"]["rival_form_margin"]
+    assert "rival_form" not in j["verdict"]

@@ -138,6 +138,77 @@ def rounding_dominates(quantisation: float, high_frequency: float) -> bool:
     return quantisation > 0 and quantisation / math.sqrt(12.0) >= 0.5 * high_frequency
 
 
+def run_lengths(values: np.ndarray, quantisation: float) -> np.ndarray:
+    """For each sample of ``values`` (one contiguous segment of a recorded channel), the length of
+    the run of identical recorded values it belongs to: consecutive samples less than half a
+    quantisation step apart are one value. All ones when ``quantisation`` is 0 (no grid)."""
+    y = np.asarray(values, float)
+    if quantisation <= 0 or y.size == 0:
+        return np.ones(y.size)
+    starts = np.concatenate([[0], np.nonzero(np.abs(np.diff(y)) >= 0.5 * quantisation)[0] + 1, [y.size]])
+    lengths = np.diff(starts)
+    return np.repeat(lengths, lengths).astype(float)
+
+
+def recorded_values(fit) -> list[np.ndarray]:
+    """The recorded measured channel on each of ``fit``'s residual segments (model - residual)."""
+    out = []
+    for sim, t, r in zip(fit.simulations, fit.times, fit.residuals):
+        idx = np.clip(np.searchsorted(sim.t, t), 0, sim.t.size - 1)
+        out.append(np.asarray(sim.measured, float)[idx] - np.asarray(r, float))
+    return out
+
+
+def rounding_weights(values: np.ndarray, quantisation: float, other_noise: float) -> np.ndarray:
+    """Each sample's share of independent evidence on a rounded record: 1 - rho (1 - 1 / L), L the
+    length of its run of identical recorded values and rho = exp(-2 pi^2 s^2 / q^2) the share of the
+    rounding that other noise of level s (``other_noise``) leaves correlated (see :func:`rounding_bic`).
+    All ones when ``quantisation`` is 0."""
+    lengths = run_lengths(values, quantisation)
+    if quantisation <= 0:
+        return lengths
+    rho = math.exp(-2.0 * math.pi**2 * (other_noise / quantisation) ** 2)
+    return 1.0 - rho * (1.0 - 1.0 / lengths)
+
+
+def rounding_bic(fit, noise: NoiseModel | None) -> float:
+    """BIC of ``fit`` that counts a rounded record's evidence once per rounding error: each
+    whitened sample weighted by w = 1 - rho (1 - 1 / L) (:func:`rounding_weights`), L the length of
+    its run of identical recorded values, and the penalty k ln n_eff with n_eff = sum w.
+
+    Rounding is white noise of variance q^2 / 12, independent of the signal and between samples,
+    only while the signal moves by many steps between samples or other noise dithers it (Widrow &
+    Kollar, *Quantization Noise*, Cambridge 2008, ch. 4-6 on the quantisation theorems and ch. 19 on
+    dither). Where a record moves slowly, as a pendulum near its turning points, the signal stays
+    within one step for L samples: without other noise the L rounding errors are one deterministic
+    error read L times, and their chi^2 counts one piece of evidence L times. A model that can bend
+    the trajectory at low speed (a Stribeck fall, air drag) then "fits" the rounding and wins by
+    hundreds. Weighting by 1 / L is the effective-sample-size correction for a run of fully
+    correlated errors (the variance of a mean of L identical errors is L times the independent
+    one's; Bayley & Hammersley, JRSS B 8, 1946): each run counts as one sample. Gaussian noise of
+    level s added before the rounding makes the rounding error independent of the signal to the
+    degree the noise's characteristic function vanishes at the quantiser's first harmonic, 2 pi /
+    q: rho = exp(-2 pi^2 s^2 / q^2) (Widrow & Kollar's QT condition; 0.007 at s = q / 2, when
+    rounding is practically white). ``rho`` interpolates between the two limits; s is the record's
+    model-free high-frequency level less the rounding, as :func:`consistency` takes it (it reads a
+    partly dithered record's noise low, so it errs towards counting less).
+
+    With no quantisation (q = 0), or every run one sample long, this is
+    :meth:`FitResult.bic_with <vcbmodel.analysis.fit.result.FitResult.bic_with>` exactly; with
+    other noise above half a step, nearly so. Only the measured channel is weighted (the other
+    channels' and the priors' chi^2 as they are)."""
+    q = noise.quantisation if noise is not None else 0.0
+    if q <= 0:
+        return fit.bic_with(noise)
+    other = math.sqrt(max(noise.high_frequency**2 - q**2 / 12.0, 0.0))
+    weights = [rounding_weights(v, q, other) for v in recorded_values(fit)]
+    p = noise.order
+    data = float(sum(np.sum(w[p:] * noise.whiten(r) ** 2) for w, r in zip(weights, fit.residuals) if r.size > p))
+    extra = float(sum(np.sum(r**2) for r in fit.extra_residuals.values()))
+    n_eff = float(sum(np.sum(w) for w in weights))
+    return data + extra + fit.prior_chi2 + fit.n_varied * math.log(max(2.0, n_eff))
+
+
 def consistency(segments, noise: NoiseModel, lags=20, smooth=None, tolerance: float = STRUCTURE_TOLERANCE,
                 alpha: float = ALPHA):
     """Is the residual (contiguous segments) what the noise alone would leave? (``tolerance``:
@@ -230,5 +301,5 @@ def describe_left(t, residual, noise: NoiseModel, sigma_white=None):
     return {"window": [float(t[a]), float(t[b])], "peak_running_rms": float(rr[i])}
 
 
-__all__ = ["NoiseModel", "consistency", "describe_left", "excess", "fit_noise", "levinson", "noise_of_best", "variance_gain",
-           "white_chi2"]
+__all__ = ["NoiseModel", "consistency", "describe_left", "excess", "fit_noise", "levinson", "noise_of_best", "recorded_values",
+           "rounding_bic", "rounding_weights", "run_lengths", "variance_gain", "white_chi2"]

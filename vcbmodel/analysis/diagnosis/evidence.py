@@ -123,6 +123,8 @@ def evidence_text(ctx, baseline, final, missing, window, signature, verdict: Ver
     if verdict.implausible:
         text += (" Not explained: the final fit's values are not a physical rig's ("
                  + "; ".join(f["message"] for f in verdict.implausible) + ").")
+    if verdict.rival_form:
+        text += " Not explained: " + verdict.rival_form["message"] + "."
     return text + artefact_sentences(verdict, ctx.record.unit)
 
 

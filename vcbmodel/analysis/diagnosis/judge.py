@@ -5,7 +5,9 @@ only when the final residual is at the noise by the diagnosis's one criterion (:
 the sensor's artefacts set aside, the whitened residual white at the record's level, and within
 the noise that witnesses the fit did not shape show) and every held-out record of the rig is
 predicted at its own noise (:mod:`.held_out`); otherwise it says what is left (window, size,
-signature). Selections the evidence does not settle are reported as ties. The starting model
+signature). Selections the evidence does not settle are reported as ties. Once the report step has
+fitted the model forms, a plausible form the record prefers by more than the margin that moves a
+stated value makes the record not explained (:func:`judge_forms`). The starting model
 keeps its own best alignment of the record: the gap is each model at its own best."""
 from __future__ import annotations
 
@@ -15,6 +17,7 @@ from ...errors import SimulationError
 from ...records.signals import disagreement_window, dominant_frequency, lag1_autocorrelation
 from ..fit import FitAborted, FitResult
 from ..fit.dataset import time_scale_name
+from ..model_forms import form_values
 from ..noise import excess
 from ..plausibility import implausible
 from .artefacts import found_named
@@ -169,6 +172,48 @@ def judge(ctx, state) -> None:
     state.verdict.ambiguous = ties(ctx, state.path, state.candidates)
     state.verdict.period = state.period
     state.verdict.spring_model_refined = _spring_refined(ctx, state)
+
+
+def rival_form(rig, final: FitResult, forms, options) -> dict | None:
+    """A plausible model form (``forms``: :class:`..model_forms.ModelForms` around ``final``) that
+    fits the record better than the final model by more than ``options.rival_form_margin`` (the forms'
+    BIC: a rounded record's runs of identical values counted once, :func:`..noise.rounding_bic`) and
+    moves a value the final fit states beyond ``options.rival_form_errors`` of its stated errors (in
+    the forms' common meanings; a value the form lacks is 0 there): the report's values then belong
+    to a model the record itself rejects. None when there is no such form."""
+    if forms is None or not forms.forms:
+        return None
+    selected, best = forms.forms[0], forms.preferred
+    gain = selected.bic - best.bic
+    if best is selected or not best.plausible or gain <= options.rival_form_margin:
+        return None
+    stated, _ = form_values(rig, final)
+    theirs, _ = form_values(rig, best.fit)
+    moved = []
+    for name, p in final.parameters.items():
+        if p.kind != "model" or not p.vary or name not in stated:
+            continue
+        value, se = stated[name]
+        other = theirs.get(name, (0.0, 0.0))[0]
+        if 0 < se < float("inf") and abs(other - value) > options.rival_form_errors * se:
+            moved.append({"parameter": name, "stated": value, "stderr": se, "form_value": other,
+                          "errors": (other - value) / se})
+    if not moved:
+        return None
+    worst = max(moved, key=lambda m: abs(m["errors"]))
+    message = (f"the model form '{best.alternative.label}' fits the record better than the final model by "
+               f"{gain:.0f} BIC (margin {options.rival_form_margin:g}) and puts {worst['parameter']} at "
+               f"{worst['form_value']:.4g}, {abs(worst['errors']):.1f} stated errors from its {worst['stated']:.4g}: "
+               "the stated values belong to a model the record rejects")
+    return {"form": best.alternative.label, "delta_bic": gain, "moved": moved, "message": message}
+
+
+def judge_forms(ctx, verdict: Verdict, final: FitResult, forms) -> None:
+    """After the model forms are fitted (report step): a :func:`rival_form` makes the record not
+    explained, with the form and the values it moves in the verdict."""
+    verdict.rival_form = rival_form(ctx.rig, final, forms, ctx.options)
+    if verdict.rival_form:
+        verdict.explained = False
 
 
 def implausible_values(rig, fit) -> list[dict]:

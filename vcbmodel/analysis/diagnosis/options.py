@@ -50,6 +50,13 @@ class DiagnosisOptions:
     #: than this many combined stated errors has moved between records: an amplitude- or
     #: speed-dependent effect is missing (three: a 0.3 % chance for one value if both are right).
     moved_errors: float = 3.0
+    #: The record is not explained when a plausible model form (:mod:`..model_forms`) beats the final
+    #: model by more than this BIC (the forms' BIC, which counts a rounded record's runs of identical
+    #: values once) and moves a value the final fit states beyond ``rival_form_errors``: the numbers
+    #: the report gives belong to a model the record rejects. 10: the evidence margin of the forms.
+    rival_form_margin: float = 10.0
+    #: ... beyond this many of the value's stated errors (the half-width of its 95 % interval).
+    rival_form_errors: float = 1.96
     #: Smallest clock error the time-base nuisance is kept for (relative): a crystal clock is
     #: good to about 1e-4.
     min_clock_error: float = 2e-4

@@ -1,6 +1,8 @@
 """Step 7, report: the diagnosis as the user reads it (:class:`.result.Diagnosis`): the window
 where model and record disagree most, the residual's signature, the record's nuisance (with the
-sensor's artefacts and the record's time base), the evidence in words (:mod:`.evidence`), the
+sensor's artefacts and the record's time base), the model forms around the final model
+(:mod:`..model_forms`) with the verdict they can overturn (:func:`.judge.judge_forms`), the
+evidence in words (:mod:`.evidence`), the
 thresholds that produced it (:class:`.options.DiagnosisOptions`) and the time spent."""
 from __future__ import annotations
 
@@ -9,6 +11,7 @@ import time
 from ...records.signals import disagreement_window
 from ..fit.dataset import time_scale_name
 from .evidence import describe_signature, evidence_text, nuisance_report
+from .judge import judge_forms
 from ..model_forms import diagnosis_model_forms
 from .period import period_fields_fitted
 from .pinned import pinned_caveat, pinned_gain
@@ -49,14 +52,15 @@ def report(ctx, state) -> None:
     stopped = sorted(state.stopped - {c.effect for c in state.candidates})
     where = window(ctx, baseline)
     signature = describe_signature(ctx, baseline, final)
+    pinned = pinned_gain(ctx, final)
+    forms = diagnosis_model_forms(ctx, final, pinned, ctx.search.noise)
+    judge_forms(ctx, state.verdict, final, forms)  # a form the record prefers that moves a stated value
     found = nuisance(ctx, state)
     evidence = evidence_text(ctx, baseline, final, state.missing, where, signature, state.verdict, state.period,
                              state.backward, state.start_at_noise)
-    pinned = pinned_gain(ctx, final)
     if pinned:
         found["pinned_sensitivity"] = [pinned]
         evidence += (" " + pinned_caveat(pinned)) if pinned_caveat(pinned) else ""
-    forms = diagnosis_model_forms(ctx, final, pinned, ctx.search.noise)
     spent = timing(ctx)
     ctx.say(f"missing effects: {', '.join(state.missing) or 'none'}; rms {baseline.rms:.3g} -> {final.rms:.3g} "
             f"{ctx.record.unit}; explained: {state.verdict.explained}; {spent['seconds']:.0f} s, "

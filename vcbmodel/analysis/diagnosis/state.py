@@ -128,6 +128,10 @@ class Verdict:
     #: the final fit's values no physical rig has, or that break the law's constraint (plausibility
     #: Finding JSON): with any, the record is not explained, whatever its residual
     implausible: list = field(default_factory=list)
+    #: a plausible model form that beats the final model by more than ``options.rival_form_margin``
+    #: and moves a stated value beyond ``options.rival_form_errors`` (:func:`.judge.rival_form`):
+    #: with one, the record is not explained
+    rival_form: dict | None = None
 
     @property
     def tests(self) -> dict:
@@ -148,6 +152,8 @@ class Verdict:
             out["held_out"] = self.held_out
         if self.implausible:
             out["implausible"] = self.implausible
+        if self.rival_form:
+            out["rival_form"] = self.rival_form
         return out
 
 
