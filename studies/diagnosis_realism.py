@@ -20,7 +20,10 @@ Scoring (one rule for every record):
   or not, ``realistic.OPTIONAL_EXTRA``). For an unregistered cause (position-dependent
   friction or torque) a hit is ``explained: false``, or, where the cause leaves nothing above the
   noise (the final rms within RESIDUAL_ABOVE_NOISE of it), the registered part named exactly.
-- **verdict right**: for a truth in the fitted family, ``explained: true``. For a truth outside
+- **verdict right**: for a truth in the fitted family, ``explained: true``, or ``explained: false``
+  for a model form the record prefers (``verdict.rival_form``) when the selected fit does state a
+  value more than EXPLAINED_Z errors from the truth (a record's undeclared artefact, such as a gain
+  error, made its numbers wrong: refusing them is right). For a truth outside
   it, ``explained`` must say whether the final fit's residual stands above the noise: above when
   its rms exceeds the true noise by more than 5 % (RESIDUAL_ABOVE_NOISE; 5 % of rms is 0.3 sigma of
   excess, several times the rms's own scatter over a record), and then ``explained: false`` is
@@ -200,7 +203,8 @@ def run_one(case, seed, complications, folder, t_end=None, friction_truth="hybri
         hit = set(named) - optional == set(truth["answer"]) - optional
     else:  # an unregistered cause: said, or invisible at the noise with the rest named
         hit = not j["explained"] or (after <= RESIDUAL_ABOVE_NOISE and named == hidden_answer(case))
-    verdict_right = j["explained"] if truth["in_family"] else j["explained"] == (after <= RESIDUAL_ABOVE_NOISE)
+    verdict_right = (in_family_verdict_right(j, comparisons(j, truth)) if truth["in_family"]
+                     else j["explained"] == (after <= RESIDUAL_ABOVE_NOISE))
     return {"case": case, "seed": seed, "complications": list(complications), "friction_truth": friction_truth,
             "truth": truth, "named": named, "explained": j["explained"], "hit": bool(hit),
             "verdict_right": bool(verdict_right), "rms_before_over_noise": j["rms_before"] / sigma,
@@ -214,6 +218,14 @@ def run_one(case, seed, complications, folder, t_end=None, friction_truth="hybri
             "rival_form": (j["verdict"].get("rival_form") or {}).get("form"),
             "simulations": j["timing"]["simulations"], "budget_used_s": j["timing"]["budget_used_s"],
             "budget_reached": j["timing"]["budget_reached"]}
+
+
+def in_family_verdict_right(j: dict, selected: list) -> bool:
+    """An in-family record's verdict is right when explained, or when refused for a rival model form
+    while the selected fit states a value beyond EXPLAINED_Z errors of the truth (``selected``: its
+    comparisons)."""
+    refused_rightly = bool(j["verdict"].get("rival_form")) and any(abs(c["z"]) > EXPLAINED_Z for c in selected)
+    return bool(j["explained"]) or refused_rightly
 
 
 def cpu_seconds():
