@@ -345,6 +345,7 @@ def diagnosis_times(tmp):
         seconds = time.perf_counter() - t0
         out["cases"].append({"case": case, "complications": list(comps), "seconds": seconds,
                              "budget_used_s": d.timing["budget_used_s"], "simulations": d.timing["simulations"],
+                             "simulations_reused": d.timing["simulations_reused"],
                              "named": d.missing_effects, "answer": truth["answer"], "explained": d.explained})
     out["max_s"] = max(c["seconds"] for c in out["cases"])
     out["median_s"] = statistics.median(c["seconds"] for c in out["cases"])

@@ -346,8 +346,22 @@ def ar_whiten(x: np.ndarray, coefficients: np.ndarray) -> np.ndarray:
 
 
 def ar_autocorrelation(coefficients: np.ndarray, lags: int) -> np.ndarray:
-    """Autocorrelation at lags 1..lags of the AR process with these coefficients."""
-    a = np.asarray(coefficients, float)
+    """Autocorrelation at lags 1..lags of the AR process with these coefficients (remembered for the
+    last coefficients asked: a diagnosis scores every fit under one noise model)."""
+    key = (tuple(float(c) for c in np.ravel(coefficients)), int(lags))
+    rho = _AUTOCORRELATIONS.get(key)
+    if rho is None:
+        rho = _ar_autocorrelation(np.array(key[0], float), key[1])
+        if len(_AUTOCORRELATIONS) >= 64:
+            _AUTOCORRELATIONS.clear()
+        _AUTOCORRELATIONS[key] = rho
+    return rho.copy()
+
+
+_AUTOCORRELATIONS: dict = {}
+
+
+def _ar_autocorrelation(a: np.ndarray, lags: int) -> np.ndarray:
     p = a.size
     if p == 0:
         return np.zeros(lags)

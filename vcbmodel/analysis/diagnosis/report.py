@@ -29,7 +29,8 @@ def timing(ctx) -> dict:
     """Time and work spent, and whether the budget cut the search short."""
     b = ctx.budget
     return {"seconds": time.monotonic() - b.started, "budget_used_s": b.used(),
-            "simulations": ctx.pool.simulations, "fits": ctx.search.fits,
+            "simulations": ctx.pool.simulations, "simulations_reused": getattr(ctx.pool, "reused", 0),
+            "fits": ctx.search.fits,
             "budget_s": b.seconds, "budget_reached": bool(b.skipped or b.stop.is_set()),
             "skipped": list(b.skipped)}
 
