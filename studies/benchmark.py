@@ -183,9 +183,9 @@ class Laps:
         self.last = now
 
 
-#: Closings per worker of ``--scaling-only`` (the benchmark's 120 halved: the table fits a 5-minute lease of a
-#: 16-core node; 60 closings are about 1.7 s of work per worker, above a Dask task's ~1 s of runs)
-SCALING_ONLY_PER_WORKER = 60
+#: Closings per worker of the weak-scaling sweeps: about 1.7 s of work per worker (a closing ~28 ms), above
+#: a Dask task's ~1 s of runs; the table of a 16-core node fits a 5-minute lease
+SCALING_PER_WORKER = 60
 
 
 def scaling_only(out: Path, quick: bool) -> None:
@@ -199,7 +199,7 @@ def scaling_only(out: Path, quick: bool) -> None:
         (out / "scale_out.md").write_text(f"Machine: {machine['cores']} cores usable ({machine['os_cpu_count']} reported), "
                                           f"{machine['processor']}, Python {machine['python']}.\n" + scaling_table(scaling))
 
-    write(sweep_scaling(quick, per_worker=None if quick else SCALING_ONLY_PER_WORKER, after_round=write))
+    write(sweep_scaling(quick, after_round=write))
 
 
 def main():
@@ -472,7 +472,7 @@ def sweep_scaling(quick, per_worker=None, rounds=None, after_round=None):
     one["simulated_with"] = simulate(rig, backend="fast", t_end=1e-3).info["backend"]
 
     cores = default_workers()
-    per_worker = per_worker or (16 if quick else 120)
+    per_worker = per_worker or (16 if quick else SCALING_PER_WORKER)
     rounds = rounds or (2 if quick else 3)
     measured = [w for w in SCALING_WORKERS if w <= cores]
     tmp = Path(tempfile.mkdtemp(prefix="vcbmodel-scaling-"))

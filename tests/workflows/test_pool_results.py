@@ -96,3 +96,27 @@ def test_ar_autocorrelation_remembered_is_the_computed_one():
     first[0] = 7.0  # a copy: the remembered value is not changed by its caller
     assert np.array_equal(signals.ar_autocorrelation(a, 4), signals._ar_autocorrelation(a, 4))
     assert not np.array_equal(signals.ar_autocorrelation(np.array([0.6, -0.2]), 4), signals._ar_autocorrelation(a, 4))
+
+
+def test_fast_simulations_run_in_this_process_and_slow_ones_on_the_workers(swing, monkeypatch):
+    """A pool of 2 runs a batch here once its simulations are known to take less than INLINE_BELOW_S
+    (the same results as on the workers); a slow mean sends batches back to the workers."""
+    from vcbmodel.analysis.fit import pool as pool_module
+    jobs = [_job(swing, mu_k=v) for v in (0.10, 0.11, 0.12, 0.13)]
+    with SimulationPool(2, kept_bytes=0) as pool:
+        assert not pool.runs_here()  # nothing measured yet: the workers
+        on_workers = pool.run(jobs)
+        assert pool.seconds_per_simulation is not None
+        monkeypatch.setattr(pool_module, "INLINE_BELOW_S", 10.0)
+        assert pool.runs_here()
+
+        def not_the_workers(*a, **k):
+            raise AssertionError("a fast batch was sent to the workers")
+        workers = pool.pool
+        monkeypatch.setattr(workers, "map", not_the_workers)
+        monkeypatch.setattr(workers, "submit", not_the_workers)
+        here = pool.run(jobs)
+        monkeypatch.undo()
+        assert all(_same(a, b) for a, b in zip(here, on_workers))
+        monkeypatch.setattr(pool_module, "INLINE_BELOW_S", 0.0)
+        assert not pool.runs_here()
