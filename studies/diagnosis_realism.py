@@ -20,14 +20,14 @@ Scoring (one rule for every record):
   or not, ``realistic.OPTIONAL_EXTRA``). For an unregistered cause (position-dependent
   friction or torque) a hit is ``explained: false``, or, where the cause leaves nothing above the
   noise (the final rms within RESIDUAL_ABOVE_NOISE of it), the registered part named exactly.
-- **verdict right**: for a truth in the fitted family, ``explained: true``, or ``explained: false``
-  for a model form the record prefers (``verdict.rival_form``) when the selected fit does state a
-  value more than EXPLAINED_Z errors from the truth (a record's undeclared artefact, such as a gain
-  error, made its numbers wrong: refusing them is right). For a truth outside
+- **verdict right**: for a truth in the fitted family, ``explained: true``. For a truth outside
   it, ``explained`` must say whether the final fit's residual stands above the noise: above when
   its rms exceeds the true noise by more than 5 % (RESIDUAL_ABOVE_NOISE; 5 % of rms is 0.3 sigma of
   excess, several times the rms's own scatter over a record), and then ``explained: false`` is
-  right; at or below, ``explained: true`` is.
+  right; at or below, ``explained: true`` is. Either way, ``explained: false`` for a model form the
+  record prefers (``verdict.rival_form``) is right when the selected fit does state a value more than
+  EXPLAINED_Z errors from the truth: the numbers were wrong (an undeclared artefact such as a gain
+  error, a friction law of another shape), and refusing them is what ``explained`` is for.
 - **parameter bias against stated error**, and **coverage**: for each fitted parameter whose
   meaning the truth shares, z = (fitted - truth) / stderr with the stderr the diagnosis's final fit
   reports (its JSON ``stderr``), and whether the 95 % interval fitted +- 1.96 stderr holds the
@@ -203,8 +203,7 @@ def run_one(case, seed, complications, folder, t_end=None, friction_truth="hybri
         hit = set(named) - optional == set(truth["answer"]) - optional
     else:  # an unregistered cause: said, or invisible at the noise with the rest named
         hit = not j["explained"] or (after <= RESIDUAL_ABOVE_NOISE and named == hidden_answer(case))
-    verdict_right = (in_family_verdict_right(j, comparisons(j, truth)) if truth["in_family"]
-                     else j["explained"] == (after <= RESIDUAL_ABOVE_NOISE))
+    verdict_right = right_verdict(j, truth["in_family"], after <= RESIDUAL_ABOVE_NOISE, comparisons(j, truth))
     return {"case": case, "seed": seed, "complications": list(complications), "friction_truth": friction_truth,
             "truth": truth, "named": named, "explained": j["explained"], "hit": bool(hit),
             "verdict_right": bool(verdict_right), "rms_before_over_noise": j["rms_before"] / sigma,
@@ -229,12 +228,15 @@ def diagnosis_processes(rig) -> int:
     return 1 if rig.experiment == "pendulum" else 2
 
 
-def in_family_verdict_right(j: dict, selected: list) -> bool:
-    """An in-family record's verdict is right when explained, or when refused for a rival model form
-    while the selected fit states a value beyond EXPLAINED_Z errors of the truth (``selected``: its
-    comparisons)."""
-    refused_rightly = bool(j["verdict"].get("rival_form")) and any(abs(c["z"]) > EXPLAINED_Z for c in selected)
-    return bool(j["explained"]) or refused_rightly
+def right_verdict(j: dict, in_family: bool, at_noise: bool, selected: list) -> bool:
+    """Is the verdict of diagnosis JSON ``j`` right (module docstring)? In the family explained is;
+    outside it, explained when the final residual is ``at_noise`` (the true noise's); either way a
+    refusal for a rival model form while the selected fit states a value beyond EXPLAINED_Z errors of
+    the truth (``selected``: its comparisons)."""
+    refused_rightly = (not j["explained"] and bool(j["verdict"].get("rival_form"))
+                       and any(abs(c["z"]) > EXPLAINED_Z for c in selected))
+    expected = True if in_family else at_noise
+    return bool(j["explained"]) == expected or refused_rightly
 
 
 def cpu_seconds():

@@ -47,14 +47,17 @@ def test_model_form_intervals_hold_the_truth_in_nine_cases_of_ten(tmp_path):
     assert sum(c["covered"] for c in before) / len(before) < 0.75  # what the selected fit alone states
 
 
-def test_an_in_family_refusal_is_right_only_when_the_selected_numbers_are_wrong():
-    """The realism study's verdict for an in-family truth: explained is right; not explained is right
-    only for a rival model form while the selected fit states a value beyond 3 errors of the truth."""
+def test_a_refusal_for_a_rival_form_is_right_only_when_the_selected_numbers_are_wrong():
+    """The realism study's verdict: in the family explained is right, outside it explained when the
+    residual is at the noise; not explained for a rival model form is right only while the selected
+    fit states a value beyond 3 errors of the truth."""
     s = study()
     wrong, near = [{"z": 7.5}], [{"z": 1.2}]
-    rival = {"explained": False, "verdict": {"rival_form": {"form": "+ air drag"}}}
+    explained = {"explained": True, "verdict": {}}
+    rival = {"explained": False, "verdict": {"rival_form": {"form": "tustin"}}}
     plain = {"explained": False, "verdict": {}}
-    assert s.in_family_verdict_right({"explained": True, "verdict": {}}, wrong)
-    assert s.in_family_verdict_right(rival, wrong)
-    assert not s.in_family_verdict_right(rival, near)
-    assert not s.in_family_verdict_right(plain, wrong)
+    assert s.right_verdict(explained, True, True, wrong)
+    assert s.right_verdict(rival, True, True, wrong) and s.right_verdict(rival, False, True, wrong)
+    assert not s.right_verdict(rival, True, True, near) and not s.right_verdict(rival, False, True, near)
+    assert not s.right_verdict(plain, True, True, wrong)
+    assert s.right_verdict(plain, False, False, near) and not s.right_verdict(explained, False, False, near)
