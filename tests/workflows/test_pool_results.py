@@ -118,5 +118,7 @@ def test_fast_simulations_run_in_this_process_and_slow_ones_on_the_workers(swing
         here = pool.run(jobs)
         monkeypatch.undo()
         assert all(_same(a, b) for a, b in zip(here, on_workers))
+        with pool.inline_lock:  # another fit's batch runs here: this one goes to the workers
+            assert all(_same(a, b) for a, b in zip(pool.run(jobs), on_workers))
         monkeypatch.setattr(pool_module, "INLINE_BELOW_S", 0.0)
         assert not pool.runs_here()

@@ -85,11 +85,12 @@ def _kept(result):
 
 
 #: A batch of simulations runs in this process, not on the workers, while a simulation takes less than
-#: this (s; the running mean of those run here or on the workers): sending a job and its result between
-#: processes (pickled arrays) then costs more than a second core gains. Measured (2 cores, three realism
-#: pendulum diagnoses of 1-4 ms simulations, identical results): in this process 15-30 % less
-#: processor time and 10-20 % less wall time than on 2 workers; an ANCF cam drop's 0.1-0.3 s
-#: simulations keep the workers.
+#: this (s; the running mean of those run here or on the workers) and no other fit's batch runs here
+#: (fits run side by side in threads: the second one's goes to the workers): sending a job and its
+#: result between processes (pickled arrays) then costs more than a second core gains. Measured (2 cores, three realism
+#: pendulum diagnoses of 1-4 ms simulations, identical results): 5-12 % less processor time and
+#: 2-7 % less wall time than every batch on the 2 workers; an ANCF cam drop's 0.1-0.3 s simulations
+#: keep the workers.
 INLINE_BELOW_S = 0.02
 
 
@@ -112,7 +113,7 @@ class SimulationPool:
         self.results = OrderedDict()  # job_key -> result
         self.kept_now = 0  # bytes of the results kept
         self.lock = threading.Lock()
-        self.inline_lock = threading.Lock()  # one simulation at a time in this process (fits run in threads)
+        self.inline_lock = threading.Lock()  # one batch at a time here; another fit's goes to the workers
         self.seconds_per_simulation = None  # running mean (s); None until a batch has run
         if self.processes > 1:
             self.pool = ProcessPoolExecutor(max_workers=self.processes, mp_context=multiprocessing.get_context("fork"))
@@ -150,11 +151,15 @@ class SimulationPool:
     def _run(self, jobs: list) -> list:
         if self.pool is None or len(jobs) == 0:
             return [run_job(j) for j in jobs]
-        if (len(jobs) == 1 and self.inline_single) or self.runs_here():
-            with self.inline_lock:
+        if len(jobs) == 1 and self.inline_single:
+            return [run_job(jobs[0])]
+        if self.runs_here() and self.inline_lock.acquire(blocking=False):  # busy: another fit's batch runs here
+            try:
                 t0 = time.perf_counter()
                 out = [run_job(j) for j in jobs]
                 self._timed(time.perf_counter() - t0, len(jobs), 1)
+            finally:
+                self.inline_lock.release()
             return out
         t0 = time.perf_counter()
         out = [self.pool.submit(run_job, jobs[0]).result()] if len(jobs) == 1 else list(self.pool.map(run_job, jobs))
