@@ -90,6 +90,7 @@ def test_on_a_record_the_law_describes_the_stated_errors_are_the_white_noise_one
     assert "[[Correlations]]" in r.report() and "C(mu_k, viscous)" in r.report()
 
 
+@pytest.mark.slow  # about 20 s on 2 cores
 def test_on_an_out_of_family_record_identify_warns_and_its_errors_widen(tmp_path, capsys):
     """Friction that varies with the shaft angle (no registered law): one warning line on stderr,
     the JSON says the law does not describe the record and the errors are inflated; the stated
