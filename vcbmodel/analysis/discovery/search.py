@@ -31,6 +31,8 @@ reads physics where the record cannot decide.
 """
 from __future__ import annotations
 
+from concurrent.futures import ThreadPoolExecutor
+
 from ...errors import SimulationError
 from ...laws.discovered import TIERS, term
 from ..fit import FitAborted, FitResult
@@ -137,18 +139,23 @@ def forward(dataset, given: FitResult, registered: FitResult, sel, *, sigma: flo
 
 
 def _refits(dataset, given, start, sel, support, sigma, pool, should_stop) -> list:
-    """[(form, fit of ``support`` + form)] for each of :func:`options`; a failed refit is left out."""
-    out = []
-    for form in options(sel, support):
-        if len(support) + len(form) > MAX_TERMS:
-            continue
-        coefficients, _, shifts = sel.support_fit(support + list(form))
+    """[(form, fit of ``support`` + form)] for each of :func:`options`, in their order; a failed refit
+    is left out. The screens are independent fits: they run side by side, one per simulation process
+    (threads sharing ``pool``: one's fast simulations run in this process, the other's on the workers),
+    and each ends where it would alone."""
+    starts = [(form, *sel.support_fit(support + list(form))) for form in options(sel, support)
+              if len(support) + len(form) <= MAX_TERMS]
+
+    def screened(item):
+        form, coefficients, _, shifts = item
         try:
-            out.append((form, refit(dataset, given, coefficients, shifts, sigma=sigma, pool=pool,
-                                    should_stop=should_stop, also=start, screen=True)))
+            return form, refit(dataset, given, coefficients, shifts, sigma=sigma, pool=pool,
+                               should_stop=should_stop, also=start, screen=True)
         except (SimulationError, FitAborted):
-            continue
-    return out
+            return None
+    side_by_side = max(1, min(getattr(pool, "processes", 1), len(starts)))
+    with ThreadPoolExecutor(max_workers=side_by_side) as threads:
+        return [r for r in threads.map(screened, starts) if r is not None]
 
 
 #: Screened forms within this many times the evidence margin of the best screened BIC are polished
