@@ -140,9 +140,7 @@ def forward(dataset, given: FitResult, registered: FitResult, sel, *, sigma: flo
 
 def _refits(dataset, given, start, sel, support, sigma, pool, should_stop) -> list:
     """[(form, fit of ``support`` + form)] for each of :func:`options`, in their order; a failed refit
-    is left out. The screens are independent fits: they run side by side, one per simulation process
-    (threads sharing ``pool``: one's fast simulations run in this process, the other's on the workers),
-    and each ends where it would alone."""
+    is left out. The screens are independent fits, run side by side (:func:`side_by_side`)."""
     starts = [(form, *sel.support_fit(support + list(form))) for form in options(sel, support)
               if len(support) + len(form) <= MAX_TERMS]
 
@@ -153,8 +151,7 @@ def _refits(dataset, given, start, sel, support, sigma, pool, should_stop) -> li
                                should_stop=should_stop, also=start, screen=True)
         except (SimulationError, FitAborted):
             return None
-    side_by_side = max(1, min(getattr(pool, "processes", 1), len(starts)))
-    with ThreadPoolExecutor(max_workers=side_by_side) as threads:
+    with ThreadPoolExecutor(max_workers=side_by_side(pool, len(starts))) as threads:
         return [r for r in threads.map(screened, starts) if r is not None]
 
 
@@ -167,16 +164,25 @@ def _polished(dataset, scored, fits, sigma, quantisation, margin, pool, should_s
     """``scored`` with the forms near the best (:data:`POLISH_SPAN`) polished."""
     noise = scoring_noise(fits + [f for _, f in scored], sigma, quantisation)
     best = min(f.bic_with(noise) for _, f in scored)
-    out = []
-    for form, f in scored:
+
+    def polished(item):
+        form, f = item
         if f.bic_with(noise) - best <= POLISH_SPAN * margin:
             try:
                 again = polish(dataset, f, sigma=sigma, pool=pool, should_stop=should_stop)
                 f = again if again.chi2 < f.chi2 else f
             except (SimulationError, FitAborted):
                 pass
-        out.append((form, f))
-    return out
+        return form, f
+    with ThreadPoolExecutor(max_workers=side_by_side(pool, len(scored))) as threads:  # independent fits
+        return list(threads.map(polished, scored))
+
+
+def side_by_side(pool, fits: int) -> int:
+    """Independent fits run at once: one per simulation process of ``pool`` (threads sharing it: one
+    fit's fast simulations run in this process, the other's on the workers); each ends where it would
+    alone."""
+    return max(1, min(getattr(pool, "processes", 1), fits))
 
 
 #: Singles whose values restart the registered model (step 4).
