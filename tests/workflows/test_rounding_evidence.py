@@ -111,6 +111,10 @@ def test_a_form_the_record_prefers_that_moves_a_stated_value_makes_it_not_explai
     assert rival_form(pendulum_rig, final.fit, ModelForms([final, near], {}), DEFAULT_OPTIONS) is None
     close = _form("+ drag", 92.0, effects, mu_k=(0.10, 0.001), viscous=(0.45, 0.01))
     assert rival_form(pendulum_rig, final.fit, ModelForms([final, close], {}), DEFAULT_OPTIONS) is None
-    implausible = _form("+ drag", 80.0, effects, mu_k=(0.10, 0.001), viscous=(0.45, 0.01))
-    implausible.plausible = False
+    # a form with a value outside its plausible range refuses nothing, also where the forms' weights
+    # count it (model_forms marks every form plausible when none fits as well as an implausible one)
+    implausible = _form("+ drag", 80.0, effects, mu_k=(0.10, 0.001), viscous=(500.0, 0.01))
+    implausible.plausible = True
     assert rival_form(pendulum_rig, final.fit, ModelForms([final, implausible], {}), DEFAULT_OPTIONS) is None
+    found = rival_form(pendulum_rig, final.fit, ModelForms([final, implausible, rival], {}), DEFAULT_OPTIONS)
+    assert found["form"] == "+ drag" and found["moved"][0]["form_value"] == pytest.approx(0.45)

@@ -424,7 +424,7 @@ def _effects_step(rig, selected: FormFit, fits: list, fit_one: Callable) -> Form
 def _mark_plausible(rig, fits: list, default: FormFit) -> FormFit:
     """Mark each fit's plausibility; the plausible one with the best BIC (``default`` if none)."""
     for f in fits:
-        f.plausible = _plausible(rig, f.fit)
+        f.plausible = plausible_fit(rig, f.fit)
     return min((f for f in fits if f.plausible), key=lambda f: f.bic, default=default)
 
 
@@ -444,7 +444,7 @@ def _weigh(rig, fits: list, not_tried: dict) -> None:
         f.delta_bic, f.weight = f.bic - best, w / sum(raw)
 
 
-def _plausible(rig, fit: FitResult) -> bool:
+def plausible_fit(rig, fit: FitResult) -> bool:
     """Whether every fitted model value of ``fit`` is within its plausible range or within 1.96 of
     its stated errors of it (:func:`.plausibility.plausible_range`)."""
     for name, p in fit.parameters.items():

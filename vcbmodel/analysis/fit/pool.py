@@ -49,7 +49,7 @@ def run_job(job: SimJob) -> dict | SimulationError:
         r = simulate(job.rig, job.effects, dict(job.values), spring_model=job.spring_model, sample_times=times,
                      step=job.step, user_function=job.user_function, backend=job.backend)
     except SimulationError as e:
-        return e
+        return e.with_traceback(None)  # kept without the solve's frames (as a worker's pickled one)
     out = {"t": times}
     for ch in job.channels:
         out[ch] = np.asarray(r.channels[ch])
@@ -145,7 +145,8 @@ class SimulationPool:
         for i, k in enumerate(keys):  # a job asked twice in one call
             if out[i] is None:
                 out[i] = out[todo[k]]
-                self.reused += 1
+                with self.lock:  # fits in other threads count too
+                    self.reused += 1
         return out
 
     def _run(self, jobs: list) -> list:
