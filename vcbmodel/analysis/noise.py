@@ -104,9 +104,19 @@ class NoiseModel:
         """Innovations of one contiguous residual segment, in units of sigma."""
         return ar_whiten(residual, self.ar) / self.sigma
 
-    def chi2(self, segments: Sequence[np.ndarray]) -> float:
-        """sum of squared whitened residuals over contiguous segments (each whitened alone)."""
-        return float(sum(np.sum(self.whiten(s) ** 2) for s in segments))
+    def chi2(self, segments: Sequence[np.ndarray], weights: Sequence[np.ndarray] | None = None) -> float:
+        """sum of squared whitened residuals over contiguous segments (each whitened alone); with
+        ``weights`` (one array per segment, a weight per sample), each whitened sample weighted by
+        its sample's (the first p samples have no innovation)."""
+        if weights is None:
+            return float(sum(np.sum(self.whiten(s) ** 2) for s in segments))
+        p = self.order
+        return float(sum(np.sum(w[p:] * self.whiten(s) ** 2) for w, s in zip(weights, segments) if np.size(s) > p))
+
+    @property
+    def other_than_rounding(self) -> float:
+        """The record's high-frequency noise level less a quantised sensor's rounding noise (q / sqrt(12))."""
+        return math.sqrt(max(self.high_frequency**2 - self.quantisation**2 / 12.0, 0.0))
 
     def n_data(self, segments: Sequence[np.ndarray]) -> int:
         return int(sum(max(0, np.asarray(s).size - self.order) for s in segments))
@@ -200,13 +210,9 @@ def rounding_bic(fit, noise: NoiseModel | None) -> float:
     q = noise.quantisation if noise is not None else 0.0
     if q <= 0:
         return fit.bic_with(noise)
-    other = math.sqrt(max(noise.high_frequency**2 - q**2 / 12.0, 0.0))
-    weights = [rounding_weights(v, q, other) for v in recorded_values(fit)]
-    p = noise.order
-    data = float(sum(np.sum(w[p:] * noise.whiten(r) ** 2) for w, r in zip(weights, fit.residuals) if r.size > p))
-    extra = float(sum(np.sum(r**2) for r in fit.extra_residuals.values()))
+    weights = [rounding_weights(v, q, noise.other_than_rounding) for v in recorded_values(fit)]
     n_eff = float(sum(np.sum(w) for w in weights))
-    return data + extra + fit.prior_chi2 + fit.n_varied * math.log(max(2.0, n_eff))
+    return fit.chi2_with(noise, weights) + fit.n_varied * math.log(max(2.0, n_eff))
 
 
 def consistency(segments, noise: NoiseModel, lags=20, smooth=None, tolerance: float = STRUCTURE_TOLERANCE,
@@ -237,7 +243,7 @@ def consistency(segments, noise: NoiseModel, lags=20, smooth=None, tolerance: fl
         r = np.concatenate(segments)
         width = smooth or max(5, r.size // 100)
         mean = np.convolve(r, np.ones(width) / width, mode="valid") if r.size > width else np.array([np.mean(r)])
-        other = math.sqrt(max(noise.high_frequency**2 - noise.quantisation**2 / 12.0, 0.0))
+        other = noise.other_than_rounding
         allowed = 0.5 * noise.quantisation + 4.0 * other / math.sqrt(width) + 1e-12
         out["band_excess"] = float(np.max(np.abs(mean)) / allowed)
         rms = float(np.sqrt(np.mean(r**2)))

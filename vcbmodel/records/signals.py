@@ -4,6 +4,7 @@ Pure functions of sampled data (``t`` in s, values in the channel's unit: rad or
 """
 from __future__ import annotations
 
+import functools
 import math
 from collections.abc import Sequence
 
@@ -347,21 +348,13 @@ def ar_whiten(x: np.ndarray, coefficients: np.ndarray) -> np.ndarray:
 
 def ar_autocorrelation(coefficients: np.ndarray, lags: int) -> np.ndarray:
     """Autocorrelation at lags 1..lags of the AR process with these coefficients (remembered for the
-    last coefficients asked: a diagnosis scores every fit under one noise model)."""
-    key = (tuple(float(c) for c in np.ravel(coefficients)), int(lags))
-    rho = _AUTOCORRELATIONS.get(key)
-    if rho is None:
-        rho = _ar_autocorrelation(np.array(key[0], float), key[1])
-        if len(_AUTOCORRELATIONS) >= 64:
-            _AUTOCORRELATIONS.clear()
-        _AUTOCORRELATIONS[key] = rho
-    return rho.copy()
+    last 64 asked: a diagnosis scores every fit under one noise model)."""
+    return _ar_autocorrelation(tuple(float(c) for c in np.ravel(coefficients)), int(lags)).copy()
 
 
-_AUTOCORRELATIONS: dict = {}
-
-
-def _ar_autocorrelation(a: np.ndarray, lags: int) -> np.ndarray:
+@functools.lru_cache(maxsize=64)
+def _ar_autocorrelation(coefficients: tuple, lags: int) -> np.ndarray:
+    a = np.array(coefficients, float)
     p = a.size
     if p == 0:
         return np.zeros(lags)

@@ -82,10 +82,11 @@ class FitResult:
     def n_model_varied(self) -> int:
         return sum(p.vary for p in self.parameters.values() if p.kind == "model")
 
-    def chi2_with(self, noise: NoiseModel | None) -> float:
-        """chi^2 of the measured channel's residual under ``noise`` (whitened), plus the
-        other channels' (already scaled) and the priors'."""
-        data = noise.chi2(self.residuals) if noise is not None else float(
+    def chi2_with(self, noise: NoiseModel | None, weights=None) -> float:
+        """chi^2 of the measured channel's residual under ``noise`` (whitened; ``weights``: a weight
+        per sample of each segment, :meth:`NoiseModel.chi2`), plus the other channels' (already
+        scaled) and the priors'."""
+        data = noise.chi2(self.residuals, weights) if noise is not None else float(
             sum(np.sum(r**2) for r in self.residuals) / self.sigma**2)
         extra = float(sum(np.sum(r**2) for r in self.extra_residuals.values()))
         return data + extra + self.prior_chi2
