@@ -382,6 +382,10 @@ print(json.dumps({"wall_s": wall, "run_s": sum(df.attrs["run_s"]), "cpu_s": c1 -
                   "runs": len(df)}))
 """
 
+#: Closings per worker of the sweep that warms each cluster up before the timed rounds (its workers import
+#: Exudyn, receive the rig and load the compiled model; a few closings each do it)
+WARM_UP_PER_WORKER = 4
+
 #: Workers of the weak-scaling table (rows beyond this machine's cores are marked, not extrapolated)
 SCALING_WORKERS = (1, 2, 4, 8, 16)
 
@@ -481,11 +485,11 @@ def sweep_scaling(quick, per_worker=None, rounds=None, after_round=None):
     rig_file = tmp / "breaker.rig.json"
     rig_file.write_text(json.dumps(data))
     varies = parse_varies(["friction.mu_k=uniform:0.10:0.16", "breaker.poles.moving_mass=uniform:1.2:1.8"])
-    runs_files = {}
+    runs_files, warm_files = {}, {}
     for w in measured:
-        table = design(varies, per_worker * w, 0, "lhs")
-        runs_files[w] = tmp / f"runs_{w}.json"
-        runs_files[w].write_text(json.dumps(table.to_dict("records")))
+        for files, n, name in ((runs_files, per_worker * w, "runs"), (warm_files, WARM_UP_PER_WORKER * w, "warm")):
+            files[w] = tmp / f"{name}_{w}.json"
+            files[w].write_text(json.dumps(design(varies, n, 0, "lhs").to_dict("records")))
     load_before = os.getloadavg()
     clusters = [DaskCluster(tmp / f"cluster_{w}", w) for w in measured]
     times = {(how, w): [] for w in measured for how in ("local", "dask")}
@@ -496,7 +500,7 @@ def sweep_scaling(quick, per_worker=None, rounds=None, after_round=None):
         check = worker_check_seconds(clusters[-1].address, measured[-1])
         print(f"[{time.strftime('%H:%M:%S')}] clusters up, worker check {check}", file=sys.stderr, flush=True)
         for c, w in zip(clusters, measured):  # warm-up: each cluster's workers import and compile once
-            timed_sweep(rig_file, runs_files[w], scheduler=c.address)
+            timed_sweep(rig_file, warm_files[w], scheduler=c.address)
         variants = [(how, w) for w in measured for how in ("local", "dask")]
         for r in range(rounds):
             for how, w in variants[r % len(variants):] + variants[:r % len(variants)]:
