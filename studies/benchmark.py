@@ -28,6 +28,7 @@ from vcbmodel.analysis.realistic import realistic_record
 from vcbmodel.analysis.sweep import check_workers, default_workers, design, figures_of_merit, parse_varies
 from vcbmodel.analysis.synthetic import synthetic_measurement, write_rig
 from vcbmodel.builders import core
+from vcbmodel.builders.ancf import AncfOptions
 from vcbmodel.builders.pendulum import build_pendulum
 from vcbmodel.experiments import experiment_of
 from vcbmodel.experiments.loading import load_pair, load_rig, rig_from_data
@@ -119,9 +120,24 @@ def speed_targets(prig, crig, brig, law, h, repeats):
                           max(3, repeats // 2))
     rows["vcb_closing_45ms_lumped2"] = {"seconds": closing, "now": closing["compiled"], "target": 0.15, "unit": "s",
                                         "exudyn_s": closing["exudyn"]}
+    rows.update(ancf_callback_row(crig, repeats))
     for row in rows.values():
         row["met"] = bool(row["now"] <= row["target"])
     return rows
+
+
+def ancf_callback_row(crig, repeats):
+    """The ANCF cam drop (35 ms at the fits' step) with its friction callback's law compiled
+    (``user_function="auto"``) against the same callback evaluating the law in Python; processor time.
+    Target: not slower (the trajectories are the same, tests/models/test_ancf_compiled_friction.py)."""
+    h = AncfOptions().stable_step(crig.closing_spring)
+    effects = ("coulomb_friction", "stribeck", "spring_mass")
+    times = interleaved({uf: (lambda uf=uf: simulate(crig, effects, spring_model="ancf", t_end=0.035, step=h,
+                                                     user_function=uf)) for uf in ("auto", "python")},
+                        max(repeats, 5), time.process_time)
+    return {"cam_drop_35ms_ancf_compiled_law_over_python_law": {
+        "seconds": times, "clock": "processor time", "step": h, "now": times["auto"] / times["python"],
+        "target": 1.0, "unit": "ratio"}}
 
 
 #: The rows of the speed table: (key in issue18_targets, workload, format of "now")
@@ -130,6 +146,8 @@ TABLE_ROWS = (
     ("cam_drop_35ms_lumped2_with_friction", "35 ms cam drop, lumped-2, with friction", "{:.4f} s"),
     ("cam_drop_35ms_massless_simulate_auto_over_python_uf", "35 ms massless cam drop, simulate() auto / Python UF", "{:.2f}x"),
     ("vcb_closing_45ms_lumped2", "45 ms closing, lumped-2", "{:.4f} s"),
+    ("cam_drop_35ms_ancf_compiled_law_over_python_law", "35 ms ANCF cam drop, friction callback: compiled law / Python law",
+     "{:.2f}x"),
     ("one_diagnosis_realism_median", "one diagnosis, realistic records: median", "{:.1f} s"),
     ("one_diagnosis_realism_max", "one diagnosis, realistic records: max", "{:.1f} s"),
     ("tolerance_study_10000_closings_2_cores", "10 000-closing tolerance study, 2 cores (estimate)", "{:.1f} min"),

@@ -35,7 +35,10 @@ from .. import parameters as P
 from ..laws.coil import coil_bending_stiffness
 from ..laws.mechanics import cam_pin
 from ..laws.springs import kelvin_voigt_time
-from .core import ExudynModel, add_cam_body, add_cam_friction
+from ..compiled import compiler_works
+from ..compiled.function import compiled_function
+from .core import (ExudynModel, add_cam_body, add_cam_friction, add_discovered_torque, add_friction_connector,
+                   cam_friction_inputs, cam_friction_torque)
 from .exudyn_loader import exudyn_modules
 
 if TYPE_CHECKING:
@@ -101,7 +104,7 @@ def build_cam_drop_ancf(rig: Rig, law: FrictionLaw, user_function: str = "auto",
     ``options``: :class:`AncfOptions` (or an element count); ``discovered``: a discovered torque on
     the cam shaft (:func:`vcbmodel.builders.core.add_discovered_torque`); ``spring_damping``: the first
     surge mode's damping ratio of a Kelvin-Voigt cable (:func:`vcbmodel.laws.springs.kelvin_voigt_time`)."""
-    exu, it = exudyn_modules()
+    _, it = exudyn_modules()
     opt = AncfOptions.of(options)
     cam, spring, g = rig.cam, rig.closing_spring, rig.gravity
     N = opt.elements
@@ -134,21 +137,73 @@ def build_cam_drop_ancf(rig: Rig, law: FrictionLaw, user_function: str = "auto",
             mbs.AddLoad(it.LoadForceVector(markerNumber=m, loadVector=[0.0, -share * g, 0.0]))
     for i, n in enumerate(nodes[1:-1], start=1):
         model.add_sensor(f"ancf_node_{i}", n, "Position")
-    nLast = nodes[-1]
-    position, velocity = exu.OutputVariableType.Position, exu.OutputVariableType.Velocity
-
-    def pin_force(theta, omega, ops):
-        px, py = mbs.GetNodeOutput(nLast, position)[:2]
-        vx, vy = mbs.GetNodeOutput(nLast, velocity)[:2]
-        bx, by = cam_pin(theta, cam)
-        # velocity of B: omega e_z x (B - A)
-        bvx, bvy = -omega * (by - cam.pivot[1]), omega * (bx - cam.pivot[0])
-        return k_pen * (px - bx) + d_pen * (vx - bvx), k_pen * (py - by) + d_pen * (vy - bvy)
-
+    read_end = node_state_of(mbs, nodes[-1])
     if user_function == "symbolic":
         raise ValueError("the ANCF spring's friction needs the Python user function")
+    inputs = cam_friction_inputs(rig, law, body, discovered) | {"tie_stiffness": k_pen, "tie_damping": d_pen}
+    if user_function == "auto" and compiler_works():
+        add_compiled_tie_friction(model, body, inputs, read_end, extra_loads, (*end, 0.0, 0.0))
+        return model
+
+    def pin_force(theta, omega, ops):
+        return tie_pull(theta, omega, read_end(), inputs, ops)
+
     add_cam_friction(model, rig, law, body, pin_force, "python", extra_loads, discovered)
     return model
+
+
+def node_state_of(mbs, node) -> Callable[[], tuple]:
+    """A function returning a 2-D node's (x, y, vx, vy) (m, m/s) at the current Runge-Kutta stage."""
+    exu, _ = exudyn_modules()
+    position, velocity = exu.OutputVariableType.Position, exu.OutputVariableType.Velocity
+
+    def read():  # lists of floats: unpacked faster than numpy arrays, the same numbers
+        p, v = mbs.GetNodeOutput(node, position).tolist(), mbs.GetNodeOutput(node, velocity).tolist()
+        return p[0], p[1], v[0], v[1]
+
+    return read
+
+
+def tie_pull(theta, omega, end, inputs: dict, ops):
+    """Pull (N) of the cable's end node ``end`` = (x, y, vx, vy) (m, m/s) on pin B through the
+    penalty tie: k (P - B) + d (v_P - v_B), v_B = omega e_z x (B - A); ``inputs``: the cam and the
+    tie's ``tie_stiffness`` k (N/m) and ``tie_damping`` d (N s/m)."""
+    px, py, vx, vy = end
+    cam, k, d = inputs["cam"], inputs["tie_stiffness"], inputs["tie_damping"]
+    bx, by = cam_pin(theta, cam, ops)
+    bvx, bvy = -omega * (by - cam.pivot[1]), omega * (bx - cam.pivot[0])
+    return k * (px - bx) + d * (vx - bvx), k * (py - by) + d * (vy - bvy)
+
+
+def tie_friction_torque(args, inputs: dict, ops):
+    """The cam shaft's friction torque T_f (N m) at ``args`` = (t, theta, omega, x, y, vx, vy of the
+    cable's end node[, T_e, Ex, Ey]): :func:`tie_pull` into
+    :func:`~vcbmodel.builders.core.cam_friction_torque` (the law of the compiled friction callback)."""
+    t, theta, omega = args[:3]
+    fx, fy = tie_pull(theta, omega, args[3:7], inputs, ops)
+    return cam_friction_torque((t, theta, omega, fx, fy, *args[7:]), inputs, ops)
+
+
+def add_compiled_tie_friction(model, body, inputs: dict, read_end: Callable, extra_loads: Callable | None,
+                              end0: tuple) -> None:
+    """The cam's friction connector whose Python user function reads the end node (``read_end``)
+    and the ``extra_loads`` and evaluates :func:`tie_friction_torque` compiled
+    (:func:`vcbmodel.compiled.function.compiled_function`; ``end0``: the trace point's node state)."""
+    cam = inputs["cam"]
+    start = (0.0, cam.initial_angle, cam.initial_velocity, *end0)
+    if extra_loads is None:
+        value = compiled_function("ancf_tie_friction", tie_friction_torque, inputs, start)
+
+        def friction_of_state(t, theta, omega, ops):
+            return value(t, theta, omega, *read_end())
+    else:
+        value = compiled_function("ancf_tie_friction", tie_friction_torque, inputs, (*start, 0.0, 0.0, 0.0))
+
+        def friction_of_state(t, theta, omega, ops):
+            return value(t, theta, omega, *read_end(), *extra_loads(t, theta, omega))
+
+    add_discovered_torque(model, body.shaft, inputs["discovered"], "python")
+    add_friction_connector(model, body.shaft, friction_of_state, "python")
 
 
 def ancf_modes(k0: float, m0: float, free_length: float, elements: int, preload: float = 0.0, count: int = 6) -> tuple[list[float], list[float]]:

@@ -90,7 +90,9 @@ def build_vcb_closing(rig: Rig, spec: ModelSpec, law: FrictionLaw, chain: Lumped
         loads = laws.cam_loads(t - cycle.close_at, theta, omega, phi, phi_dot, initial.holding_torque, impact[0], engaged[0])
         return collapsed_link_loads(laws, cycle, loads, t, memory, theta, omega, phi, phi_dot, impact[0])
 
-    uf = "python" if user_function in ("auto", "symbolic") else user_function
+    # the cam's friction: a Python user function (its loads read other bodies); with the ANCF spring and
+    # "auto" its law is compiled (builders.ancf), with the other springs "auto" is the Python law
+    uf = "python" if user_function == "symbolic" else user_function
     model = build_cam_drop(rig, law, spec.spring_model, chain, uf, extra_loads=extra_loads, ancf_elements=ancf_elements,
                            spring_damping=spec.spring_damping)
     follower = add_follower(model, rig.breaker.follower, initial.follower_angle, laws.follower_inertia)

@@ -203,22 +203,40 @@ def add_cam_friction(model, rig, law, body: CamBody, pin_force, user_function, e
     omega)`` -> (torque about A in N m, Fx, Fy in N) adds other loads on the cam (the whole
     breaker's roller contact and latch) to the applied torque and the shaft reaction. The
     springs' pin mass (``body.pin_mass``) rides on the cam: inertia, reaction, weight.
-    ``discovered``: a discovered torque T_d on the cam shaft (:func:`add_discovered_torque`)."""
-    cam, g, pin, weight = rig.cam, rig.gravity, body.pin_mass, rig.closing_spring.weight
-    inertia = cam_inertia(cam, pin)
+    ``discovered``: a discovered torque T_d on the cam shaft (:func:`add_discovered_torque`).
+    The torque is :func:`cam_friction_torque` of :func:`cam_friction_inputs`."""
+    inputs = cam_friction_inputs(rig, law, body, discovered)
 
     def friction_of_state(t, theta, omega, ops):
         fx, fy = pin_force(theta, omega, ops)
-        Tc, R0x, R0y, R1x, R1y = cam_loads(theta, omega, cam, fx, fy, g, ops, pin, weight)
-        if extra_loads is not None:
-            torque, ex, ey = extra_loads(t, theta, omega)
-            Tc, R0x, R0y = Tc + torque, R0x - ex, R0y - ey
-        if discovered:
-            Tc = Tc + discovered_torque(t, theta, omega, discovered, ops)
-        return shaft_friction(omega, Tc, R0x, R0y, R1x, R1y, inertia, law, ops, t)[0]
+        extra = () if extra_loads is None else tuple(extra_loads(t, theta, omega))
+        return cam_friction_torque((t, theta, omega, fx, fy, *extra), inputs, ops)
 
     add_discovered_torque(model, body.shaft, discovered, user_function)
     add_friction_connector(model, body.shaft, friction_of_state, user_function)
+
+
+def cam_friction_inputs(rig, law, body: CamBody, discovered: tuple = ()) -> dict:
+    """The parameters of :func:`cam_friction_torque` for the cam of ``rig`` on ``body``."""
+    return {"cam": rig.cam, "law": law, "gravity": rig.gravity, "pin_mass": body.pin_mass,
+            "pin_weight": bool(rig.closing_spring.weight), "discovered": tuple(discovered)}
+
+
+def cam_friction_torque(args, inputs: dict, ops):
+    """The cam shaft's friction torque T_f (N m; eq. 2-6 on the loads of eq. 11-13) at ``args`` =
+    (t in s, theta in rad, omega in rad/s, Fx, Fy: the springs' pull on pin B in N[, T_e in N m,
+    Ex, Ey in N: other loads on the cam, ``add_cam_friction``'s ``extra_loads``]); ``inputs``:
+    :func:`cam_friction_inputs`. One source for the Python user function and the compiled one
+    (:func:`vcbmodel.compiled.function.compiled_function`)."""
+    t, theta, omega, fx, fy = args[:5]
+    cam, pin, discovered = inputs["cam"], inputs["pin_mass"], inputs["discovered"]
+    Tc, R0x, R0y, R1x, R1y = cam_loads(theta, omega, cam, fx, fy, inputs["gravity"], ops, pin, inputs["pin_weight"])
+    if len(args) > 5:
+        torque, ex, ey = args[5:8]
+        Tc, R0x, R0y = Tc + torque, R0x - ex, R0y - ey
+    if discovered:
+        Tc = Tc + discovered_torque(t, theta, omega, discovered, ops)
+    return shaft_friction(omega, Tc, R0x, R0y, R1x, R1y, cam_inertia(cam, pin), inputs["law"], ops, t)[0]
 
 
 def add_discovered_torque(model, shaft: Shaft, discovered: tuple, user_function) -> None:

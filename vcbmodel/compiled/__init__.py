@@ -4,8 +4,8 @@ models.
 
 Exudyn builds every model and stays the reference: the tests compare this path with the Exudyn
 models to 1e-9 rad (1e-9 m); it covers the pendulum, the cam drop and the whole breaker's
-closing with a massless or lumped spring (the ANCF spring stays on Exudyn). Results it produces
-say so (``info["backend"]``).
+closing with a massless or lumped spring (the ANCF spring stays on Exudyn; :mod:`.function` compiles
+the law its Python friction callback evaluates). Results it produces say so (``info["backend"]``).
 """
 from __future__ import annotations
 

@@ -55,8 +55,9 @@ def cache_dir() -> Path:
     return Path(base) / "compiled"
 
 
-def _compile(source, digest):
-    """Build (or load from the disk cache) the module of ``source``; returns (lib, ffi)."""
+def _compile(source, digest, cdef=CDEF):
+    """Build (or load from the disk cache) the module of ``source`` declaring ``cdef`` (cffi's
+    declarations; ``digest`` must name both); returns (lib, ffi)."""
     try:
         import cffi
     except ImportError as e:  # pragma: no cover - declared in setup.cfg
@@ -73,7 +74,7 @@ def _compile(source, digest):
             folder = Path(tempfile.mkdtemp(prefix="vcbmodel-compiled-"))
             target, work = folder / (name + suffix), folder
         ffi = cffi.FFI()
-        ffi.cdef(CDEF)
+        ffi.cdef(cdef)
         ffi.set_source(name, source, extra_compile_args=["-O2", "-ffp-contract=off"], libraries=["m"])
         try:
             built = ffi.compile(tmpdir=str(work), verbose=False)

@@ -147,7 +147,7 @@ class Experiment:
     natural_frequency: Callable | None = None  # (rig) -> Hz of a free swing, diagnosis evidence
     fit_step: Callable = default_fit_step  # (rig, spring kind) -> step (s) of fits, None: ``step(rig)``
     scan_step: float | None = None  # step (s) of the grid scans ranking a fit's starts; None: the fit's
-    fit_user_function: str = "python"  # friction connector of fits: python | symbolic (measured per experiment)
+    fit_user_function: str = "python"  # friction connector of fits: python | symbolic | auto (measured per experiment)
     summary: Callable = figures_summary  # (result, rig) -> [(what, value, unit)] or a Report: simulate's summary
     record_channels: Callable = measured_only  # (result, rig) -> {channel: (values, unit)}: simulate's CSV
     ode_model: OdeModel | None = None  # its equations for the compiled backend (vcbmodel.compiled); None: Exudyn only

@@ -107,6 +107,7 @@ VCB_CLOSING = Experiment(
                   ("kinetic_margin_J", "J")),
     missing_means=(("closing_time_s", "not_closed"),), summary=closing_report,
     record_channels=closing_record_channels, fit_step=fit_step, scan_step=CLOSING_SCAN_STEP,
-    fit_user_function="python", release_from_model=True,
+    # "auto": the cam's friction law compiled with the ANCF spring, the Python function otherwise (builders.breaker)
+    fit_user_function="auto", release_from_model=True,
     ode_model=OdeModel("vcb_closing", prepare_closing, closing_equations, closing_prestep), reference=reference,
     sensor="camera")
