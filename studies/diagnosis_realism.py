@@ -25,9 +25,11 @@ Scoring (one rule for every record):
   its rms exceeds the true noise by more than 5 % (RESIDUAL_ABOVE_NOISE; 5 % of rms is 0.3 sigma of
   excess, several times the rms's own scatter over a record), and then ``explained: false`` is
   right; at or below, ``explained: true`` is. Either way, ``explained: false`` for a model form the
-  record prefers (``verdict.rival_form``) is right when the selected fit does state a value more than
-  EXPLAINED_Z errors from the truth: the numbers were wrong (an undeclared artefact such as a gain
-  error, a friction law of another shape), and refusing them is what ``explained`` is for.
+  record prefers (``verdict.rival_form``) is right when a value that form moves (its ``moved`` list:
+  beyond ``options.rival_form_errors`` of the stated error) is itself more than EXPLAINED_Z stated
+  errors from the truth: the numbers the refusal doubts were wrong (an undeclared artefact such as a
+  gain error, a friction law of another shape), and refusing them is what ``explained`` is for. A
+  value the rival leaves in place, however wrong, does not make its refusal right.
 - **parameter bias against stated error**, and **coverage**: for each fitted parameter whose
   meaning the truth shares, z = (fitted - truth) / stderr with the stderr the diagnosis's final fit
   reports (its JSON ``stderr``), and whether the 95 % interval fitted +- 1.96 stderr holds the
@@ -215,6 +217,7 @@ def run_one(case, seed, complications, folder, t_end=None, friction_truth="hybri
                       for f in (j.get("model_forms") or {}).get("forms", [])],
             "implausible": (j.get("model_forms") or {}).get("plausibility", []),
             "rival_form": (j["verdict"].get("rival_form") or {}).get("form"),
+            "rival_moved": rival_moved(j),
             "simulations": j["timing"]["simulations"], "budget_used_s": j["timing"]["budget_used_s"],
             "budget_reached": j["timing"]["budget_reached"]}
 
@@ -228,13 +231,20 @@ def diagnosis_processes(rig) -> int:
     return 1 if rig.experiment == "pendulum" else 2
 
 
+def rival_moved(j: dict) -> dict:
+    """{parameter: shift in stated errors} of the values the verdict's rival model form moves
+    (``verdict.rival_form.moved``; empty without one)."""
+    return {m["parameter"]: m["errors"] for m in (j["verdict"].get("rival_form") or {}).get("moved", [])}
+
+
 def right_verdict(j: dict, in_family: bool, at_noise: bool, selected: list) -> bool:
     """Is the verdict of diagnosis JSON ``j`` right (module docstring)? In the family explained is;
     outside it, explained when the final residual is ``at_noise`` (the true noise's); either way a
-    refusal for a rival model form while the selected fit states a value beyond EXPLAINED_Z errors of
-    the truth (``selected``: its comparisons)."""
-    refused_rightly = (not j["explained"] and bool(j["verdict"].get("rival_form"))
-                       and any(abs(c["z"]) > EXPLAINED_Z for c in selected))
+    refusal for a rival model form when a value the form moves is one the selected fit states beyond
+    EXPLAINED_Z errors of the truth (``selected``: its comparisons)."""
+    moved = rival_moved(j)
+    refused_rightly = not j["explained"] and any(c["parameter"] in moved and abs(c["z"]) > EXPLAINED_Z
+                                                 for c in selected)
     expected = True if in_family else at_noise
     return bool(j["explained"]) == expected or refused_rightly
 

@@ -47,15 +47,20 @@ def test_model_form_intervals_hold_the_truth_in_nine_cases_of_ten(tmp_path):
     assert sum(c["covered"] for c in before) / len(before) < 0.75  # what the selected fit alone states
 
 
-def test_a_refusal_for_a_rival_form_is_right_only_when_the_selected_numbers_are_wrong():
+def test_a_refusal_for_a_rival_form_is_right_only_when_a_value_it_moves_is_wrong():
     """The realism study's verdict: in the family explained is right, outside it explained when the
-    residual is at the noise; not explained for a rival model form is right only while the selected
-    fit states a value beyond 3 errors of the truth."""
+    residual is at the noise; not explained for a rival model form is right only when a value the
+    form moves is one the selected fit states beyond 3 errors of the truth (a wrong value it leaves
+    in place does not count)."""
     s = study()
-    wrong, near = [{"z": 7.5}], [{"z": 1.2}]
+    wrong, near = [{"parameter": "mu_k", "z": 7.5}], [{"parameter": "mu_k", "z": 1.2}]
+    elsewhere = [{"parameter": "mu_k", "z": 1.2}, {"parameter": "viscous", "z": -9.0}]
     explained = {"explained": True, "verdict": {}}
-    rival = {"explained": False, "verdict": {"rival_form": {"form": "tustin"}}}
+    rival = {"explained": False, "verdict": {"rival_form": {"form": "tustin", "moved": [
+        {"parameter": "mu_k", "stated": 0.14, "stderr": 1e-4, "form_value": 0.13, "errors": -100.0}]}}}
     plain = {"explained": False, "verdict": {}}
+    assert s.rival_moved(rival) == {"mu_k": -100.0} and s.rival_moved(plain) == {}
+    assert not s.right_verdict(rival, True, True, elsewhere) and not s.right_verdict(rival, False, True, elsewhere)
     assert s.right_verdict(explained, True, True, wrong)
     assert s.right_verdict(rival, True, True, wrong) and s.right_verdict(rival, False, True, wrong)
     assert not s.right_verdict(rival, True, True, near) and not s.right_verdict(rival, False, True, near)

@@ -11,7 +11,8 @@ import pytest
 from vcbmodel.analysis.diagnose import diagnose
 from vcbmodel.analysis.fit import Parameter
 from vcbmodel.analysis.identify import identify
-from vcbmodel.analysis.model_forms import EVIDENCE_MARGIN, Z95, FormFit, added_effects, alternatives, quantities_over
+from vcbmodel.analysis.model_forms import (EVIDENCE_MARGIN, Z95, FormFit, ModelForms, _weigh, added_effects,
+                                           alternatives, quantities_over)
 from vcbmodel.analysis.plausibility import plausible_range
 from vcbmodel.analysis.realistic import realistic_record
 from vcbmodel.experiments.loading import load_pair
@@ -69,6 +70,38 @@ def test_a_quantity_no_form_pins_down_is_not_determined_with_its_range(pendulum_
     assert not q.determined
     petroff = plausible_range("viscous", pendulum_rig)
     assert (q.low, q.high) == (0.0, petroff[1])  # the forms' 0.5 and 2.0 within what is plausible
+
+
+def _weighed_forms(rig, implausible_bic):
+    """The selected form (BIC 100) and one with a viscous coefficient 1000 times its plausible range
+    at ``implausible_bic``, weighed as fit_forms weighs them."""
+    effects = ("coulomb_friction", "viscous_friction")
+    fits = [form("selected", 0.0, 0.0, effects, mu_k=(0.10, 0.001), viscous=(0.5, 0.01)),
+            form("+ huge viscous", 0.0, 0.0, effects, mu_k=(0.10, 0.001),
+                 viscous=(1000.0 * plausible_range("viscous", rig)[1], 0.01))]
+    for f, bic in zip(fits, (100.0, implausible_bic)):
+        f.bic, f.fit.rms = bic, 1e-3
+    not_tried = {}
+    _weigh(rig, fits, not_tried)
+    return ModelForms(fits, {}, not_tried), fits
+
+
+def test_a_form_with_an_implausible_value_stays_implausible_where_every_form_is_weighed(pendulum_rig):
+    """20 BIC ahead of the only plausible form, the implausible one is weighed (no plausible form fits
+    as well) but keeps plausible False, in the JSON and the report too; 5 BIC ahead, it gets no weight."""
+    forms, (selected, huge) = _weighed_forms(pendulum_rig, 80.0)
+    assert selected.plausible and selected.weighed
+    assert huge.weighed and not huge.plausible
+    assert huge.weight > 0.99 and huge.within_margin and forms.preferred is huge
+    assert "plausible forms" in forms.not_tried
+    rows = {r["form"]: r for r in forms.to_json()["forms"]}
+    assert (rows["+ huge viscous"]["plausible"], rows["+ huge viscous"]["weighed"]) == (False, True)
+    assert (rows["selected"]["plausible"], rows["selected"]["weighed"]) == (True, True)
+    assert "implausible values, weighed" in forms.report()
+    forms, (selected, huge) = _weighed_forms(pendulum_rig, 95.0)
+    assert not huge.plausible and not huge.weighed and huge.weight == 0.0 and not huge.within_margin
+    assert selected.weight == 1.0 and forms.preferred is selected and "plausible forms" not in forms.not_tried
+    assert "implausible values: no weight" in forms.report()
 
 
 def test_the_forms_tried_on_a_pendulum_and_why_none_on_a_cam_drop():

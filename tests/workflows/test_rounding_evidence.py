@@ -12,7 +12,7 @@ from vcbmodel.analysis.diagnosis.judge import rival_form
 from vcbmodel.analysis.diagnosis.options import DEFAULT_OPTIONS
 from vcbmodel.analysis.fit import FitResult, Parameter
 from vcbmodel.analysis.fit.dataset import AlignedModel
-from vcbmodel.analysis.model_forms import EVIDENCE_MARGIN, FormFit, ModelForms
+from vcbmodel.analysis.model_forms import EVIDENCE_MARGIN, FormFit, ModelForms, _weigh
 from vcbmodel.analysis.noise import NoiseModel, rounding_bic, rounding_weights, run_lengths
 
 Q = 1.45e-3  # a 12-bit logger's step over 340 degrees (rad)
@@ -112,9 +112,10 @@ def test_a_form_the_record_prefers_that_moves_a_stated_value_makes_it_not_explai
     close = _form("+ drag", 92.0, effects, mu_k=(0.10, 0.001), viscous=(0.45, 0.01))
     assert rival_form(pendulum_rig, final.fit, ModelForms([final, close], {}), DEFAULT_OPTIONS) is None
     # a form with a value outside its plausible range refuses nothing, also where the forms' weights
-    # count it (model_forms marks every form plausible when none fits as well as an implausible one)
+    # count it (model_forms weighs every form when none fits as well as an implausible one)
     implausible = _form("+ drag", 80.0, effects, mu_k=(0.10, 0.001), viscous=(500.0, 0.01))
-    implausible.plausible = True
+    _weigh(pendulum_rig, [final, implausible], {})
+    assert implausible.weighed and not implausible.plausible
     assert rival_form(pendulum_rig, final.fit, ModelForms([final, implausible], {}), DEFAULT_OPTIONS) is None
     found = rival_form(pendulum_rig, final.fit, ModelForms([final, implausible, rival], {}), DEFAULT_OPTIONS)
     assert found["form"] == "+ drag" and found["moved"][0]["form_value"] == pytest.approx(0.45)

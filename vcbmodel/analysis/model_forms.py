@@ -12,7 +12,8 @@ selected one, the friction forms of :mod:`vcbmodel.laws.friction_forms` (:func:`
 with the Stribeck fall it needs). A form with a value outside its plausible range (:mod:`.plausibility`: a drag coefficient
 forty times what any paddle gives) gets no weight: the ranges act as a prior that rules it out, unless no
 plausible form fits within the evidence margin of the best (then all are weighed, and the findings say
-which values are implausible).
+which values are implausible). Each form says both: ``plausible`` (its values within their ranges) and
+``weighed`` (counted in the weights).
 
 Multi-model inference (Burnham & Anderson, *Model Selection and Multimodel Inference*, 2nd ed.
 2002, ch. 4 and 6.4), with BIC weights w_i = exp(-dBIC_i / 2) / sum_j exp(-dBIC_j / 2):
@@ -125,12 +126,16 @@ class FormFit:
     delta_bic: float = 0.0
     weight: float = 0.0
     #: False when a fitted value lies outside its plausible range by more than its 95 % error
-    #: (:mod:`.plausibility`): such a form gets no weight (a prior that rules the value out)
+    #: (:func:`plausible_fit`, :mod:`.plausibility`): what that says of the fit, whatever the weighing
     plausible: bool = True
+    #: counted in the BIC weights: a plausible form, or every form when no plausible one fits within
+    #: the evidence margin of the best (:func:`_weigh`); an unweighed form gets weight 0 (a prior
+    #: that rules its value out)
+    weighed: bool = True
 
     @property
     def within_margin(self) -> bool:
-        return self.plausible and self.delta_bic <= EVIDENCE_MARGIN
+        return self.weighed and self.delta_bic <= EVIDENCE_MARGIN
 
 
 @dataclass
@@ -171,8 +176,9 @@ class ModelForms:
 
     @property
     def preferred(self) -> FormFit:
-        """The plausible form with the best BIC."""
-        return min((f for f in self.forms if f.plausible), key=lambda f: f.bic, default=self.forms[0])
+        """The weighed form with the best BIC (a plausible one unless no plausible form fits within
+        the evidence margin of the best)."""
+        return min((f for f in self.forms if f.weighed), key=lambda f: f.bic, default=self.forms[0])
 
     @property
     def undetermined(self) -> list[str]:
@@ -185,7 +191,7 @@ class ModelForms:
                 "evidence_margin": EVIDENCE_MARGIN,
                 "forms": [{"form": f.alternative.label, "effects": list(f.fit.effects), "bic": f.bic,
                            "delta_bic": f.delta_bic, "weight": f.weight, "within_margin": f.within_margin,
-                           "plausible": f.plausible,
+                           "plausible": f.plausible, "weighed": f.weighed,
                            "rms": f.fit.rms, "values": {p.name: p.value for p in f.fit.parameters.values()
                                                         if p.kind == "model"},
                            "stderr": {p.name: _finite(p.stderr) for p in f.fit.parameters.values()
@@ -201,8 +207,7 @@ class ModelForms:
                  f"{EVIDENCE_MARGIN:g} of the best BIC):"]
         for f in self.forms:
             lines.append(f"    {f.alternative.label:34s} dBIC {f.delta_bic:8.1f}  weight {f.weight:.3f}  rms "
-                         f"{f.fit.rms:.3g} {unit}" + ("" if f.within_margin else "  (rejected)" if f.plausible
-                                                      else "  (implausible values: no weight)"))
+                         f"{f.fit.rms:.3g} {unit}" + _form_note(f))
         for name, why in self.not_tried.items():
             lines.append(f"    {name:34s} not fitted: {why}")
         best, selected = self.preferred, self.forms[0]
@@ -218,6 +223,15 @@ class ModelForms:
                              f"{q.high:.4g}] {q.unit}")
         lines += [f"    IMPLAUSIBLE: {f.message}" for f in self.findings]
         return "\n".join(lines)
+
+
+def _form_note(f: FormFit) -> str:
+    """The report's note on a form: rejected (beyond the margin), implausible and not weighed, or
+    implausible but weighed (no plausible form fits as well)."""
+    if not f.weighed:
+        return "  (implausible values: no weight)"
+    note = "" if f.within_margin else "  (rejected)"
+    return note + ("" if f.plausible else "  (implausible values, weighed: no plausible form fits as well)")
 
 
 def alternatives(effects: Sequence[str], experiment: str, searched: bool = False) -> tuple[list[Alternative], dict]:
@@ -429,17 +443,19 @@ def _mark_plausible(rig, fits: list, default: FormFit) -> FormFit:
 
 
 def _weigh(rig, fits: list, not_tried: dict) -> None:
-    """The BIC weights and distances of ``fits`` over the plausible ones (all of them when no
-    plausible form fits within the evidence margin of the best)."""
+    """Mark each form ``plausible`` and ``weighed``; the BIC weights and distances of ``fits`` over
+    the weighed ones: the plausible ones, or all of them when no plausible form fits within the
+    evidence margin of the best."""
     _mark_plausible(rig, fits, fits[0])
     best_plausible = min((f.bic for f in fits if f.plausible), default=math.inf)
-    if best_plausible - min(f.bic for f in fits) > EVIDENCE_MARGIN:  # no plausible form fits as well
-        for f in fits:
-            f.plausible = True
+    every = best_plausible - min(f.bic for f in fits) > EVIDENCE_MARGIN  # no plausible form fits as well
+    for f in fits:
+        f.weighed = every or f.plausible
+    if every:
         not_tried["plausible forms"] = ("none fits the record within the evidence margin of a form with an implausible "
                                         "value: all are weighed (the findings say which values are implausible)")
-    best = min(f.bic for f in fits if f.plausible)
-    raw = [math.exp(-0.5 * (f.bic - best)) if f.plausible else 0.0 for f in fits]
+    best = min(f.bic for f in fits if f.weighed)
+    raw = [math.exp(-0.5 * (f.bic - best)) if f.weighed else 0.0 for f in fits]
     for f, w in zip(fits, raw):
         f.delta_bic, f.weight = f.bic - best, w / sum(raw)
 

@@ -17,7 +17,7 @@ from ...errors import SimulationError
 from ...records.signals import disagreement_window, dominant_frequency, lag1_autocorrelation
 from ..fit import FitAborted, FitResult
 from ..fit.dataset import time_scale_name
-from ..model_forms import form_values, plausible_fit
+from ..model_forms import form_values
 from ..noise import excess
 from ..plausibility import implausible
 from .artefacts import found_named
@@ -185,8 +185,9 @@ def rival_form(rig, final: FitResult, forms, options) -> dict | None:
         return None
     selected = forms.forms[0]
     # the best form whose values are all in their plausible ranges (when none fits as well as an
-    # implausible one, the forms' weights count every form, but no implausible form refuses the verdict)
-    best = min((f for f in forms.forms if plausible_fit(rig, f.fit)), key=lambda f: f.bic, default=selected)
+    # implausible one, the forms' weights count every form, ``weighed``, but no implausible form
+    # refuses the verdict)
+    best = min((f for f in forms.forms if f.plausible), key=lambda f: f.bic, default=selected)
     gain = selected.bic - best.bic
     if best is selected or gain <= options.rival_form_margin:
         return None
