@@ -58,6 +58,35 @@ def test_a_units_row_in_ms_and_deg_is_converted_to_seconds_and_radians(tmp_path)
     assert np.allclose(converted.channel("pendulum_angle"), plain.channel("pendulum_angle"), rtol=1e-12, atol=1e-15)
 
 
+def spreadsheet_export(tmp_path, name, edit=lambda rows: rows):
+    """The 10 deg pendulum record as a spreadsheet saves it: UTF-8 BOM, CRLF, ';' with decimal commas,
+    a units row, a trailing empty column, time in ms; ``edit`` changes the data rows (text)."""
+    lines = PENDULUM.with_suffix(".csv").read_text().splitlines()
+    header = next(i for i, line in enumerate(lines) if not line.startswith("#"))
+    rows = [[float(c) for c in line.split(",")] for line in lines[header + 1:]]
+    data = edit([f"{1e3 * t:.4f};{a!r};".replace(".", ",") for t, a in rows])
+    text = "\r\n".join(["Time;Pendulum_Angle;", "ms;rad;"] + data) + "\r\n"
+    (tmp_path / f"{name}.csv").write_bytes(("\ufeff" + text).encode())
+    (tmp_path / f"{name}.rig.json").write_text(PENDULUM.with_suffix(".rig.json").read_text())
+    return tmp_path / f"{name}.csv"
+
+
+def test_rows_of_empty_cells_below_a_spreadsheets_data_are_blank_lines(tmp_path):
+    _, plain = load_pair(PENDULUM.with_suffix(".csv"))
+    _, padded = load_pair(spreadsheet_export(tmp_path, "padded", lambda rows: rows[:100] + [";;"] + rows[100:] + [";;"] * 3))
+    assert np.allclose(padded.t, plain.t, rtol=0, atol=1e-12)
+    assert np.array_equal(padded.channel("pendulum_angle"), plain.channel("pendulum_angle"))
+
+
+def test_a_repeated_time_stamp_is_refused_naming_its_line(tmp_path, capsys):
+    record = spreadsheet_export(tmp_path, "repeated", lambda rows: rows[:200] + [rows[199]] + rows[200:])
+    assert main(["diagnose", str(record), "--json"]) == 2
+    out, err = capsys.readouterr()
+    assert out == "" and len(err.strip().splitlines()) == 1
+    # the header is line 1, the units row line 2: the 200th data row is line 202, its copy line 203
+    assert f"{record}: line 203, column 't': time is not strictly increasing" in err and "199" in err
+
+
 @pytest.mark.parametrize("units, column", [("s,m", "pendulum_angle"), ("m,rad", "t")])
 def test_a_units_row_in_another_unit_is_refused_naming_line_and_column(tmp_path, capsys, units, column):
     f = record_with(tmp_path, "other_units", units)

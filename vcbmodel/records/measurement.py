@@ -170,14 +170,16 @@ def load_measurement(path: str | Path, channel: str | None = None, known: Iterab
         ``t`` in s; each channel in its SI unit (rad, m; 0/1 for contact channels).
     """
     path = str(path)
-    comments, header, header_line, factors, rows = _parse(path, known, units)
+    comments, header, header_line, factors, rows, row_lines = _parse(path, known, units)
     if len(rows) < 3:
         raise InputError(path, "data", f"needs at least 3 samples, has {len(rows)}")
     arr = np.array(rows) * np.array([1.0 if f is None else f for f in factors])
     t = arr[:, 0]
     bad = np.nonzero(np.diff(t) <= 0)[0]
     if bad.size:
-        raise InputError(path, f"column 't' near t = {t[bad[0] + 1]:g}", "time is not strictly increasing")
+        k = bad[0]
+        raise InputError(path, f"line {row_lines[k + 1]}, column 't'", f"time is not strictly increasing: "
+                         f"{rows[k + 1][0]:g} after {rows[k][0]:g} on line {row_lines[k]} (a repeated or misplaced row)")
     channels = {col: arr[:, j] for j, col in enumerate(header) if j > 0}
     if channel is not None and channel not in channels:
         hint = f" (it has {', '.join(header)}): {channel_hint}" if channel_hint else ""
@@ -186,8 +188,9 @@ def load_measurement(path: str | Path, channel: str | None = None, known: Iterab
 
 
 def _parse(path: str, known: Iterable[str] | None, units: dict[str, str] | None) -> tuple:
-    """(comments, header, its line, factors to SI, rows of values) of a measurement file."""
-    comments, rows, header, header_line, units_row, factors = [], [], None, 0, None, []
+    """(comments, header, its line, factors to SI, rows of values, each row's line) of a measurement file.
+    A line of empty cells (``;;``, as a spreadsheet exports the formatted rows below its data) is a blank line."""
+    comments, rows, header, header_line, units_row, factors, row_lines = [], [], None, 0, None, [], []
     dialect = (",", False)
     for i, s in _lines(path, read_bytes(path)):
         if not s:
@@ -201,6 +204,8 @@ def _parse(path: str, known: Iterable[str] | None, units: dict[str, str] | None)
             _check_header(header, path, i, known)
             continue
         cells = _cells(s, *dialect)
+        if not any(cells):
+            continue
         if not rows and units_row is None:
             units_row = _units_row(cells, header, path, i, units)
             if units_row is not None:  # a logger's units row under the header, read like units in the header
@@ -208,9 +213,10 @@ def _parse(path: str, known: Iterable[str] | None, units: dict[str, str] | None)
                 continue
             units_row = []
         rows.append(_data_row(cells, header, dialect, path, i))
+        row_lines.append(i)
     if header is None:
         raise InputError(path, "header", "missing (no line other than comments)")
-    return comments, header, header_line, factors, rows
+    return comments, header, header_line, factors, rows, row_lines
 
 
 def _merge_units(header: list, factors: list, units_row: list, path: str, line: int) -> list:
