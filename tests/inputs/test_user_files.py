@@ -71,6 +71,27 @@ def spreadsheet_export(tmp_path, name, edit=lambda rows: rows):
     return tmp_path / f"{name}.csv"
 
 
+def test_a_small_swing_in_degrees_without_its_unit_is_refused_not_fitted(tmp_path, capsys):
+    """A 2.5 deg release written in degrees stays within pi, the range check's bound: read as rad it was
+    fitted, and the diagnosis 'discovered' a torsional spring. Its first sample reads the rig's initial angle
+    in degrees: refused, naming the column and the unit to state."""
+    rig = json.loads(PENDULUM.with_suffix(".rig.json").read_text())
+    rig["pendulum"]["initial_angle"] = math.radians(2.5)
+    (tmp_path / "small.rig.json").write_text(json.dumps(rig))
+    t = np.arange(0, 3, 1e-3)
+    degrees = 2.5 * np.cos(2 * np.pi * t / 0.93) * np.exp(-t)
+    body = "t,pendulum_angle\n" + "".join(f"{a:.3f},{b:.5f}\n" for a, b in zip(t, degrees))
+    (tmp_path / "small.csv").write_text(body)
+    for command in ("diagnose", "identify"):
+        assert main([command, str(tmp_path / "small.csv"), "--json"]) == 2
+        out, err = capsys.readouterr()
+        assert out == "" and len(err.strip().splitlines()) == 1
+        assert "small.csv: column 'pendulum_angle': starts at 2.5" in err and "pendulum_angle [deg]" in err
+    (tmp_path / "small.csv").write_text(body.replace("pendulum_angle", "pendulum_angle [deg]", 1))
+    _, read = load_pair(tmp_path / "small.csv")
+    assert read.channel("pendulum_angle")[0] == pytest.approx(math.radians(2.5))
+
+
 def test_rows_of_empty_cells_below_a_spreadsheets_data_are_blank_lines(tmp_path):
     _, plain = load_pair(PENDULUM.with_suffix(".csv"))
     _, padded = load_pair(spreadsheet_export(tmp_path, "padded", lambda rows: rows[:100] + [";;"] + rows[100:] + [";;"] * 3))
