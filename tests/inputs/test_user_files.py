@@ -99,6 +99,16 @@ def test_rows_of_empty_cells_below_a_spreadsheets_data_are_blank_lines(tmp_path)
     assert np.array_equal(padded.channel("pendulum_angle"), plain.channel("pendulum_angle"))
 
 
+def test_excels_separator_line_above_the_header_is_read_as_the_separator(tmp_path):
+    _, plain = load_pair(PENDULUM.with_suffix(".csv"))
+    record = spreadsheet_export(tmp_path, "sep")
+    text = record.read_bytes().decode("utf-8-sig")
+    record.write_bytes(("\ufeffsep=;\r\n" + text).encode())
+    _, read = load_pair(record)
+    assert np.allclose(read.t, plain.t, rtol=0, atol=1e-12)
+    assert np.array_equal(read.channel("pendulum_angle"), plain.channel("pendulum_angle"))
+
+
 def test_a_repeated_time_stamp_is_refused_naming_its_line(tmp_path, capsys):
     record = spreadsheet_export(tmp_path, "repeated", lambda rows: rows[:200] + [rows[199]] + rows[200:])
     assert main(["diagnose", str(record), "--json"]) == 2

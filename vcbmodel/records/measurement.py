@@ -71,9 +71,15 @@ def _number(cell, path, line):
 HEADER_UNIT = re.compile(r"(?P<name>[A-Za-z_][A-Za-z0-9_]*)\s*(?:\[(?P<a>[^\]]*)\]|\((?P<b>[^)]*)\)|/\s*(?P<c>\S+))")
 
 
-def _dialect(header_text):
-    """(delimiter, decimal comma) from the header line: ``;`` (spreadsheets with a decimal comma),
-    a tab, or ``,``."""
+#: Excel's first line naming the separator (``sep=;``), written above the header by some exports.
+SEPARATOR_LINE = re.compile(r"sep=[;,]", re.IGNORECASE)
+
+
+def _dialect(header_text, separator=None):
+    """(delimiter, decimal comma) from a ``sep=`` line's ``separator`` or else the header line: ``;``
+    (spreadsheets with a decimal comma), a tab, or ``,``."""
+    if separator is not None:
+        return separator, separator == ";"
     if ";" in header_text:
         return ";", True
     if "\t" in header_text and "," not in header_text:
@@ -191,6 +197,7 @@ def _parse(path: str, known: Iterable[str] | None, units: dict[str, str] | None)
     """(comments, header, its line, factors to SI, rows of values, each row's line) of a measurement file.
     A line of empty cells (``;;``, as a spreadsheet exports the formatted rows below its data) is a blank line."""
     comments, rows, header, header_line, units_row, factors, row_lines = [], [], None, 0, None, [], []
+    separator = None
     dialect = (",", False)
     for i, s in _lines(path, read_bytes(path)):
         if not s:
@@ -198,8 +205,11 @@ def _parse(path: str, known: Iterable[str] | None, units: dict[str, str] | None)
         if s.startswith("#"):
             comments.append(s[1:].strip())
             continue
+        if header is None and SEPARATOR_LINE.fullmatch(s):  # Excel's separator line, above the header
+            separator = s[-1]
+            continue
         if header is None:
-            dialect = _dialect(s)
+            dialect = _dialect(s, separator)
             (header, factors), header_line = _header(_cells(s, *dialect), path, i, units), i
             _check_header(header, path, i, known)
             continue
