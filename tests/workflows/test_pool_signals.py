@@ -3,6 +3,8 @@ workers leave both to the parent (which prints one line and stops the pool) inst
 tracebacks or dying while they send a result (docs/cli.md, "Exit status")."""
 import os
 import signal
+import subprocess
+import sys
 import time
 
 import numpy as np
@@ -47,3 +49,25 @@ def test_the_workers_leave_ctrl_c_and_sigterm_to_the_parent(jobs):
             np.testing.assert_array_equal(got["pendulum_angle"], run_job(job)["pendulum_angle"])
     finally:
         pool.close()
+
+
+@pytest.mark.skipif(not sys.platform.startswith("linux"), reason="the kernel's parent-death signal (prctl)")
+def test_the_workers_end_with_their_parent_even_on_kill_9():
+    """Ignoring SIGTERM must not leave orphans: a parent killed with SIGKILL takes its workers with it."""
+    script = ("import os, signal, sys\n"
+              "from vcbmodel.analysis.fit import SimulationPool\n"
+              "pool = SimulationPool(2)\n"
+              "print(' '.join(str(p) for p in pool.pool._processes), flush=True)\n"
+              "sys.stdin.read()\n")
+    parent = subprocess.Popen([sys.executable, "-c", script], stdin=subprocess.PIPE, stdout=subprocess.PIPE, text=True)
+    try:
+        workers = [int(p) for p in parent.stdout.readline().split()]
+        assert len(workers) == 2 and all(_alive(pid) for pid in workers)
+        parent.kill()
+        parent.wait(timeout=10)
+        deadline = time.monotonic() + 5
+        while any(_alive(pid) for pid in workers) and time.monotonic() < deadline:
+            time.sleep(0.05)
+        assert not any(_alive(pid) for pid in workers)
+    finally:
+        parent.kill()
