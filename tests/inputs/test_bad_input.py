@@ -63,6 +63,17 @@ def test_bad_rig_diagnose(name, field, capsys, tmp_path):
                    f.name, field, tmp_path)
 
 
+@pytest.mark.parametrize("text", ["", "\r\n  \n"])
+def test_an_empty_rig_is_said_to_be_empty(text, capsys, tmp_path):
+    rigs = tmp_path / "rigs"
+    rigs.mkdir()
+    f = rigs / "empty.rig.json"
+    f.write_text(text)
+    out = tmp_path / "out"
+    out.mkdir()
+    assert_refused(capsys, ["simulate", str(f), "-o", str(out / "x.csv")], f"{f}: file: is empty", "init", out)
+
+
 @pytest.mark.parametrize("name,field", CSVS, ids=[c[0] for c in CSVS])
 def test_bad_measurement(name, field, capsys, tmp_path):
     f = BAD / f"{name}.csv"

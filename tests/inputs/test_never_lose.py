@@ -259,6 +259,18 @@ def test_another_tests_record_is_never_replaced(tmp_path, capsys):
     assert (tmp_path / "p.csv").read_bytes() == before
 
 
+def test_init_never_writes_its_template_over_a_points_file_or_another_csv(point_rig, tmp_path, capsys):
+    """A rig template written to a .csv name is a slip (the cam's points, a record, a table beside the rig):
+    refused with --force too; the suggestion to simulate it is quoted so a path with spaces can be pasted."""
+    points = tmp_path / "cam_lift.csv"
+    before = points.read_bytes()
+    refused(capsys, ["init", "vcb_closing", "-o", str(points), "--force"], str(points), "-o", ".json")
+    assert points.read_bytes() == before
+    spaced = tmp_path / "my breaker.rig.json"
+    assert main(["init", "vcb_closing", "-o", str(spaced)]) == 0
+    assert f"vcbmodel simulate '{spaced}'" in capsys.readouterr().err
+
+
 @pytest.mark.parametrize("given", ["path", "dict", "rig"])
 def test_the_sweep_api_never_replaces_its_rig(tmp_path, given):
     rig = tmp_path / "c.rig.json"

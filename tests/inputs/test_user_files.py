@@ -58,6 +58,66 @@ def test_a_units_row_in_ms_and_deg_is_converted_to_seconds_and_radians(tmp_path)
     assert np.allclose(converted.channel("pendulum_angle"), plain.channel("pendulum_angle"), rtol=1e-12, atol=1e-15)
 
 
+def spreadsheet_export(tmp_path, name, edit=lambda rows: rows):
+    """The 10 deg pendulum record as a spreadsheet saves it: UTF-8 BOM, CRLF, ';' with decimal commas,
+    a units row, a trailing empty column, time in ms; ``edit`` changes the data rows (text)."""
+    lines = PENDULUM.with_suffix(".csv").read_text().splitlines()
+    header = next(i for i, line in enumerate(lines) if not line.startswith("#"))
+    rows = [[float(c) for c in line.split(",")] for line in lines[header + 1:]]
+    data = edit([f"{1e3 * t:.4f};{a!r};".replace(".", ",") for t, a in rows])
+    text = "\r\n".join(["Time;Pendulum_Angle;", "ms;rad;"] + data) + "\r\n"
+    (tmp_path / f"{name}.csv").write_bytes(("\ufeff" + text).encode())
+    (tmp_path / f"{name}.rig.json").write_text(PENDULUM.with_suffix(".rig.json").read_text())
+    return tmp_path / f"{name}.csv"
+
+
+def test_a_small_swing_in_degrees_without_its_unit_is_refused_not_fitted(tmp_path, capsys):
+    """A 2.5 deg release written in degrees stays within pi, the range check's bound: read as rad it was
+    fitted, and the diagnosis 'discovered' a torsional spring. Its first sample reads the rig's initial angle
+    in degrees: refused, naming the column and the unit to state."""
+    rig = json.loads(PENDULUM.with_suffix(".rig.json").read_text())
+    rig["pendulum"]["initial_angle"] = math.radians(2.5)
+    (tmp_path / "small.rig.json").write_text(json.dumps(rig))
+    t = np.arange(0, 3, 1e-3)
+    degrees = 2.5 * np.cos(2 * np.pi * t / 0.93) * np.exp(-t)
+    body = "t,pendulum_angle\n" + "".join(f"{a:.3f},{b:.5f}\n" for a, b in zip(t, degrees))
+    (tmp_path / "small.csv").write_text(body)
+    for command in ("diagnose", "identify"):
+        assert main([command, str(tmp_path / "small.csv"), "--json"]) == 2
+        out, err = capsys.readouterr()
+        assert out == "" and len(err.strip().splitlines()) == 1
+        assert "small.csv: column 'pendulum_angle': starts at 2.5" in err and "pendulum_angle [deg]" in err
+    (tmp_path / "small.csv").write_text(body.replace("pendulum_angle", "pendulum_angle [deg]", 1))
+    _, read = load_pair(tmp_path / "small.csv")
+    assert read.channel("pendulum_angle")[0] == pytest.approx(math.radians(2.5))
+
+
+def test_rows_of_empty_cells_below_a_spreadsheets_data_are_blank_lines(tmp_path):
+    _, plain = load_pair(PENDULUM.with_suffix(".csv"))
+    _, padded = load_pair(spreadsheet_export(tmp_path, "padded", lambda rows: rows[:100] + [";;"] + rows[100:] + [";;"] * 3))
+    assert np.allclose(padded.t, plain.t, rtol=0, atol=1e-12)
+    assert np.array_equal(padded.channel("pendulum_angle"), plain.channel("pendulum_angle"))
+
+
+def test_excels_separator_line_above_the_header_is_read_as_the_separator(tmp_path):
+    _, plain = load_pair(PENDULUM.with_suffix(".csv"))
+    record = spreadsheet_export(tmp_path, "sep")
+    text = record.read_bytes().decode("utf-8-sig")
+    record.write_bytes(("\ufeffsep=;\r\n" + text).encode())
+    _, read = load_pair(record)
+    assert np.allclose(read.t, plain.t, rtol=0, atol=1e-12)
+    assert np.array_equal(read.channel("pendulum_angle"), plain.channel("pendulum_angle"))
+
+
+def test_a_repeated_time_stamp_is_refused_naming_its_line(tmp_path, capsys):
+    record = spreadsheet_export(tmp_path, "repeated", lambda rows: rows[:200] + [rows[199]] + rows[200:])
+    assert main(["diagnose", str(record), "--json"]) == 2
+    out, err = capsys.readouterr()
+    assert out == "" and len(err.strip().splitlines()) == 1
+    # the header is line 1, the units row line 2: the 200th data row is line 202, its copy line 203
+    assert f"{record}: line 203, column 't': time is not strictly increasing" in err and "199" in err
+
+
 @pytest.mark.parametrize("units, column", [("s,m", "pendulum_angle"), ("m,rad", "t")])
 def test_a_units_row_in_another_unit_is_refused_naming_line_and_column(tmp_path, capsys, units, column):
     f = record_with(tmp_path, "other_units", units)

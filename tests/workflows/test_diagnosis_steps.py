@@ -219,13 +219,17 @@ def test_running_candidates_that_cannot_win_are_cancelled(monkeypatch):
         return fit_of(noise(2)), None
 
     monkeypatch.setattr(side_by_side, "fit_candidate", fake)
+    said = []
     ctx = ctx_of(processes=3, stop=threading.Event(), record=record_of(unit="rad"),
-                 budget=SimpleNamespace(started=time.monotonic()))
+                 budget=SimpleNamespace(started=time.monotonic()), say=said.append)
     jobs = [(name, ((), (), {}), k) for name, k in (("a", 0), ("b", 1), ("c", 0), ("d", 2))]
     fits, _ = side_by_side.run_candidates(ctx, fit_of(noise() + bump()), jobs, 1)
     assert fits[0] is not None and fits[2] is not None  # a, and c with as many parameters
     assert fits[1] is None and fits[3] is None
     assert "d" not in started
+    # the progress says the cancelled one was cancelled, not that it left an rms of nan
+    done = [m for m in said if "candidate fits done" in m]
+    assert any("(b: cancelled)" in m for m in done) and not any("nan" in m for m in done), done
 
 
 def test_a_candidate_is_never_worse_than_its_nested_model():

@@ -59,6 +59,18 @@ def test_simulate_refuses_the_same_file_for_the_csv_and_the_plot(tmp_path, capsy
     assert "--plot: is also the -o file" in one_error_line(capsys) and not out.exists()
 
 
+@pytest.mark.parametrize("name, words", [("closing.png", "--plot FILE.png"), ("result.json", "--json prints the JSON")])
+def test_a_csv_output_named_as_a_figure_or_json_is_refused(tmp_path, capsys, name, words):
+    """``simulate -o closing.png`` meant --plot, ``-o result.json`` meant --json: a CSV under such a name is a slip."""
+    out = tmp_path / name
+    assert main(["simulate", str(GOOD_CAM), "--t-end", "0.005", "-o", str(out)]) == 2
+    line = one_error_line(capsys)
+    assert line.startswith(f"vcbmodel: bad input: {out}: -o: writes the CSV table") and words in line
+    assert main(["sweep", str(GOOD_CAM), "--vary", "friction.mu_k=0.1:0.2:2", "-o", str(out), "--workers", "1"]) == 2
+    assert "writes the CSV table" in one_error_line(capsys)
+    assert not out.exists() and not list(tmp_path.iterdir())
+
+
 def test_an_existing_result_is_replaced_only_with_force(tmp_path, capsys):
     out = tmp_path / "sim.csv"
     out.write_text("mine\n")

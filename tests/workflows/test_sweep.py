@@ -124,6 +124,18 @@ def test_a_value_the_model_needs_but_the_rig_lacks_is_bad_input_before_the_sweep
 
 # --- runs ----------------------------------------------------------------------------------------
 
+@pytest.mark.parametrize("spec", ["pendulum.mass=60:60000:3", "pendulum.mass=normal:60000:10"])
+def test_a_varied_value_no_mechanism_has_is_bad_input_before_any_run(rig, tmp_path, capsys, spec):
+    """60000 kg is grams typed as kg (docs/rig-format.md 3.11): refused naming --vary and the field, not a
+    table of failed rows with status 0."""
+    out = tmp_path / "out.csv"
+    extra = ["--samples", "3"] if "normal" in spec else []
+    assert main(["sweep", str(rig), "--vary", spec, *extra, "-o", str(out), "--workers", "1"]) == 2
+    err = capsys.readouterr().err.strip().splitlines()
+    assert len(err) == 1 and err[0].startswith("vcbmodel: bad input: --vary: pendulum.mass: ") and "impossible" in err[0]
+    assert not out.exists()
+
+
 def test_a_failed_run_gets_its_reason_and_the_sweep_goes_on(rig, tmp_path):
     out = tmp_path / "out.csv"
     df = S.sweep(rig, ["pendulum.mass=-60:60:3"], workers=1, output=str(out), verbose=False)

@@ -12,6 +12,7 @@ import json
 import logging
 import math
 import os
+import shlex
 import signal
 import sys
 from collections.abc import Iterator, Sequence
@@ -31,7 +32,7 @@ from ..experiments.sequence import run_sequence, sequence_lines
 from ..experiments.run_checks import require_motion
 from ..experiments.simulation import compiled_path_has, model_spec, output_times, simulate
 from ..model.choice import choose, parse_effects_option
-from .outputs import check_distinct, check_output, protected_inputs, write_file
+from .outputs import check_distinct, check_output, check_table_name, is_regular_or_absent, protected_inputs, write_file
 from .templates import TEMPLATES, explain, template
 from .closing_plot import plot_closing
 from .sequence_plot import plot_sequence
@@ -188,6 +189,7 @@ def cmd_simulate(args: argparse.Namespace) -> int:
     check_distinct(args.plot, args.output, "--plot", "-o")
     inputs = protected_inputs(args.rig, rig.data)
     check_output(args.output, "-o", inputs=inputs, force=args.force)
+    check_table_name(args.output, "-o", supported_image_formats(), "--plot FILE.{suffix}")
     check_output(args.plot, "--plot", inputs=inputs, force=args.force, formats=supported_image_formats())
     t_end = args.t_end or record.default_duration
     model_spec(rig)  # a value the model needs but the rig lacks: bad input, first
@@ -287,11 +289,14 @@ def cmd_check(args: argparse.Namespace) -> int:
 
 
 def cmd_init(args: argparse.Namespace) -> int:
+    if args.output and not str(args.output).endswith(".json") and is_regular_or_absent(args.output):
+        raise InputError(args.output, "-o", "a rig file is NAME.rig.json: give a name ending in .json (a template "
+                         "written over a .csv would replace a record or a cam's points)")
     check_output(args.output, "-o", force=args.force)
     text = template(args.kind)
     if args.output:
         write_file(args.output, text)
-        log.info("init: wrote %s (simulate it with: vcbmodel simulate %s)", args.output, args.output)
+        log.info("init: wrote %s (simulate it with: vcbmodel simulate %s)", args.output, shlex.quote(str(args.output)))
     else:
         sys.stdout.write(text)
     return 0
@@ -348,6 +353,7 @@ def cmd_sweep(args: argparse.Namespace) -> int:
     rig = load_rig(args.rig)  # a fault first, and the rig's unusual values said once (not by every run)
     check_output(args.output, "-o", inputs=protected_inputs(args.rig, rig.data), force=args.force, keep=args.resume,
                  resumable=True)
+    check_table_name(args.output, "-o", supported_image_formats(), "vcbmodel plot TABLE.csv -o FILE.{suffix}")
     table = sweep(args.rig, args.vary, samples=args.samples, seed=args.seed, workers=args.workers,
                   scheduler=args.scheduler, output=args.output, stream=None if args.output else sys.stdout,
                   resume=args.resume, force=args.force, backend=args.backend)

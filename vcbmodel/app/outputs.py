@@ -75,6 +75,21 @@ def check_output(path: str | os.PathLike | None, argname: str, *, inputs: Iterab
     _check_writable(path, argname, folder, force or keep, resumable)
 
 
+def check_table_name(path: str | os.PathLike | None, argname: str, image_formats: Iterable[str], figure: str) -> None:
+    """Refuse a CSV output named as an image or as JSON (``simulate -o closing.png`` meant ``--plot``,
+    ``-o result.json`` meant ``--json``): the file would hold a CSV under a name that says otherwise.
+    ``figure``: how the command's figure is drawn instead, with ``{suffix}`` for the suffix given."""
+    if path is None:
+        return
+    suffix = os.path.splitext(str(path))[1].lstrip(".").lower()
+    if suffix in set(image_formats):
+        raise InputError(path, argname, f"writes the CSV table; .{suffix} is an image's name: draw the figure with "
+                         f"{figure.format(suffix=suffix)} and give {argname} a .csv name")
+    if suffix == "json":
+        raise InputError(path, argname, f"writes the CSV table, not JSON: --json prints the JSON on stdout "
+                         f"(> FILE.json); give {argname} a .csv name")
+
+
 def _refuse_an_input(path: str | os.PathLike, argname: str, inputs: list) -> None:
     """Refuse an output that is one of the command's ``inputs``, a folder, a test's record, or named as a rig."""
     for source in inputs:

@@ -7,6 +7,7 @@ from __future__ import annotations
 
 import json
 import logging
+import math
 from pathlib import Path
 from typing import TYPE_CHECKING
 
@@ -17,6 +18,7 @@ from ..model.values import rig_values
 from ..records.analyser import analyser_channels, check_contacts, simulated_channels
 from ..records.measurement import load_measurement, sibling_rig_path
 from ..rig.data import Rig
+from ..rig.paths import loaded_value
 from ..rig.plausibility import check_rig, plausibility, step_limits
 from ..rig.reader import Reader, read_json
 from ..rig.sections import read_friction, read_record, read_uncertain
@@ -92,8 +94,30 @@ def load_record(measurement_path: str | Path, rig: Rig) -> Measurement:
                             record.channel_hint)
     record.check_record(meas.t, meas.channel(record.measured_channel), meas.path,
                         [v for name, v in meas.channels.items() if name != record.measured_channel])
+    if record.initial_angle_field is not None:
+        check_start_in_degrees(meas, record.measured_channel, loaded_value(rig, record.initial_angle_field),
+                               record.initial_angle_field)
     check_contacts(meas)
     return meas
+
+
+#: A record whose first sample reads the rig's initial angle in degrees within this share, and is at least
+#: :data:`DEGREES_RATIO_LEAST` times that angle in rad, is a record in degrees without its unit stated.
+DEGREES_MATCH = 0.25
+DEGREES_RATIO_LEAST = 20.0
+
+
+def check_start_in_degrees(meas: Measurement, channel: str, initial_angle: float, field: str) -> None:
+    """Refuse an angle record that starts at the rig's initial angle read in degrees (a 2.5 deg pendulum
+    release written as 2.5 stays within pi, so the range check lets it pass, and the fits would take it as
+    2.5 rad: a wrong diagnosis, not an error)."""
+    first, degrees = float(meas.channel(channel)[0]), math.degrees(initial_angle)
+    if initial_angle == 0.0 or abs(first) < DEGREES_RATIO_LEAST * abs(initial_angle):
+        return
+    if abs(first - degrees) <= DEGREES_MATCH * abs(degrees):
+        raise InputError(meas.path, f"column {channel!r}", f"starts at {first:.4g}, the rig's {field} "
+                         f"{initial_angle:.4g} rad in degrees ({degrees:.4g}): state the unit "
+                         f"({channel} [deg]) or convert the column to rad")
 
 
 def known_channels(rig: Rig | None = None) -> tuple[str, ...]:

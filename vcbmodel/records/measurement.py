@@ -71,9 +71,15 @@ def _number(cell, path, line):
 HEADER_UNIT = re.compile(r"(?P<name>[A-Za-z_][A-Za-z0-9_]*)\s*(?:\[(?P<a>[^\]]*)\]|\((?P<b>[^)]*)\)|/\s*(?P<c>\S+))")
 
 
-def _dialect(header_text):
-    """(delimiter, decimal comma) from the header line: ``;`` (spreadsheets with a decimal comma),
-    a tab, or ``,``."""
+#: Excel's first line naming the separator (``sep=;``), written above the header by some exports.
+SEPARATOR_LINE = re.compile(r"sep=[;,]", re.IGNORECASE)
+
+
+def _dialect(header_text, separator=None):
+    """(delimiter, decimal comma) from a ``sep=`` line's ``separator`` or else the header line: ``;``
+    (spreadsheets with a decimal comma), a tab, or ``,``."""
+    if separator is not None:
+        return separator, separator == ";"
     if ";" in header_text:
         return ";", True
     if "\t" in header_text and "," not in header_text:
@@ -170,14 +176,16 @@ def load_measurement(path: str | Path, channel: str | None = None, known: Iterab
         ``t`` in s; each channel in its SI unit (rad, m; 0/1 for contact channels).
     """
     path = str(path)
-    comments, header, header_line, factors, rows = _parse(path, known, units)
+    comments, header, header_line, factors, rows, row_lines = _parse(path, known, units)
     if len(rows) < 3:
         raise InputError(path, "data", f"needs at least 3 samples, has {len(rows)}")
     arr = np.array(rows) * np.array([1.0 if f is None else f for f in factors])
     t = arr[:, 0]
     bad = np.nonzero(np.diff(t) <= 0)[0]
     if bad.size:
-        raise InputError(path, f"column 't' near t = {t[bad[0] + 1]:g}", "time is not strictly increasing")
+        k = bad[0]
+        raise InputError(path, f"line {row_lines[k + 1]}, column 't'", f"time is not strictly increasing: "
+                         f"{rows[k + 1][0]:g} after {rows[k][0]:g} on line {row_lines[k]} (a repeated or misplaced row)")
     channels = {col: arr[:, j] for j, col in enumerate(header) if j > 0}
     if channel is not None and channel not in channels:
         hint = f" (it has {', '.join(header)}): {channel_hint}" if channel_hint else ""
@@ -186,8 +194,10 @@ def load_measurement(path: str | Path, channel: str | None = None, known: Iterab
 
 
 def _parse(path: str, known: Iterable[str] | None, units: dict[str, str] | None) -> tuple:
-    """(comments, header, its line, factors to SI, rows of values) of a measurement file."""
-    comments, rows, header, header_line, units_row, factors = [], [], None, 0, None, []
+    """(comments, header, its line, factors to SI, rows of values, each row's line) of a measurement file.
+    A line of empty cells (``;;``, as a spreadsheet exports the formatted rows below its data) is a blank line."""
+    comments, rows, header, header_line, units_row, factors, row_lines = [], [], None, 0, None, [], []
+    separator = None
     dialect = (",", False)
     for i, s in _lines(path, read_bytes(path)):
         if not s:
@@ -195,12 +205,17 @@ def _parse(path: str, known: Iterable[str] | None, units: dict[str, str] | None)
         if s.startswith("#"):
             comments.append(s[1:].strip())
             continue
+        if header is None and SEPARATOR_LINE.fullmatch(s):  # Excel's separator line, above the header
+            separator = s[-1]
+            continue
         if header is None:
-            dialect = _dialect(s)
+            dialect = _dialect(s, separator)
             (header, factors), header_line = _header(_cells(s, *dialect), path, i, units), i
             _check_header(header, path, i, known)
             continue
         cells = _cells(s, *dialect)
+        if not any(cells):
+            continue
         if not rows and units_row is None:
             units_row = _units_row(cells, header, path, i, units)
             if units_row is not None:  # a logger's units row under the header, read like units in the header
@@ -208,9 +223,10 @@ def _parse(path: str, known: Iterable[str] | None, units: dict[str, str] | None)
                 continue
             units_row = []
         rows.append(_data_row(cells, header, dialect, path, i))
+        row_lines.append(i)
     if header is None:
         raise InputError(path, "header", "missing (no line other than comments)")
-    return comments, header, header_line, factors, rows
+    return comments, header, header_line, factors, rows, row_lines
 
 
 def _merge_units(header: list, factors: list, units_row: list, path: str, line: int) -> list:

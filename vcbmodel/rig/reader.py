@@ -85,10 +85,18 @@ def _depth(obj, level=0):
     return level
 
 
+def _rig_text(path: str) -> str:
+    """The rig file's text; an empty file (or one of blank lines) is refused as such."""
+    text = decode_text(path, read_bytes(path))
+    if not text.strip():
+        raise InputError(path, "file", "is empty (a rig is one JSON object: vcbmodel init writes one to start from)")
+    return text
+
+
 def read_json(path: str | Path) -> Any:
     """Parse a JSON file (see module docstring)."""
     path = str(path)
-    text = decode_text(path, read_bytes(path))
+    text = _rig_text(path)
     # a cheap guard before the parser recurses: count the opening brackets' nesting
     level = deepest = 0
     for ch in text:

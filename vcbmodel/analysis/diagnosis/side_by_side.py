@@ -73,8 +73,10 @@ class _Round:
             self.cancel_losers(running)
         left = len([j for j in pending if not pruned(self.jobs[j][2], self.winners)]) + len(running)
         per = (time.monotonic() - self.t0) / self.done
+        outcome = (f"rms {res.rms:.3g} {self.ctx.record.unit}" if res is not None
+                   else "cancelled" if self.cancel[i].is_set() else "no fit: its simulation failed")
         self.ctx.say(f"round {self.round_no}: {self.done}/{self.done + left} candidate fits done "
-                     f"({self.jobs[i][0]}: rms {res.rms if res else float('nan'):.3g} {self.ctx.record.unit}); "
+                     f"({self.jobs[i][0]}: {outcome}); "
                      f"about {per * left / max(1, min(self.threads, left or 1)):.0f} s left in this round, "
                      f"{time.monotonic() - self.ctx.budget.started:.0f} s so far")
 

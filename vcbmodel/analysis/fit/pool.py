@@ -3,10 +3,13 @@ processes (:class:`SimulationPool`, with processor time read from /proc), and th
 step and friction function the experiment chooses for fits."""
 from __future__ import annotations
 
+import ctypes
 import hashlib
 import multiprocessing
 import os
 import pickle
+import signal
+import sys
 import threading
 import time
 from collections import OrderedDict
@@ -116,7 +119,8 @@ class SimulationPool:
         self.inline_lock = threading.Lock()  # one batch at a time here; another fit's goes to the workers
         self.seconds_per_simulation = None  # running mean (s); None until a batch has run
         if self.processes > 1:
-            self.pool = ProcessPoolExecutor(max_workers=self.processes, mp_context=multiprocessing.get_context("fork"))
+            self.pool = ProcessPoolExecutor(max_workers=self.processes, mp_context=multiprocessing.get_context("fork"),
+                                            initializer=_worker_start)
             list(self.pool.map(_noop, range(self.processes)))
 
     def run(self, jobs) -> list:
@@ -209,6 +213,24 @@ class SimulationPool:
 
 def _noop(_):
     return None
+
+
+#: Linux's prctl option that signals a process when its parent ends.
+PR_SET_PDEATHSIG = 1
+
+
+def _worker_start() -> None:
+    """A worker's start: Ctrl-C and SIGTERM, which a terminal or a batch system sends to every process of the
+    command, are the parent's to handle: it prints one line and stops the pool. A worker left to the default
+    would print its own traceback, or die while it sends a result, leaving the parent waiting for the rest.
+    On Linux the kernel ends the worker when its parent ends, however (``kill -9``): none is left behind."""
+    signal.signal(signal.SIGINT, signal.SIG_IGN)
+    signal.signal(signal.SIGTERM, signal.SIG_IGN)
+    if sys.platform.startswith("linux"):
+        try:
+            ctypes.CDLL(None, use_errno=True).prctl(PR_SET_PDEATHSIG, signal.SIGKILL, 0, 0, 0)
+        except (OSError, AttributeError):
+            pass
 
 
 def dataset_pool(datasets, processes: int = 2) -> SimulationPool | None:

@@ -115,6 +115,21 @@ def _design_table(vary, runs, samples, seed, sampling):
     return table.astype(float), "given"
 
 
+def check_no_unit_slip(data: dict, table: pd.DataFrame, rig_path: str | None) -> None:
+    """Refuse, before any run, a varied field whose smallest or largest value no mechanism has (the unit
+    slips of docs/rig-format.md 3.11: ``--vary cam.mass=9500:9600:2``, grams typed as kg): such a value is
+    bad input, not a failed run. Any other value that makes a run's rig invalid stays that run's ``failed``
+    row."""
+    for path in table.columns:
+        given = table[path].dropna()
+        for value in {float(given.min()), float(given.max())} if len(given) else ():
+            try:
+                rig_from_data(with_overrides(data, {path: value}), rig_path)
+            except InputError as e:
+                if e.field == path and "is impossible here" in e.message:
+                    raise InputError("--vary", path, e.message) from None
+
+
 def plan(rig: str | Path | dict | Rig, vary: Iterable[str | tuple[str, str] | Vary] | dict[str, str] = (), *,
          runs: pd.DataFrame | Sequence[dict[str, float]] | None = None, samples: int | None = None, seed: int | None = None, sampling: str = "lhs",
          evaluate: Callable | None = None, columns: Sequence[str] | None = None, label: str | None = None, backend: str = "fast") -> SweepPlan:
@@ -137,6 +152,7 @@ def plan(rig: str | Path | dict | Rig, vary: Iterable[str | tuple[str, str] | Va
     nominal = rig_from_data(data, rig_path)
     table, kind = _design_table(vary, runs, samples, seed, sampling)
     check_paths(data, table.columns, rig_path, nominal.experiment)
+    check_no_unit_slip(data, table, rig_path)
     record = experiment_of(nominal.experiment)
     if evaluate is None:
         columns = record.figure_columns
