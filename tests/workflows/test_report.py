@@ -167,3 +167,22 @@ def test_a_cam_drop_reports_in_milliseconds_and_degrees(tmp_path, capsys):
     lines = capsys.readouterr().out.splitlines()[1:]
     assert re.fullmatch(r"\s+end time\s+ms\s+20.00", lines[0]) and " deg " in lines[1] + " "
     assert not any(re.search(r"\d\.\d{5}|e-0", line) for line in lines)
+
+
+def test_the_verdict_says_when_the_cam_does_not_latch_whatever_the_limits_say(tmp_path, capsys):
+    """The template breaker's heavy springs: at 55 ms its cam has not reached its latch (the limits all
+    pass, latching is not judged); at 100 ms it has stopped short and turned back: the closing fails,
+    said in the verdict line, the JSON's verdict and the figure's title, not only in a note."""
+    rig = tmp_path / "t.rig.json"
+    assert main(["init", "vcb_closing", "-o", str(rig)]) == 0
+    verdicts = {}
+    for t_end in ("0.055", "0.1"):
+        assert main(["simulate", str(rig), "--backend", "fast", "--t-end", t_end, "-o", str(tmp_path / f"{t_end}.csv"),
+                     "--json", "-q"]) == 0
+        verdicts[t_end] = json.loads(capsys.readouterr().out)["verdict"]
+    assert "all pass; latching not judged: the run ends at 55 ms before the cam reaches its latch" in verdicts["0.055"]
+    assert "THE CLOSING FAILS: the cam stops 10.4 deg short of its latch" in verdicts["0.1"]
+    reference = summaries.latching_verdict({"latched": True, "kinetic_at_touch_J": 300.0, "end_s": 0.055})
+    assert reference is None  # a cam that latched adds nothing
+    no_touch = summaries.latching_verdict({"latched": None, "kinetic_at_touch_J": None, "end_s": 0.02})
+    assert no_touch is None  # no pole touched: the notes say the run is not a complete closing

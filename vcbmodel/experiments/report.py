@@ -83,6 +83,9 @@ class Report:
     poles: int = 0
     notes: list = field(default_factory=list)
     limits: tuple | None = None
+    #: what the limits cannot say about a closing, said in the verdict: ``(text, brief text)`` for a cam
+    #: that stops short of its latch (the closing fails) or a run that ends before it reaches it; None
+    latching: tuple | None = None
 
     def judged_per_pole(self, row: Row) -> bool:
         """Whether ``row`` is a whole-run row of a figure the per-pole rows carry (the mechanism's wipe
@@ -118,16 +121,17 @@ class Report:
         without the values and limits, for a figure's title)."""
         if self.limits is None:
             return ""
+        latching = "" if self.latching is None else "; " + self.latching[1 if brief else 0]
         if not self.limits:
-            return "limits: none given (breaker.limits): no figure is judged"
+            return "limits: none given (breaker.limits): no figure is judged" + latching
         checks = self.checks()
         failed = [self._failure(row, c, brief) for row, c in checks if c.result.startswith("FAIL")]
         unseen = [row.what for row, c in checks if c.result == "no value"]
         judged = len({c.limit.figure for _, c in checks})
         head = f"limits (breaker.limits): {judged} of {len(self.limits)} judged"
         if failed:
-            return f"{head}: FAIL: {'; '.join(failed)}"
-        return f"{head}: all pass" + (f"; no value for {', '.join(unseen)}" if unseen else "")
+            return f"{head}: FAIL: {'; '.join(failed)}{latching}"
+        return f"{head}: all pass" + (f"; no value for {', '.join(unseen)}" if unseen else "") + latching
 
 
     def _failure(self, row: Row, check: Check, brief: bool = False) -> str:
