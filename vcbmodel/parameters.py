@@ -716,15 +716,18 @@ USUAL_PRESSURE_ANGLE = 30.0
 #: The closing spring of ``vcbmodel init``'s templates (cam_drop, vcb_closing): the reference breaker's
 #: rate (24230 N/m) and pulls (3000 N charged, 500 N at the springs' dead centre, on the breaker's cam),
 #: given by its datasheet so that k0 and m0 follow from the coil, and sized at index 6 to pass every
-#: strength check `check` makes of an extension spring with standard hooks over 10 000 operations
-#: (laws.spring_strength: body and hooks within 0.45 / 0.75 / 0.40 S_ut, Shigley Table 10-7; their
-#: fatigue, Table 10-8 with Goodman; 11.2 mm wire left the hook's bending fatigue at 0.99): 11.4 mm wire
-#: on a 68.4 mm mean diameter, 21.6 active coils; k0 about 24 200 N/m, m0 about 3.6 kg. Its initial tension
-#: must be specified below the 500 N smallest pull (Shigley's preferred range starts above it at this
-#: index: `check` says so). A template is a spring one could wind: the reference's 0.83 kg at 0.92 GPa is
-#: not (its body is above 0.45 S_ut).
-TEMPLATE_CLOSING_SPRING = {"count": 2, "free_length": 0.30, "anchor": [0.0, 0.0], "wire_diameter": 0.0114,
-                           "coil_diameter": 0.0684, "active_coils": 21.6, "shear_modulus": 79.3e9}
+#: strength check `check` makes over 10 000 operations (laws.spring_strength: the body within 0.45 S_ut,
+#: Shigley Table 10-7, and its fatigue, Table 10-8 with Goodman): 9.6 mm wire on a 58 mm mean diameter,
+#: 18.3 active coils, with screwed-in plug ends (``ends``: no bent hook, whose stresses would need 11.2
+#: mm wire; the thinnest that passes with plugs is 9.5 mm); k0 about 23 600 N/m, m0 about 1.9 kg (the
+#: "1.89 kg" spring of REFERENCE_BREAKER's notes). Why not hooks: the lightest hooked spring that passes
+#: (11.4 mm on 68.4 mm, 21.6 coils, 3.7 kg) is too heavy for the breaker's cam, which then stops 10.4 deg
+#: short of its holding latch and the closing fails (`simulate --t-end 0.1`); with the plug-ended spring
+#: the cam latches. Its initial tension must be specified below the 500 N smallest pull (`check` says
+#: so). A template is a spring one could wind: the reference's 0.83 kg at 0.92 GPa is not (its body is
+#: above 0.45 S_ut).
+TEMPLATE_CLOSING_SPRING = {"count": 2, "free_length": 0.30, "anchor": [0.0, 0.0], "wire_diameter": 0.0096,
+                           "coil_diameter": 0.058, "active_coils": 18.3, "shear_modulus": 79.3e9, "ends": "plugs"}
 #: A cam that turns less than this (rad, 0.5 deg) over a whole run did not move: said plainly.
 CAM_DID_NOT_MOVE = 0.5 * 3.141592653589793 / 180.0
 

@@ -242,9 +242,27 @@ def test_a_template_is_commented_in_every_section_and_within_its_allowables(tmp_
     assert main(["check", str(f)]) == 0
     out = capsys.readouterr().out
     assert "ABOVE" not in out and "FAILS" not in out
-    if kind != "pendulum":
-        assert "passes all 6 strength checks" in out
+    if kind != "pendulum":  # plug ends: the body's two checks, no hook's
+        assert "(screwed-in plug ends, Cr-Si wire)" in out and "passes all 2 strength checks" in out
+        assert "hook" not in out.split("(screwed-in plug ends", 1)[1].split("thinnest", 1)[0]
     assert main(["simulate", str(f), "-o", str(tmp_path / "o.csv"), "-q"]) == 0
+
+
+def test_the_ends_of_a_closing_spring_decide_which_strength_checks_apply(tmp_path, capsys):
+    """The same coil with hooks is checked for its hooks too (six checks; the template's 9.6 mm wire
+    fails the hooks' fatigue); a value other than hooks or plugs is refused in one line naming the field."""
+    data = json.loads(template("vcb_closing"))
+    data["closing_spring"]["ends"] = "hooks"
+    f = tmp_path / "hooks.rig.json"
+    f.write_text(json.dumps(data))
+    assert main(["check", str(f)]) == 0
+    out = capsys.readouterr().out
+    assert "(standard hooks, Cr-Si wire)" in out and "of 6 strength checks" in out and "hook bending fatigue" in out
+    data["closing_spring"]["ends"] = "welded"
+    f.write_text(json.dumps(data))
+    assert main(["check", str(f)]) == 2
+    err = capsys.readouterr().err.strip().splitlines()
+    assert len(err) == 1 and "closing_spring.ends" in err[0] and "hooks, plugs" in err[0]
 
 
 def test_rig_format_lists_every_plausibility_range_as_parameters_holds_it():

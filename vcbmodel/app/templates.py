@@ -23,7 +23,7 @@ from ..model.values import rig_values
 from ..laws.breaker import segment_stiffness, torsional_frequencies
 from ..laws.cam_follower import pressure_angle_curve, rest_geometry
 from ..laws.coil import spring_check
-from ..laws.spring_strength import closing_pulls, compression_reading, extension_checks, wire_for_index
+from ..laws.spring_strength import BODY_CHECKS, closing_pulls, compression_reading, extension_checks, wire_for_index
 from ..laws.mechanics import cam_pin
 
 if TYPE_CHECKING:
@@ -39,7 +39,8 @@ SECTION_UNITS = {
            "from +x; initial_velocity: rad/s",
     "closing_spring": "count: springs acting together; stiffness: N/m each; mass: kg each (active coils); "
                       "free_length: m; anchor: [x, y] m; or the datasheet instead of stiffness and mass: "
-                      "wire_diameter, coil_diameter (mean): m; active_coils; shear_modulus: Pa; density: kg/m^3",
+                      "wire_diameter, coil_diameter (mean): m; active_coils; shear_modulus: Pa; density: kg/m^3; "
+                      "ends: hooks or plugs (screwed-in plug ends: no hook to check)",
     "friction": "mu_k, mu_s: -; stick_velocity, stribeck_velocity: rad/s; viscous: N m s/rad",
     "model": "effects: names (docs/rig-format.md section 4); spring_model: massless | lumped-N | ancf",
     "breaker": "roller_radius: m; speed_zone: [start, end] m before each pole's touch; the subsections below say "
@@ -227,17 +228,20 @@ def spring_lines(rig: Rig) -> list[str]:
 
 
 def strength_lines(rig: Rig, c: dict) -> list[str]:
-    """The closing spring as an extension spring with standard hooks, checked as a spring maker would
+    """The closing spring as an extension spring with standard hooks (``closing_spring.ends`` "plugs":
+    screwed-in plug ends, the body alone), checked as a spring maker would
     (laws.spring_strength: body, hooks, fatigue over the rated operations, initial tension) over one
     closing's pulls, each with its allowable; then what the lightest spring of this rate that passes
     would weigh."""
     s = rig.closing_spring
     high, low = closing_pulls(s, rig.cam)
     d, D = c["wire_diameter_m"], c["coil_diameter_m"]
-    checks = extension_checks(d, D, high, low)
+    plugs = s.ends == "plugs"  # no bent hook: its stresses are not there to check
+    checks = [k for k in extension_checks(d, D, high, low) if not plugs or k.advisory or k.name in BODY_CHECKS]
     failed = [k.name for k in checks if k.fails]
     strength = sum(not k.advisory for k in checks)
-    lines = [f"    as an extension spring (standard hooks, Cr-Si wire) cycling {low:.0f}-{high:.0f} N "
+    ends = "screwed-in plug ends" if plugs else "standard hooks"
+    lines = [f"    as an extension spring ({ends}, Cr-Si wire) cycling {low:.0f}-{high:.0f} N "
              f"{P.RATED_OPERATIONS} times (IEC 62271-100 class M2): "
              + (f"FAILS {len(failed)} of {strength} strength checks" if failed else f"passes all {strength} strength checks")
              + ("" if all(k.passes for k in checks if k.advisory) else " (and asks for a specified initial tension)")]

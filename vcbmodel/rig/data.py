@@ -63,6 +63,7 @@ class ClosingSpring:
     weight: bool = False  # spring masses carry their weight (spec: no, unless said)
     density: float | None = None  # kg/m^3 of the wire (a datasheet spring's mass; steel when not given)
     damping_ratio: float | None = None  # internal damping: first surge mode's damping ratio (effect spring_damping)
+    ends: str | None = None  # "hooks" or "plugs" (screwed-in plug ends): what `check` checks besides the body
     from_datasheet: tuple = ()  # the fields derived from the datasheet (stiffness, mass), for reports
 
 

@@ -34,7 +34,10 @@ PENDULUM_KEYS = ("mass", "inertia", "com_distance", "initial_angle", "initial_ve
 CAM_KEYS = ("mass", "inertia_com", "com_distance", "com_angle", "pivot", "arm_length", "initial_angle",
             "initial_velocity")
 SPRING_KEYS = ("count", "stiffness", "mass", "free_length", "anchor", "wire_diameter", "coil_diameter",
-               "active_coils", "shear_modulus", "weight", "density", "damping_ratio")
+               "active_coils", "shear_modulus", "weight", "density", "damping_ratio", "ends")
+#: How a closing spring's ends are made: standard hooks (bent from the wire: their bending and torsion
+#: are checked) or screwed-in plugs / swivel inserts (no hook stress: the body alone is checked)
+SPRING_ENDS = ("hooks", "plugs")
 #: Relative difference allowed between a given k0 or m0 and the datasheet's (catalogue rounding)
 DATASHEET_TOLERANCE = 0.05
 
@@ -137,6 +140,8 @@ def read_closing_spring(rd: Reader, data: dict, cam: Cam) -> dict[str, ClosingSp
         optional["damping_ratio"] = rd.number(s, "damping_ratio", pre, nonnegative=True)
         if optional["damping_ratio"] >= 1.0:
             rd.fail(pre + "damping_ratio", f"a damping ratio below 1 (0.01 for 1 %), got {optional['damping_ratio']:g}")
+    if "ends" in s:
+        optional["ends"] = rd.choice(s, "ends", pre, SPRING_ENDS)
     spring = ClosingSpring(
         count=rd.count(s, "count", pre, default=2.0), stiffness=stiffness, mass=mass,
         free_length=rd.number(s, "free_length", pre, positive=True), anchor=rd.point(s, "anchor", pre),
