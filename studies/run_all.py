@@ -24,9 +24,9 @@ from pathlib import Path
 HERE = Path(__file__).resolve().parent
 #: The studies two lanes take in turn from one queue, longest first (wall seconds on 2 cores,
 #: results/run_all_timing.json); then the studies in ALONE, one at a time.
-QUEUE = ["diagnosis_realism.py", "design_tolerance.py", "spring_models.py", "discovery_demo.py", "vcb_closing.py",
-         "design_sensitivity.py", "diagnosis_sweep.py", "friction_identification.py", "vcb_cycle.py",
-         "discrepancy_demo.py", "design_optimum.py", "design_conclusion_map.py", "spring_reading.py"]
+QUEUE = ["diagnosis_realism.py", "design_tolerance.py", "discovery_demo.py", "spring_models.py",
+         "friction_identification.py", "vcb_closing.py", "design_sensitivity.py", "diagnosis_sweep.py",
+         "design_optimum.py", "vcb_cycle.py", "discrepancy_demo.py", "design_conclusion_map.py", "spring_reading.py"]
 LANES = 2
 ALONE = ["benchmark.py"]
 STUDIES = QUEUE + ALONE
