@@ -256,3 +256,23 @@ def test_the_pool_works_from_a_script_without_a_main_guard(tmp_path):
                       "print(list(t.status))\n")
     p = subprocess.run([sys.executable, str(script)], capture_output=True, text=True, timeout=120)
     assert p.returncode == 0 and p.stdout.strip() == "['ok', 'ok']", p.stderr[-1500:]
+
+
+def test_t_end_runs_a_closing_long_enough_to_latch_and_a_resume_keeps_it(tmp_path, capsys):
+    """The template breaker's cam latches after the usual 55 ms: its kinetic margin is empty at the
+    default duration and known with --t-end 0.08; resuming that table with another --t-end would mix two
+    durations in one table: refused; a --t-end that is not a positive number: refused before any run."""
+    rig = tmp_path / "t.rig.json"
+    assert main(["init", "vcb_closing", "-o", str(rig)]) == 0
+    vary = ["--vary", "friction.mu_k=0.13:0.16:2", "--workers", "1"]
+    assert main(["sweep", str(rig), *vary, "-o", str(tmp_path / "usual.csv"), "-q"]) == 0
+    assert main(["sweep", str(rig), *vary, "--t-end", "0.08", "-o", str(tmp_path / "long.csv"), "-q"]) == 0
+    usual, long = (pd.read_csv(tmp_path / name, comment="#") for name in ("usual.csv", "long.csv"))
+    assert usual["kinetic_margin_J"].isna().all()
+    assert (long["kinetic_margin_J"] > 0).all() and long["kinetic_margin_J"].is_monotonic_decreasing  # more friction
+    capsys.readouterr()
+    assert main(["sweep", str(rig), *vary, "--t-end", "0.09", "-o", str(tmp_path / "long.csv"), "--resume"]) == 2
+    assert "another --t-end" in capsys.readouterr().err
+    assert main(["sweep", str(rig), *vary, "--t-end", "0", "-o", str(tmp_path / "zero.csv")]) == 2
+    assert capsys.readouterr().err.strip().endswith("--t-end: t_end: must be a positive number of seconds")
+    assert not (tmp_path / "zero.csv").exists()

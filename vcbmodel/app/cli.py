@@ -146,6 +146,8 @@ def build_parser() -> argparse.ArgumentParser:
     w.add_argument("--force", action="store_true", help="replace -o if it exists (without it an existing table is refused)")
     w.add_argument("--backend", choices=("fast", "exudyn"), default="fast",
                    help="fast: the compiled path where it covers the model, else Exudyn (default); exudyn: every run on Exudyn")
+    w.add_argument("--t-end", type=float, help="simulated duration of each run in s (default: the experiment's usual "
+                   "duration; a closing whose cam latches later needs a longer one for its kinetic margin)")
 
     pl = sub.add_parser("plot", parents=[common], help="draw a sweep's table: figures of merit against a varied field",
                         description="Draws figures of merit of a sweep's table (vcbmodel sweep -o) against one varied "
@@ -180,10 +182,7 @@ def cmd_simulate(args: argparse.Namespace) -> int:
     spring_model = choice.spring_model
     if not record.has_closing_spring and not spring_model.is_massless:
         raise InputError("--spring-model", "spring_model", f"a {rig.experiment} test has no closing spring")
-    if args.t_end is not None:
-        if not (math.isfinite(args.t_end) and args.t_end > 0):
-            raise InputError("--t-end", "t_end", "must be a positive number of seconds")
-        record.check_duration(args.t_end, "--t-end", "t_end")
+    check_duration(rig, args.t_end)
     if args.json and not args.output:
         raise InputError("--json", "output", "needs -o OUT.csv (stdout carries the JSON, so the CSV goes to a file)")
     check_distinct(args.plot, args.output, "--plot", "-o")
@@ -347,16 +346,26 @@ def cmd_diagnose(args: argparse.Namespace) -> int:
     return 0
 
 
+def check_duration(rig, t_end: float | None) -> None:
+    """``--t-end`` (s), when given: a positive number the rig's experiment can run (bad input otherwise)."""
+    if t_end is None:
+        return
+    if not (math.isfinite(t_end) and t_end > 0):
+        raise InputError("--t-end", "t_end", "must be a positive number of seconds")
+    experiment_of(rig.experiment).check_duration(t_end, "--t-end", "t_end")
+
+
 def cmd_sweep(args: argparse.Namespace) -> int:
     if args.resume and not args.output:
         raise InputError("--resume", "output", "needs -o OUT.csv (the file to resume)")
     rig = load_rig(args.rig)  # a fault first, and the rig's unusual values said once (not by every run)
+    check_duration(rig, args.t_end)
     check_output(args.output, "-o", inputs=protected_inputs(args.rig, rig.data), force=args.force, keep=args.resume,
                  resumable=True)
     check_table_name(args.output, "-o", supported_image_formats(), "vcbmodel plot TABLE.csv -o FILE.{suffix}")
     table = sweep(args.rig, args.vary, samples=args.samples, seed=args.seed, workers=args.workers,
                   scheduler=args.scheduler, output=args.output, stream=None if args.output else sys.stdout,
-                  resume=args.resume, force=args.force, backend=args.backend)
+                  resume=args.resume, force=args.force, backend=args.backend, t_end=args.t_end)
     return 0 if len(table) else 1
 
 

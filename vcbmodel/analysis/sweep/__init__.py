@@ -231,7 +231,7 @@ def sweep(rig: str | Path | dict | Rig, vary: Iterable[str | tuple[str, str] | V
         raise InputError(output, "output", "exists already: give --force to replace it (or --resume to continue it)")
     with table_lock(output):
         has_rows = resume and output and os.path.exists(output) and os.path.getsize(output) > 0
-        finished = read_finished(output, p.header, p.table, rig_fingerprint(p.data, p.rig_path)) if has_rows else {}
+        finished = read_finished(output, p.header, p.table, rig_fingerprint(p.data, p.rig_path, t_end)) if has_rows else {}
         client, own_client = (connect(scheduler) if scheduler is not None else (None, False))
         try:
             if client is not None:
@@ -250,13 +250,13 @@ def _announce(p, finished, todo, where, output, verbose):
                  + f"; simulated with {p.backend}")
 
 
-def _open_outputs(p, finished, output, stream):
+def _open_outputs(p, finished, output, stream, t_end):
     """The table's file (appended to when resuming) and the stream: csv writers, headers written."""
     f = open(output, "a" if finished else "w", newline="") if output else None
     sinks = []
     if f:
         if not finished:
-            f.write(fingerprint_line(rig_fingerprint(p.data, p.rig_path)))
+            f.write(fingerprint_line(rig_fingerprint(p.data, p.rig_path, t_end)))
             csv.writer(f, lineterminator="\n").writerow(p.header)
             f.flush()
         sinks.append((csv.writer(f, lineterminator="\n"), f))
@@ -291,7 +291,7 @@ def _execute(p, finished, client, workers, output, stream, evaluate, t_end, verb
              else f"{n_workers} local process{'es' if n_workers > 1 else ''}")
     _announce(p, finished, todo, where, output, verbose)
     rows = {run: typed_row(r, p.paths, p.columns) for run, r in finished.items()}
-    f, sinks = _open_outputs(p, finished, output, stream)
+    f, sinks = _open_outputs(p, finished, output, stream, t_end)
     runner = _runner(p, todo, client, n_workers, evaluate, t_end)
     values_of = p.table.to_numpy(dtype=float)
     bar = Progress(len(todo), p.name, verbose)

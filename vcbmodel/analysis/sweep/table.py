@@ -118,9 +118,10 @@ def check_table_path(output: str | None, rig_path: str, data: dict) -> None:
 FINGERPRINT_MARK = "# vcbmodel sweep rig sha256 "
 
 
-def rig_fingerprint(data: dict, rig_path: str) -> str:
+def rig_fingerprint(data: dict, rig_path: str, t_end: float | None = None) -> str:
     """SHA-256 (hex) of what a sweep's runs read: the rig's JSON object (its values, keys sorted, comments
-    left out) and the bytes of every file the rig reads (a cam's ``points_file``)."""
+    left out), the bytes of every file the rig reads (a cam's ``points_file``) and the simulated duration
+    ``t_end`` (s) when one is given instead of the experiment's."""
     def strip(obj):
         if isinstance(obj, dict):
             return {k: strip(v) for k, v in obj.items() if not str(k).startswith("_")}
@@ -132,6 +133,8 @@ def rig_fingerprint(data: dict, rig_path: str) -> str:
             h.update(Path(path).read_bytes())
         except OSError:
             h.update(b"(unreadable)")
+    if t_end is not None:
+        h.update(f"t_end={float(t_end)!r}".encode())
     return h.hexdigest()
 
 
@@ -151,8 +154,8 @@ def check_fingerprint(output: str, text: str, fingerprint: str | None) -> None:
                          "by hand or by an older vcbmodel), so a changed rig cannot be told: rerun it with --force")
     if marks[0] != fingerprint:
         raise InputError(output, "--resume", "its rows came from another version of the rig (the rig file or a file "
-                         "it reads, such as its cam's points, changed since): resuming would mix two rigs in one "
-                         "table; rerun with --force, or give another -o")
+                         "it reads, such as its cam's points, changed since) or another --t-end: resuming would mix "
+                         "two in one table; rerun with --force, or give another -o")
 
 
 def cell_text(v: Any) -> str:
