@@ -92,6 +92,31 @@ def test_a_small_swing_in_degrees_without_its_unit_is_refused_not_fitted(tmp_pat
     assert read.channel("pendulum_angle")[0] == pytest.approx(math.radians(2.5))
 
 
+def test_a_rad_record_is_read_through_the_start_offset_and_gain_its_rig_states(tmp_path, capsys):
+    """The degrees check reads the first sample as the diagnosis would: less the rig's stated sensor offset,
+    over its gain, against the record's stated initial angle. A rad record whose sensor reads 2.46 rad more
+    (a stated offset) is accepted; a rig whose pendulum angle is a placeholder but whose record section states
+    where the record starts is accepted; without either, the refusal says both readings."""
+    rig = json.loads(PENDULUM.with_suffix(".rig.json").read_text())
+    rig["pendulum"]["initial_angle"] = math.radians(2.5)
+    t = np.arange(0, 3, 1e-3)
+    swing = math.radians(2.5) * np.cos(2 * np.pi * t / 0.93) * np.exp(-t)
+    offset = 2.5 - math.radians(2.5)  # the first sample reads 2.5: the degrees value, by the offset
+    (tmp_path / "off.csv").write_text("t,pendulum_angle\n" + "".join(f"{a:.3f},{b + offset:.6f}\n" for a, b in zip(t, swing)))
+    (tmp_path / "off.rig.json").write_text(json.dumps(dict(rig, record={"sensor_offset": offset})))
+    _, read = load_pair(tmp_path / "off.csv")
+    assert read.channel("pendulum_angle")[0] == pytest.approx(2.5, abs=1e-6)
+    placeholder = dict(rig, pendulum=dict(rig["pendulum"], initial_angle=0.01))
+    big = 0.55 * np.cos(2 * np.pi * t / 0.93) * np.exp(-t)  # 0.55 rad: 0.01 rad read in degrees is 0.573
+    (tmp_path / "big.csv").write_text("t,pendulum_angle\n" + "".join(f"{a:.3f},{b:.6f}\n" for a, b in zip(t, big)))
+    (tmp_path / "big.rig.json").write_text(json.dumps(dict(placeholder, record={"initial_angle": 0.55})))
+    load_pair(tmp_path / "big.csv")
+    (tmp_path / "big.rig.json").write_text(json.dumps(placeholder))
+    assert main(["identify", str(tmp_path / "big.csv")]) == 2
+    err = capsys.readouterr().err
+    assert "state the unit" in err and "if it is in rad, the rig's pendulum.initial_angle is not where the record starts" in err
+
+
 def test_rows_of_empty_cells_below_a_spreadsheets_data_are_blank_lines(tmp_path):
     _, plain = load_pair(PENDULUM.with_suffix(".csv"))
     _, padded = load_pair(spreadsheet_export(tmp_path, "padded", lambda rows: rows[:100] + [";;"] + rows[100:] + [";;"] * 3))
@@ -296,3 +321,16 @@ def test_a_points_file_without_units_or_with_a_bad_row_is_refused_naming_file_an
     refused_one_line(capsys, write_rig(tmp_path, data, "absent"), "breaker.cam_profile.points_file", "no such file")
     dup = example[:20] + [example[19]] + example[20:]
     refused_one_line(capsys, file_rig(tmp_path, dup, "dup"), "breaker.cam_profile.points_file.17", "repeats point 16")
+
+
+def test_excels_tab_separator_line_is_read_as_a_tab(tmp_path):
+    """``sep=<TAB>`` above a tab-separated table (the line's tab is whitespace at its end)."""
+    _, plain = load_pair(PENDULUM.with_suffix(".csv"))
+    lines = PENDULUM.with_suffix(".csv").read_text().splitlines()
+    header = next(i for i, line in enumerate(lines) if not line.startswith("#"))
+    body = "\n".join(line.replace(",", "\t") for line in lines[header:])
+    (tmp_path / "tab.csv").write_text("sep=\t\n" + body + "\n")
+    (tmp_path / "tab.rig.json").write_text(PENDULUM.with_suffix(".rig.json").read_text())
+    _, read = load_pair(tmp_path / "tab.csv")
+    assert np.allclose(read.t, plain.t, rtol=0, atol=1e-12)
+    assert np.array_equal(read.channel("pendulum_angle"), plain.channel("pendulum_angle"))

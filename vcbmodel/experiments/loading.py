@@ -95,29 +95,38 @@ def load_record(measurement_path: str | Path, rig: Rig) -> Measurement:
     record.check_record(meas.t, meas.channel(record.measured_channel), meas.path,
                         [v for name, v in meas.channels.items() if name != record.measured_channel])
     if record.initial_angle_field is not None:
-        check_start_in_degrees(meas, record.measured_channel, loaded_value(rig, record.initial_angle_field),
-                               record.initial_angle_field)
+        check_start_in_degrees(meas, record.measured_channel, rig, record.initial_angle_field)
     check_contacts(meas)
     return meas
 
 
-#: A record whose first sample reads the rig's initial angle in degrees within this share, and is at least
-#: :data:`DEGREES_RATIO_LEAST` times that angle in rad, is a record in degrees without its unit stated.
-DEGREES_MATCH = 0.25
+#: A record whose first sample, less the rig's stated sensor offset and over its gain, reads the record's
+#: starting angle (its ``record.initial_angle``, else the rig's) in degrees within this share, and is at
+#: least :data:`DEGREES_RATIO_LEAST` times that angle in rad, is a record in degrees without its unit
+#: stated (a rad record that far from its rig's start is refused too: the message says both readings).
+DEGREES_MATCH = 0.1
 DEGREES_RATIO_LEAST = 20.0
 
 
-def check_start_in_degrees(meas: Measurement, channel: str, initial_angle: float, field: str) -> None:
-    """Refuse an angle record that starts at the rig's initial angle read in degrees (a 2.5 deg pendulum
+def check_start_in_degrees(meas: Measurement, channel: str, rig: Rig, field: str) -> None:
+    """Refuse an angle record that starts at its starting angle read in degrees (a 2.5 deg pendulum
     release written as 2.5 stays within pi, so the range check lets it pass, and the fits would take it as
-    2.5 rad: a wrong diagnosis, not an error)."""
-    first, degrees = float(meas.channel(channel)[0]), math.degrees(initial_angle)
+    2.5 rad: a wrong diagnosis, not an error). The starting angle is the rig's ``record.initial_angle``
+    when it states one, else ``field``; the first sample is read through the rig's stated
+    ``record.sensor_offset`` and ``sensor_gain`` (none: 0 and 1)."""
+    stated = rig.record.get("initial_angle")
+    initial_angle = float(stated) if stated is not None else loaded_value(rig, field)
+    where = "record.initial_angle" if stated is not None else field
+    offset, gain = rig.record.get("sensor_offset") or 0.0, rig.record.get("sensor_gain") or 1.0
+    first = (float(meas.channel(channel)[0]) - offset) / gain
+    degrees = math.degrees(initial_angle)
     if initial_angle == 0.0 or abs(first) < DEGREES_RATIO_LEAST * abs(initial_angle):
         return
     if abs(first - degrees) <= DEGREES_MATCH * abs(degrees):
-        raise InputError(meas.path, f"column {channel!r}", f"starts at {first:.4g}, the rig's {field} "
-                         f"{initial_angle:.4g} rad in degrees ({degrees:.4g}): state the unit "
-                         f"({channel} [deg]) or convert the column to rad")
+        raise InputError(meas.path, f"column {channel!r}", f"starts at {first:.4g}, the rig's {where} "
+                         f"{initial_angle:.4g} rad read in degrees ({degrees:.4g}): state the unit ({channel} "
+                         f"[deg]) or convert the column to rad; if it is in rad, the rig's {where} is not where "
+                         "the record starts")
 
 
 def known_channels(rig: Rig | None = None) -> tuple[str, ...]:

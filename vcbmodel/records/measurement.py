@@ -72,7 +72,7 @@ HEADER_UNIT = re.compile(r"(?P<name>[A-Za-z_][A-Za-z0-9_]*)\s*(?:\[(?P<a>[^\]]*)
 
 
 #: Excel's first line naming the separator (``sep=;``), written above the header by some exports.
-SEPARATOR_LINE = re.compile(r"sep=[;,]", re.IGNORECASE)
+SEPARATOR_LINE = re.compile(r"sep=[;,\t]?", re.IGNORECASE)  # a tab (``sep=\t``) is stripped with the line's ends
 
 
 def _dialect(header_text, separator=None):
@@ -206,7 +206,7 @@ def _parse(path: str, known: Iterable[str] | None, units: dict[str, str] | None)
             comments.append(s[1:].strip())
             continue
         if header is None and SEPARATOR_LINE.fullmatch(s):  # Excel's separator line, above the header
-            separator = s[-1]
+            separator = s[-1] if s[-1] in ";,\t" else "\t"
             continue
         if header is None:
             dialect = _dialect(s, separator)
