@@ -121,7 +121,11 @@ class SimulationPool:
         if self.processes > 1:
             self.pool = ProcessPoolExecutor(max_workers=self.processes, mp_context=multiprocessing.get_context("fork"),
                                             initializer=_worker_start)
-            list(self.pool.map(_noop, range(self.processes)))
+            started = set()  # every worker has run its start (a signal before it would still kill it)
+            for _ in range(200):
+                started.update(self.pool.map(_started, range(self.processes)))
+                if len(started) >= self.processes:
+                    break
 
     def run(self, jobs) -> list:
         """Results of ``jobs`` (:func:`run_job`), in order; a job run before is not run again."""
@@ -211,8 +215,11 @@ class SimulationPool:
         self.close()
 
 
-def _noop(_):
-    return None
+def _started(_) -> int:
+    """A worker's pid, after its start (:func:`_worker_start`) ran; the short wait lets every worker take
+    one of the pool's first tasks."""
+    time.sleep(0.005)
+    return os.getpid()
 
 
 #: Linux's prctl option that signals a process when its parent ends.
