@@ -16,5 +16,13 @@ class InputError(ValueError):
         return (InputError, (self.path, self.field, self.message))
 
 
+class ImpossibleValue(InputError):
+    """A rig value beyond what any mechanism has (a unit slip: grams typed as kg), refused naming the slip
+    (:func:`vcbmodel.rig.plausibility.plausibility`)."""
+
+    def __reduce__(self):
+        return (ImpossibleValue, (self.path, self.field, self.message))
+
+
 class SimulationError(RuntimeError):
     """The solver failed or produced non-finite values (exit status 1)."""

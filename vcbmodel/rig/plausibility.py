@@ -21,7 +21,7 @@ from typing import TYPE_CHECKING
 import numpy as np
 
 from .. import parameters as P
-from ..errors import InputError
+from ..errors import ImpossibleValue, InputError
 from ..laws.breaker import segment_stiffness
 from ..laws.cam_follower import TWO_PI, follower_displacement, kinematic_follower_angle, rest_geometry
 from ..laws.springs import chain_for
@@ -46,7 +46,7 @@ def _numbers(data: dict, path: str) -> Iterator[tuple[str, float]]:
 
 
 def plausibility(rd: Reader, data: dict) -> tuple[str, ...]:
-    """Check each field of ``PLAUSIBLE`` the rig gives: refuse (``rd.fail``) a value beyond the
+    """Check each field of ``PLAUSIBLE`` the rig gives: refuse (:class:`ImpossibleValue`) a value beyond the
     refusal limits, naming the unit slip that gives it; return one warning per merely unusual value
     (``FIELD: VALUE UNIT is unusual ...``)."""
     warnings = []
@@ -55,9 +55,11 @@ def plausibility(rd: Reader, data: dict) -> tuple[str, ...]:
             size = abs(v)
             usual = f"usual {_span(low, high, unit)}"
             if no_high is not None and size > no_high:
-                rd.fail(name, f"{v:g} {unit} is impossible here (at most {no_high:g} {unit}; {usual}): {slip_high}")
+                raise ImpossibleValue(rd.path, name, f"{v:g} {unit} is impossible here (at most {no_high:g} {unit}; "
+                                      f"{usual}): {slip_high}")
             if no_low is not None and 0.0 < size < no_low:
-                rd.fail(name, f"{v:g} {unit} is impossible here (at least {no_low:g} {unit}; {usual}): {slip_low}")
+                raise ImpossibleValue(rd.path, name, f"{v:g} {unit} is impossible here (at least {no_low:g} {unit}; "
+                                      f"{usual}): {slip_low}")
             if (high is not None and size > high) or (low is not None and 0.0 < size < low):
                 warnings.append(f"{name}: {v:g} {unit} is unusual ({usual}); check its unit")
     return tuple(warnings)

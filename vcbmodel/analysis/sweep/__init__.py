@@ -44,7 +44,7 @@ from typing import Any, TextIO
 
 import pandas as pd
 
-from ...errors import InputError
+from ...errors import ImpossibleValue, InputError
 from ...experiments import experiment_of
 from ...experiments.loading import rig_from_data
 from ...compiled import BACKEND_NAME
@@ -125,9 +125,11 @@ def check_no_unit_slip(data: dict, table: pd.DataFrame, rig_path: str | None) ->
         for value in {float(given.min()), float(given.max())} if len(given) else ():
             try:
                 rig_from_data(with_overrides(data, {path: value}), rig_path)
-            except InputError as e:
-                if e.field == path and "is impossible here" in e.message:
+            except ImpossibleValue as e:
+                if e.field == path:
                     raise InputError("--vary", path, e.message) from None
+            except InputError:
+                pass  # another value that makes this run's rig invalid: its failed row
 
 
 def plan(rig: str | Path | dict | Rig, vary: Iterable[str | tuple[str, str] | Vary] | dict[str, str] = (), *,
