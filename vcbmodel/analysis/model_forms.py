@@ -181,6 +181,11 @@ class ModelForms:
         return min((f for f in self.forms if f.weighed), key=lambda f: f.bic, default=self.forms[0])
 
     @property
+    def best_plausible(self) -> FormFit:
+        """The form whose values are all plausible with the best BIC (the selected one if none is)."""
+        return min((f for f in self.forms if f.plausible), key=lambda f: f.bic, default=self.forms[0])
+
+    @property
     def undetermined(self) -> list[str]:
         return [q.name for q in self.quantities.values() if not q.determined]
 

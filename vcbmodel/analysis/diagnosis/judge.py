@@ -183,11 +183,10 @@ def rival_form(rig, final: FitResult, forms, options) -> dict | None:
     to a model the record itself rejects. None when there is no such form."""
     if forms is None or not forms.forms:
         return None
-    selected = forms.forms[0]
     # the best form whose values are all in their plausible ranges (when none fits as well as an
     # implausible one, the forms' weights count every form, ``weighed``, but no implausible form
     # refuses the verdict)
-    best = min((f for f in forms.forms if f.plausible), key=lambda f: f.bic, default=selected)
+    selected, best = forms.forms[0], forms.best_plausible
     gain = selected.bic - best.bic
     if best is selected or gain <= options.rival_form_margin:
         return None
