@@ -276,3 +276,50 @@ def test_t_end_runs_a_closing_long_enough_to_latch_and_a_resume_keeps_it(tmp_pat
     assert main(["sweep", str(rig), *vary, "--t-end", "0", "-o", str(tmp_path / "zero.csv")]) == 2
     assert capsys.readouterr().err.strip().endswith("--t-end: t_end: must be a positive number of seconds")
     assert not (tmp_path / "zero.csv").exists()
+
+
+def test_a_sweep_whose_every_run_failed_exits_1_with_one_line_and_keeps_its_table(rig, tmp_path, capsys):
+    """Every run failed: status 1 and one line naming how many and the first reason (a script can tell);
+    the table is still written, the record of each run's reason. One ok run keeps status 0, judged on the
+    whole table: a --resume that only adds failed rows to a table with an ok row is a success, a --resume
+    of an all-failed table fails again."""
+    out = tmp_path / "failed.csv"
+    assert main(["sweep", rig, "--vary", "pendulum.mass=-60:0:2", "--workers", "1", "-o", str(out), "-q"]) == 1
+    err = capsys.readouterr().err.strip().splitlines()
+    assert err == [f"vcbmodel: simulation failed: every run of the sweep failed (2 of 2); the first, run 1: pendulum.mass: "
+                   f"must be positive, got -60; the table {out} gives each run's reason"]
+    rows = read_rows(out)
+    assert [r[-1] for r in rows[1:]] == ["failed: pendulum.mass: must be positive, got -60",
+                                         "failed: pendulum.mass: must be positive, got 0"]
+    assert main(["sweep", rig, "--vary", "pendulum.mass=-60:0:2", "--workers", "1", "-o", str(out), "--resume", "-q"]) == 1
+    assert "every run of the sweep failed (2 of 2)" in capsys.readouterr().err
+    # runs 1 and 2 fail, run 3 (60 kg) is ok: a success, also when the ok row came first and --resume adds the failures
+    mixed = tmp_path / "mixed.csv"
+    assert main(["sweep", rig, "--vary", "pendulum.mass=-60:60:3", "--workers", "1", "-o", str(mixed), "-q"]) == 0
+    lines = mixed.read_text().splitlines(keepends=True)
+    mixed.write_text(lines[0] + lines[1] + lines[4])  # the fingerprint, the header, the ok run 3
+    assert main(["sweep", rig, "--vary", "pendulum.mass=-60:60:3", "--workers", "1", "-o", str(mixed), "--resume", "-q"]) == 0
+    assert capsys.readouterr().err == ""
+    # to stdout, the same line names stdout
+    assert main(["sweep", rig, "--vary", "pendulum.mass=-60:0:2", "--workers", "1", "-q"]) == 1
+    captured = capsys.readouterr()
+    assert len(captured.out.strip().splitlines()) == 3 and captured.err.strip().endswith("the table (stdout) gives each run's reason")
+
+
+def test_a_t_end_spelt_out_at_its_default_resumes_like_none_and_another_is_refused(rig, tmp_path, capsys):
+    """--t-end at the experiment's own duration runs the very runs no --t-end does: the same fingerprint
+    (so tables written without it keep theirs, the rig's alone), either resumes the other's table; another
+    --t-end is refused."""
+    default = experiment_of("pendulum").default_duration
+    usual, spelt = tmp_path / "usual.csv", tmp_path / "spelt.csv"
+    vary = ["--vary", "friction.mu_k=0.13:0.13:1", "--workers", "1", "-q"]
+    assert main(["sweep", rig, *vary, "-o", str(usual)]) == 0
+    assert main(["sweep", rig, *vary, "--t-end", f"{default:g}", "-o", str(spelt)]) == 0
+    first = usual.read_text().splitlines()[0]
+    assert first == spelt.read_text().splitlines()[0] == S.table.fingerprint_line(
+        S.table.rig_fingerprint(pendulum_data(), rig)).strip()
+    assert main(["sweep", rig, *vary, "--t-end", f"{default:g}", "-o", str(usual), "--resume"]) == 0
+    assert main(["sweep", rig, *vary, "-o", str(spelt), "--resume"]) == 0
+    assert capsys.readouterr().err == ""
+    assert main(["sweep", rig, *vary, "--t-end", f"{default / 2:g}", "-o", str(usual), "--resume"]) == 2
+    assert "another --t-end" in capsys.readouterr().err

@@ -366,7 +366,26 @@ def cmd_sweep(args: argparse.Namespace) -> int:
     table = sweep(args.rig, args.vary, samples=args.samples, seed=args.seed, workers=args.workers,
                   scheduler=args.scheduler, output=args.output, stream=None if args.output else sys.stdout,
                   resume=args.resume, force=args.force, backend=args.backend, t_end=args.t_end)
-    return 0 if len(table) else 1
+    require_a_result(table, args.output)
+    return 0
+
+
+def require_a_result(table, output: str | None) -> None:
+    """A sweep none of whose runs gave a result (every row ``failed: reason``) is a failed simulation:
+    a SimulationError naming how many failed and the first reason (exit status 1). Its table is written
+    all the same, as the record of why. A ``not_closed`` row is a result (the breaker did not close in
+    the simulated time, as ``simulate`` reports it with status 0), so one such row, or one ``ok``, keeps
+    the sweep a success. Judged on the whole table, rows a ``--resume`` kept included."""
+    status = table["status"].astype(str)
+    failed = status.str.startswith("failed")
+    if len(table) and not failed.all():
+        return
+    if not len(table):
+        raise SimulationError("the sweep ran no run")
+    first = table.loc[failed.idxmax()]
+    where = f"the table {output}" if output else "the table (stdout)"
+    raise SimulationError(f"every run of the sweep failed ({int(failed.sum())} of {len(table)}); the first, run "
+                          f"{int(first['run'])}: {status[failed.idxmax()][len('failed: '):]}; {where} gives each run's reason")
 
 
 def cmd_plot(args: argparse.Namespace) -> int:

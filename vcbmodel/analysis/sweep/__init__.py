@@ -233,7 +233,7 @@ def sweep(rig: str | Path | dict | Rig, vary: Iterable[str | tuple[str, str] | V
         raise InputError(output, "output", "exists already: give --force to replace it (or --resume to continue it)")
     with table_lock(output):
         has_rows = resume and output and os.path.exists(output) and os.path.getsize(output) > 0
-        finished = read_finished(output, p.header, p.table, rig_fingerprint(p.data, p.rig_path, t_end)) if has_rows else {}
+        finished = read_finished(output, p.header, p.table, rig_fingerprint(p.data, p.rig_path, _stated(p, t_end, evaluate))) if has_rows else {}
         client, own_client = (connect(scheduler) if scheduler is not None else (None, False))
         try:
             if client is not None:
@@ -245,6 +245,15 @@ def sweep(rig: str | Path | dict | Rig, vary: Iterable[str | tuple[str, str] | V
                 client.close()
 
 
+def _stated(p: SweepPlan, t_end: float | None, evaluate: Callable | None) -> float | None:
+    """The duration (s) a table's fingerprint hashes: None for the experiment's own, also when it is
+    spelt out (``--t-end 0.055`` on a closing runs the very runs no ``--t-end`` does, so either resumes
+    the other's table); a custom ``evaluate`` decides its own default, so its ``t_end`` is kept as given."""
+    if t_end is None or evaluate is not None:
+        return t_end
+    return None if float(t_end) == float(experiment_of(p.experiment).default_duration) else t_end
+
+
 def _announce(p, finished, todo, where, output, verbose):
     if verbose:
         progress((f"{p.name}: {len(p.table)} runs ({p.draw}), {len(finished)} already in {output}; {len(todo)} to run "
@@ -252,13 +261,13 @@ def _announce(p, finished, todo, where, output, verbose):
                  + f"; simulated with {p.backend}")
 
 
-def _open_outputs(p, finished, output, stream, t_end):
+def _open_outputs(p, finished, output, stream, stated_t_end):
     """The table's file (appended to when resuming) and the stream: csv writers, headers written."""
     f = open(output, "a" if finished else "w", newline="") if output else None
     sinks = []
     if f:
         if not finished:
-            f.write(fingerprint_line(rig_fingerprint(p.data, p.rig_path, t_end)))
+            f.write(fingerprint_line(rig_fingerprint(p.data, p.rig_path, stated_t_end)))
             csv.writer(f, lineterminator="\n").writerow(p.header)
             f.flush()
         sinks.append((csv.writer(f, lineterminator="\n"), f))
@@ -293,7 +302,7 @@ def _execute(p, finished, client, workers, output, stream, evaluate, t_end, verb
              else f"{n_workers} local process{'es' if n_workers > 1 else ''}")
     _announce(p, finished, todo, where, output, verbose)
     rows = {run: typed_row(r, p.paths, p.columns) for run, r in finished.items()}
-    f, sinks = _open_outputs(p, finished, output, stream, t_end)
+    f, sinks = _open_outputs(p, finished, output, stream, _stated(p, t_end, evaluate))
     runner = _runner(p, todo, client, n_workers, evaluate, t_end)
     values_of = p.table.to_numpy(dtype=float)
     bar = Progress(len(todo), p.name, verbose)
