@@ -124,6 +124,20 @@ def test_a_figure_the_evaluation_adds_gets_its_row(run, monkeypatch):
                                                                  "figure": "making_current_A"}
 
 
+def test_a_plain_closing_shows_no_close_open_row_a_run_that_trips_does(run, monkeypatch):
+    """The close-open time belongs to a run that trips (a CO: first touch to the last pole's parting); a
+    plain closing has none to show, in the text or the JSON. A run with opening figures gets the row."""
+    rig, result, fom = run
+    assert fom["opening"] is None and fom["close_open_time_s"] is None
+    report = summaries.closing_report(result, rig)
+    assert "close open" not in report_text(report).lower()
+    assert all(row.get("figure") != "close_open_time_s" for row in report_json(report)["summary"])
+    tripped = dict(fom, opening={"opening_time_s": 0.01850}, close_open_time_s=0.02023)
+    monkeypatch.setattr(summaries, "result_figures", lambda r, g: tripped)
+    text = report_text(summaries.closing_report(result, rig))
+    assert re.search(r"close open time\s+ms\s+20.23\b", text)
+
+
 def test_simulate_json_gives_each_pole_with_its_limit(tmp_path, capsys):
     rig = write_rig(tmp_path, P.REFERENCE_BREAKER, "ref")
     assert main(["simulate", str(rig), "--backend", "fast", "-o", str(tmp_path / "c.csv"), "--json", "-q"]) == 0

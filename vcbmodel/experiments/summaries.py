@@ -242,6 +242,9 @@ def pole_rows(fom: dict, extra: list[dict], rig: Rig) -> list[Row]:
 NOT_BREAKER_ROWS = {"closing_speed_m_s", "zone_speed_min_m_s", "zone_speed_max_m_s", "first_touch_s", "bounce_count", "bounce_duration_s",
                     "final_travel_m", "end_s", "contacts_reopen_s", "cam_falls_back_s", "lift_lost_m",
                     "shaft_velocity_end_rad_s", "cam_angle_end_deg", "roller_first_lift_off_s", "max_pressure_angle_deg"}
+#: Whole-run figures of an opening, shown only for a run that trips (an O, a CO: its ``opening`` figures
+#: are there); a plain closing has no close-open time to show, not an empty one.
+OPENING_ONLY_ROWS = {"close_open_time_s"}
 
 
 def closing_report(result: SimulationResult, rig: Rig) -> Report:
@@ -251,6 +254,8 @@ def closing_report(result: SimulationResult, rig: Rig) -> Report:
     fom = result_figures(result, rig)
     rows = [Row(key, what, [value], unit) for key, what, value, unit in breaker_figures(fom, rig)]
     shown = {key for key, *_ in breaker_figures(fom, rig)} | NOT_BREAKER_ROWS
+    if fom.get("opening") is None:  # the run does not trip
+        shown |= OPENING_ONLY_ROWS
     rows += [Row(key, label(key), [value], unit_of_name(key)) for key, value in fom.items()
              if key not in shown and unit_of_name(key) and isinstance(value, (int, float, type(None)))
              and not isinstance(value, bool)]
