@@ -4,6 +4,7 @@ closing onto a fault, the closed rest on the trip latch, trip-free, the kinetic 
 making current's effect. Tolerances are set from measured numbers (given in each test) with a margin."""
 import copy
 import math
+from dataclasses import replace
 
 import numpy as np
 import pytest
@@ -143,6 +144,30 @@ def test_kinetic_margin_is_the_cams_least_energy_on_the_way_to_its_latch(referen
         margins.append(figures_of_merit(simulate(weak, backend="compiled", t_end=0.1), weak))
     assert margins[0]["latched"] and margins[0]["kinetic_margin_J"] < f["kinetic_margin_J"] - 20.0
     assert margins[1]["latched"] is False and margins[1]["kinetic_margin_J"] is None and margins[1]["latch_short_deg"] > 0.5
+
+
+@needs_compiler
+def test_a_wiggle_at_the_solvers_resolution_is_no_turn_back_a_real_one_fails_the_closing(reference):
+    """The run cut at 45 ms (the cam on its way after the touch, latching not judged), then made to stop
+    for its last samples: at a speed of -1e-9 rad/s (the angle a hair back) it is still not judged, as a
+    cam that never turned back; run back 0.2 deg (twice parameters.CAM_TURN_BACK_ANGLE) the closing fails."""
+    r = simulate(reference, backend="compiled", t_end=0.045)
+    ch, t = r.channels, r.t
+    last = t >= t[-1] - 1e-3  # the last millisecond
+    k = int(np.argmax(last))
+
+    def stopped(speed, back):
+        """The last millisecond at ``speed`` (rad/s), the angle running back ``back`` (rad) from where it stopped."""
+        w, theta = ch["shaft_velocity"].copy(), ch["cam_angle"].copy()
+        w[last] = speed
+        theta[last] = theta[k - 1] - back * (t[last] - t[k - 1]) / (t[-1] - t[k - 1])
+        return figures_of_merit(replace(r, channels={**ch, "shaft_velocity": w, "cam_angle": theta}), reference)
+
+    assert figures_of_merit(r, reference)["latched"] is None
+    wiggle = stopped(-1e-9, 1e-12)
+    assert wiggle["latched"] is None and wiggle["kinetic_at_touch_J"] > 0  # not judged, not failed
+    back = stopped(-2 * P.CAM_TURN_BACK_ANGLE / 1e-3, 2 * P.CAM_TURN_BACK_ANGLE)
+    assert back["latched"] is False and back["kinetic_margin_J"] is None and back["latch_short_deg"] > 1.0
 
 
 @needs_compiler

@@ -11,7 +11,9 @@ back before its holding latch engages, and the contacts reopen. The margin is th
 energy of the cam (with the springs' pin mass on it) from the first touch until the cam reaches its
 holding latch's angle (the end stop's without a holding latch): what was left when it was least.
 ``kinetic_margin_J`` is None when the cam does not get there: ``latched`` False once it has turned
-back short of it, None when the run ends with the cam still on its way (a longer run tells);
+back short of it (run back from its farthest angle by more than ``parameters.CAM_TURN_BACK_ANGLE``,
+0.1 deg: a negative speed at the solver's resolution is no turn-back), None when the run ends with
+the cam still on its way or stopped less far back (a longer run tells);
 ``latch_short_deg``: how far short its farthest angle after the touch stays.
 """
 from __future__ import annotations
@@ -20,6 +22,7 @@ from typing import TYPE_CHECKING
 
 import numpy as np
 
+from .. import parameters as P
 from ..laws.breaker import BreakerLaws, pole_gaps
 from ..laws.cam_follower import cam_roller_contact
 from ..laws.cycle import CycleLaws, open_angle
@@ -67,7 +70,7 @@ def kinetic_margin(result: SimulationResult, rig: Rig, first_touch: float | None
     reached = np.nonzero(theta[k0:] >= target)[0]
     if not reached.size:
         # short of its latch: a failure once the cam has turned back, else the run ended first (not known)
-        turned_back = bool(np.any(result.channels["shaft_velocity"][k0:] < 0.0))
+        turned_back = turned_back_angle(theta[k0:]) > P.CAM_TURN_BACK_ANGLE
         return empty | {"kinetic_at_touch_J": at_touch, "latched": False if turned_back else None,
                         "latch_short_deg": float(np.degrees(target - np.max(theta[k0:])))}
     k1 = k0 + int(reached[0])
@@ -75,6 +78,15 @@ def kinetic_margin(result: SimulationResult, rig: Rig, first_touch: float | None
     return {"kinetic_at_touch_J": at_touch, "kinetic_margin_J": margin,
             "kinetic_margin_fraction": margin / at_touch if at_touch > 0 else None, "latched": True,
             "latched_s": float(t[k1]), "latch_short_deg": 0.0}
+
+
+def turned_back_angle(theta: np.ndarray) -> float:
+    """How far (rad) the cam angle ``theta`` (rad, over time) has run back from its farthest angle so far,
+    at most: 0 for a cam that never turns back; a wiggle at the solver's resolution gives about nothing
+    (the closing counts as turned back beyond ``parameters.CAM_TURN_BACK_ANGLE``)."""
+    if not theta.size:
+        return 0.0
+    return float(np.max(np.maximum.accumulate(theta) - theta))
 
 
 def replay_memory(laws: BreakerLaws, cycle: CycleLaws, ch: dict[str, np.ndarray], t: np.ndarray) -> np.ndarray:
