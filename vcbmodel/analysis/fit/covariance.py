@@ -46,6 +46,8 @@ from dataclasses import dataclass
 import numpy as np
 from scipy.signal import fftconvolve
 
+from .arithmetic import quiet_trial
+
 #: The lag window spans this many first zero crossings of the residual's autocorrelation: four
 #: quarter periods, one period of an oscillating discrepancy.
 BANDWIDTH_FACTOR = 4
@@ -134,6 +136,7 @@ def _degrees_of_freedom_correction(pieces: float, n_params: int) -> float:
     return pieces / (pieces - n_params) if pieces > n_params + 1 else max(pieces, 1.0)
 
 
+@quiet_trial
 def parameter_covariance(names, J: np.ndarray, r: np.ndarray, segments, dof: int) -> Covariance:
     """Naive and covering covariance of the varied parameters.
 

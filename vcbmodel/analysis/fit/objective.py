@@ -10,6 +10,7 @@ import numpy as np
 from scipy.interpolate import CubicSpline
 
 from ...rig.paths import loaded_with
+from .arithmetic import quiet_trial
 from .dataset import (TIME_SCALE_SPAN, as_recorded, as_recorded_derivative, gain_name, has_gain, has_offset,
                       model_channel, model_time, offset_name, time_scale_name)
 from .options import FitAborted
@@ -207,6 +208,7 @@ class Objective:
             parts.append(np.array(priors))
         return parts
 
+    @quiet_trial
     def residual(self, x) -> np.ndarray:
         """Scaled residual vector at internal coordinates ``x`` (chi^2 = its squared norm)."""
         vals = self.values(x)
@@ -217,6 +219,7 @@ class Objective:
             self.best = (cost, np.array(x, float))
         return r
 
+    @quiet_trial
     def measured_rms(self, x) -> float:
         """rms of the measured channel's residual at ``x`` (its unit; nan when a simulation failed)."""
         vals = self.values(x)
@@ -232,6 +235,7 @@ class Objective:
         return float(np.sqrt(np.mean(r**2)))
 
     # -- Jacobian ---------------------------------------------------------------------------------
+    @quiet_trial
     def jacobian(self, x, scale=1.0) -> np.ndarray:
         """Jacobian of the scaled residuals; ``scale`` multiplies the difference step."""
         vals = self.values(x)

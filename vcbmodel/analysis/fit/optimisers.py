@@ -10,6 +10,8 @@ from dataclasses import dataclass
 import numpy as np
 from scipy.optimize import minimize
 
+from .arithmetic import quiet_trial
+
 log = logging.getLogger(__name__)
 
 #: Levenberg-Marquardt's first damping (relative to the diagonal of J^T J)
@@ -27,6 +29,7 @@ MIN_DAMPING = 1e-7
 UNDAMPED_SHARE = 0.5
 
 
+@quiet_trial
 def levenberg_marquardt(obj, x0, lo, hi, max_iterations: int, chi2_tolerance: float = 0.1,
                         final_jacobian: bool = True, jacobian=None, relative_tolerance: float | None = None) -> tuple:
     """Bounded Levenberg-Marquardt on the objective's scaled residuals (chi^2 = sum r^2).
@@ -191,6 +194,7 @@ def bounded_step(H, g, d, lam, x, lo, hi, free) -> np.ndarray:
     return step
 
 
+@quiet_trial
 def nelder_mead(obj, x0, lo, hi, max_simulations: int | None = None) -> tuple:
     """The paper's simplex from ``x0`` (first simplex: a tenth of each range), within a budget
     of ``max_simulations`` (default 150 per varied parameter). Returns (x, chi^2, None, success,

@@ -21,6 +21,7 @@ import numpy as np
 from ...errors import SimulationError
 from ...experiments import experiment_of
 from ...experiments.simulation import simulate
+from .arithmetic import quiet_trial
 
 
 @dataclass(frozen=True)
@@ -40,6 +41,7 @@ class SimJob:
     backend: str = "fast"  # compiled where it covers the model (vcbmodel.compiled), else Exudyn
 
 
+@quiet_trial
 def run_job(job: SimJob) -> dict | SimulationError:
     """Simulate one job; returns {'t': times (s), channel: samples, ...} or the
     :class:`~vcbmodel.errors.SimulationError` it raised."""
