@@ -425,17 +425,27 @@ def timed_sweep(rig, runs_file, workers=None, scheduler=None):
     return json.loads(p.stdout.strip().splitlines()[-1])
 
 
+#: Seconds a thawed cluster is left to catch up with its heartbeats before a timed sweep uses it
+THAW_SETTLE_S = 0.5
+
+
 class DaskCluster:
     """A scheduler and ``workers`` single-threaded worker processes, started with the ``dask scheduler`` and
-    ``dask worker`` command lines (separate processes, as on a real cluster); a context manager."""
+    ``dask worker`` command lines (separate processes, as on a real cluster); a context manager.
+
+    While another variant is timed the cluster is frozen (:meth:`freeze`, SIGSTOP to its process groups):
+    an idle cluster is not idle (a 2-worker one with its nannies and scheduler took 6.9 % of a core here,
+    heartbeats and memory monitors), and the table's five clusters together would take that from every
+    measured sweep. The scheduler's worker time-to-live is raised to an hour so that a thawed cluster keeps
+    its workers (both sides were stopped; only the wall clock moved on)."""
 
     def __init__(self, folder, workers):
-        self.folder, self.workers, self.procs = Path(folder), workers, []
+        self.folder, self.workers, self.procs, self.frozen = Path(folder), workers, [], False
 
     def __enter__(self):
         self.folder.mkdir(parents=True, exist_ok=True)
         address_file = self.folder / "scheduler.json"
-        env = study_environment()
+        env = dict(study_environment(), DASK_DISTRIBUTED__SCHEDULER__WORKER_TTL="1h")
         quiet = {"stdout": subprocess.DEVNULL, "stderr": subprocess.DEVNULL, "env": env, "start_new_session": True}
         self.procs.append(subprocess.Popen([sys.executable, "-m", "dask", "scheduler", "--host", "127.0.0.1", "--port", "0",
                                             "--no-dashboard", "--scheduler-file", str(address_file)], **quiet))
@@ -448,12 +458,27 @@ class DaskCluster:
         self.address = json.loads(address_file.read_text())["address"]
         return self
 
-    def __exit__(self, *exc):
+    def _signal(self, sig) -> None:
         for p in self.procs:
             try:
-                os.killpg(p.pid, signal.SIGTERM)
+                os.killpg(p.pid, sig)
             except ProcessLookupError:
                 pass
+
+    def freeze(self) -> None:
+        """Stop every process of the cluster (scheduler, nannies, workers) until :meth:`thaw`."""
+        self._signal(signal.SIGSTOP)
+        self.frozen = True
+
+    def thaw(self) -> None:
+        """Continue a frozen cluster and give its event loops :data:`THAW_SETTLE_S` to catch up."""
+        self._signal(signal.SIGCONT)
+        self.frozen = False
+        time.sleep(THAW_SETTLE_S)
+
+    def __exit__(self, *exc):
+        self._signal(signal.SIGCONT)  # a stopped process would keep its SIGTERM pending
+        self._signal(signal.SIGTERM)
         for p in self.procs:
             try:
                 p.wait(timeout=20)
@@ -472,6 +497,30 @@ def worker_check_seconds(address, workers):
             check_workers(client, address, True)
             times.append(time.perf_counter() - t0)
     return {"first_s": times[0], "again_s": times[1]}
+
+
+def idle_processor_share(clusters, seconds=5.0) -> dict:
+    """Processor time an idle cluster takes, as a share of one core ({workers: share}): its scheduler's and
+    workers' process times over ``seconds`` of doing nothing (their nannies not counted), all measured at once."""
+    clients = [distributed.Client(c.address, timeout=60, set_as_default=False) for c in clusters]
+    try:
+        def used(client):
+            return sum(client.run(time.process_time).values()) + client.run_on_scheduler(time.process_time)
+        before = [used(cl) for cl in clients]
+        time.sleep(seconds)
+        return {str(c.workers): (used(cl) - b) / seconds for c, cl, b in zip(clusters, clients, before)}
+    finally:
+        for cl in clients:
+            cl.close()
+
+
+def only_running(clusters, running) -> None:
+    """Freeze every cluster but ``running`` (None: all frozen, for a local sweep); thaw ``running`` if frozen."""
+    for c in clusters:
+        if c is not running and not c.frozen:
+            c.freeze()
+    if running is not None and running.frozen:
+        running.thaw()
 
 
 def sweep_scaling(quick, per_worker=None, rounds=None, after_round=None):
@@ -511,11 +560,12 @@ def sweep_scaling(quick, per_worker=None, rounds=None, after_round=None):
     load_before = os.getloadavg()
     clusters = [DaskCluster(tmp / f"cluster_{w}", w) for w in measured]
     times = {(how, w): [] for w in measured for how in ("local", "dask")}
-    check = {}
+    check, idle = {}, {}
     try:
         for c in clusters:
             c.__enter__()
         check = worker_check_seconds(clusters[-1].address, measured[-1])
+        idle = idle_processor_share(clusters)
         print(f"[{time.strftime('%H:%M:%S')}] clusters up, worker check {check}", file=sys.stderr, flush=True)
         for c, w in zip(clusters, measured):  # warm-up: each cluster's workers import and compile once
             timed_sweep(rig_file, warm_files[w], scheduler=c.address)
@@ -523,20 +573,21 @@ def sweep_scaling(quick, per_worker=None, rounds=None, after_round=None):
         for r in range(rounds):
             for how, w in variants[r % len(variants):] + variants[:r % len(variants)]:
                 c = clusters[measured.index(w)]
+                only_running(clusters, c if how == "dask" else None)
                 times[(how, w)].append(timed_sweep(rig_file, runs_files[w], workers=w if how == "local" else None,
                                                    scheduler=c.address if how == "dask" else None))
                 print(f"[{time.strftime('%H:%M:%S')}] round {r + 1} {how} {w} workers: {times[(how, w)][-1]}",
                       file=sys.stderr, flush=True)
             if after_round is not None:
-                after_round(scaling_result(one, cores, per_worker, r + 1, measured, times, check, load_before))
+                after_round(scaling_result(one, cores, per_worker, r + 1, measured, times, check, load_before, idle))
     finally:
         for c in clusters:
             if c.procs:
                 c.__exit__(None, None, None)
-    return scaling_result(one, cores, per_worker, rounds, measured, times, check, load_before)
+    return scaling_result(one, cores, per_worker, rounds, measured, times, check, load_before, idle)
 
 
-def scaling_result(one, cores, per_worker, rounds, measured, times, check, load_before) -> dict:
+def scaling_result(one, cores, per_worker, rounds, measured, times, check, load_before, idle) -> dict:
     """The weak-scaling rows and ratios from the sweeps' ``times`` ({(how, workers): [runs]})."""
     rows = []
     med = {k: {f: statistics.median(x[f] for x in v) for f in ("wall_s", "run_s", "cpu_s")} for k, v in times.items()}
@@ -563,6 +614,7 @@ def scaling_result(one, cores, per_worker, rounds, measured, times, check, load_
         "dask_over_local": {str(w): by[w]["dask_over_local"] for w in by}, "target_dask_over_local": 1.15,
         "local_efficiency": {str(w): by[w]["per_run_and_worker_vs_1"] for w in by}, "target_local_efficiency": 0.85,
         "worker_check_s": check, "simulated_with": one["simulated_with"],
+        "idle_cluster_processor_share": idle, "clusters_not_timed": "frozen (SIGSTOP) while another variant is timed",
         "load_average_before_after": [load_before, os.getloadavg()],
         "note": "a shared machine: other work changes these numbers by tens of percent; the ratios come from one run, interleaved",
     }
@@ -603,6 +655,10 @@ def scaling_table(scaling):
             "wall times mean when other work shares the machine: load average "
             f"{scaling['load_average_before_after'][0][0]:.1f} before, {scaling['load_average_before_after'][1][0]:.1f} after).\n\n")
     text = head + markdown_table(["workers", "runs", "local processes", "vs 1 worker", "Dask", "Dask / local", ""], rows)
+    idle = scaling.get("idle_cluster_processor_share") or {}
+    if idle:
+        text += ("\nA cluster not being timed is frozen (SIGSTOP): idle, each took this share of one core (its scheduler "
+                 "and workers, nannies not counted): " + ", ".join(f"{w} workers {100 * v:.1f} %" for w, v in idle.items()) + ".\n")
     if check:
         text += (f"\nWorker check at a Dask sweep's start (every worker: vcbmodel version, Exudyn, a C compiler): "
                  f"{check['first_s']:.2f} s on fresh workers, {check['again_s']:.3f} s after.\n")

@@ -280,3 +280,38 @@ def test_run_all_prints_a_study_only_when_no_running_study_overlaps_it(tmp_path,
     lines = capsys.readouterr().out.strip().splitlines()
     assert [line.split()[0] for line in lines] == ["short_one.py", "long_one.py"]
     assert "long_one.json" not in lines[0] and "shared.csv" in lines[0] and "long_one.json" in lines[1]
+
+
+def _states(procs, want):
+    """The processes' states (/proc: T stopped, S sleeping) once all read ``want`` or after 5 s."""
+    import time
+    for _ in range(100):
+        states = [Path(f"/proc/{p.pid}/stat").read_text().rsplit(")", 1)[1].split()[0] for p in procs]
+        if all(x == want for x in states):
+            break
+        time.sleep(0.05)
+    return states
+
+
+def test_benchmark_freezes_the_clusters_it_is_not_timing(tmp_path, monkeypatch):
+    """While one variant is timed every other cluster is stopped (an idle Dask cluster takes processor time
+    from the measured sweep); the one timed is running again, and a frozen cluster still ends on exit."""
+    monkeypatch.syspath_prepend(str(STUDIES))  # the studies import their _common
+    benchmark = _load_study("benchmark")
+
+    class Sleeping(benchmark.DaskCluster):  # the benchmark's cluster with `sleep` in place of dask's processes
+        def __enter__(self):
+            self.procs = [subprocess.Popen(["sleep", "60"], start_new_session=True) for _ in range(2)]
+            return self
+
+    clusters = [Sleeping(tmp_path / str(w), w).__enter__() for w in (1, 2)]
+    try:
+        benchmark.only_running(clusters, None)  # a local sweep: all frozen
+        assert _states([p for c in clusters for p in c.procs], "T") == ["T"] * 4
+        benchmark.only_running(clusters, clusters[1])  # Dask on the second: it runs, the first stays frozen
+        assert _states(clusters[1].procs, "S") == ["S", "S"]
+        assert _states(clusters[0].procs, "T") == ["T", "T"]
+    finally:
+        for c in clusters:
+            c.__exit__(None, None, None)
+    assert all(p.poll() is not None for c in clusters for p in c.procs)
