@@ -1,5 +1,7 @@
 """What a breaker engineer takes from a run into a test report (a second new user's trial): the
 making current's channels in simulate's CSV, as rig-format.md's `breaker.making_current` says."""
+import json
+
 import numpy as np
 
 from vcbmodel.app.cli import main
@@ -24,3 +26,24 @@ def test_a_closing_onto_a_fault_writes_each_poles_making_current_and_repulsion(t
     touch = t[np.argmax(contact > 0)]
     assert np.all(current[t < touch] == 0.0) and np.max(np.abs(current)) > 5e4  # the fault flows from the touch
     assert np.max(record.channel("pole_1_repulsion_force")) > 100.0  # Holm's force pushes the contacts apart
+
+
+def test_the_opening_figure_names_the_poles_the_breaker_has(tmp_path):
+    """A single-pole breaker's O: the contact timing panel read 'partings, poles 1/2/3: 3.02 ms'."""
+    import matplotlib.pyplot as plt
+
+    from vcbmodel.app.sequence_plot import sequence_figure
+    from vcbmodel.experiments.loading import load_rig
+    from vcbmodel.experiments.sequence import run_sequence
+
+    for count, names in ((1, "pole 1:"), (2, "poles 1/2:")):
+        data = json.loads(CYCLE.read_text())
+        data["breaker"]["poles"].update(count=count, gap_offsets=[0.0] * count)
+        data["breaker"].pop("main_shaft")
+        path = tmp_path / f"poles{count}.rig.json"
+        path.write_text(json.dumps(data))
+        rig, results = load_rig(str(path)), []
+        fig = sequence_figure(run_sequence(rig, "O", backend="fast", results=results), results, rig, "test")
+        title = " ".join(fig.axes[2].get_title(loc="left").split())
+        assert names in title and "1/2/3" not in title, title
+        plt.close(fig)
