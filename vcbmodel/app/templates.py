@@ -212,7 +212,11 @@ def spring_lines(rig: Rig) -> list[str]:
     c = spring_check(s, pull)
 
     def source(key):
-        return "from the datasheet" if key in s.from_datasheet else "given"
+        if key not in s.from_datasheet:
+            return "given"
+        if key == "mass" and s.density is None:  # say the density the mass rests on: the rig did not give it
+            return f"from the datasheet, at steel's {P.STEEL_DENSITY:g} kg/m^3: no density given"
+        return "from the datasheet"
 
     coil = (f"wire {1e3 * c['wire_diameter_m']:.2f} mm on a {1e3 * c['coil_diameter_m']:.1f} mm mean diameter "
             f"(index {c['coil_diameter_m'] / c['wire_diameter_m']:.3g})"
