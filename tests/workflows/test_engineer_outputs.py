@@ -47,3 +47,19 @@ def test_the_opening_figure_names_the_poles_the_breaker_has(tmp_path):
         title = " ".join(fig.axes[2].get_title(loc="left").split())
         assert names in title and "1/2/3" not in title, title
         plt.close(fig)
+
+
+def test_a_sweeps_figure_says_it_is_simulated(tmp_path, monkeypatch):
+    """A figure an engineer pastes into a test report says what the closing's figure says: simulated."""
+    import pandas as pd
+
+    from vcbmodel.app import table_plot
+
+    rows = [{"run": i + 1, "friction.mu_k": mu, "closing_time_s": 0.04 + 0.1 * (mu - 0.1), "status": "ok"}
+            for i, mu in enumerate((0.10, 0.13, 0.16))]
+    pd.DataFrame(rows).to_csv(tmp_path / "sweep.csv", index=False)
+    drawn = []
+    monkeypatch.setattr(table_plot, "save", lambda fig, output, tight=False: drawn.append(fig))
+    table_plot.plot_sweep(str(tmp_path / "sweep.csv"), "friction.mu_k", ["closing_time_s"], str(tmp_path / "s.png"))
+    title = " ".join(drawn[0]._suptitle.get_text().split())
+    assert "sweep.csv: 3 runs" in title and "SIMULATED, not measured" in title
