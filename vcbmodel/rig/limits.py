@@ -31,6 +31,9 @@ LIMITED_FIGURES = {
     "contact_force_closed": ("N", "contact force at the end of the run"),
     "peak_cam_roller_force": ("N", "largest cam-roller force"),
     "travel_settled": ("s", "travel within 0.05 mm of its final position"),
+    "closing_time_from_coil": ("s", "energising the closing coil to the last pole's touch, at rated supply "
+                               "(IEC 62271-100's closing time; needs breaker.closing_release)"),
+    "kinetic_margin": ("J", "the cam's least kinetic energy from the first touch to its latch"),
 }
 LIMIT_KEYS = ("min", "max", "unit", "source")
 
@@ -73,6 +76,9 @@ def read_limits(rd: Reader, b: dict) -> tuple[Limit, ...]:
             continue
         p = f"breaker.limits.{name}."
         entry = rd.optional_section(section, name, "breaker.limits.", LIMIT_KEYS)
+        if name == "closing_time_from_coil" and "closing_release" not in b:
+            rd.fail(p[:-1], "needs breaker.closing_release, the coil this closing time is counted from "
+                    "(without it, closing_time bounds the time from the latch release)")
         si_unit = LIMITED_FIGURES[name][0]
         unit = entry.get("unit")
         if not isinstance(unit, str):
