@@ -87,3 +87,22 @@ def test_a_catalogues_closing_time_from_the_coil_and_a_kinetic_margin_are_limits
     assert main(args[:-2] + ["--force"]) == 2
     err = capsys.readouterr().err.strip()
     assert "breaker.limits.closing_time_from_coil: needs breaker.closing_release" in err and "\n" not in err
+
+
+def test_a_limit_in_the_wrong_unit_is_refused_by_check(tmp_path, capsys):
+    """A closing speed limit of 1.0-1.5 under 'mm/s', or 0.08 under 'ms' (seconds typed), passed check
+    and then failed every run; now refused naming the field. A bounce limit of 0 (none allowed) stands."""
+    def check(limits):
+        data = json.loads(CYCLE.read_text())
+        data["breaker"]["limits"] = limits
+        (tmp_path / "l.rig.json").write_text(json.dumps(data))
+        code = main(["check", str(tmp_path / "l.rig.json")])
+        return code, capsys.readouterr().err.strip()
+
+    code, err = check({"closing_speed": {"min": 1.0, "max": 1.5, "unit": "mm/s"}})
+    assert code == 2 and "breaker.limits.closing_speed.min: 1 mm/s (0.001 m/s) is no limit" in err and "\n" not in err
+    code, err = check({"closing_time": {"max": 0.08, "unit": "ms"}})
+    assert code == 2 and "breaker.limits.closing_time.max: 0.08 ms" in err
+    code, err = check({"contact_force_closed": {"min": 3, "unit": "N"}})
+    assert code == 2 and "breaker.limits.contact_force_closed.min" in err
+    assert check({"bounce_duration": {"max": 0, "unit": "ms"}, "closing_speed": {"min": 1, "max": 1.5, "unit": "m/s"}})[0] == 0

@@ -12,6 +12,7 @@ from __future__ import annotations
 import math
 from dataclasses import dataclass
 
+from .. import parameters as P
 from .units import to_si
 from .reader import Reader
 
@@ -92,8 +93,22 @@ def read_limits(rd: Reader, b: dict) -> tuple[Limit, ...]:
             rd.fail(p + "min", "give min, max or both")
         if low is not None and high is not None and low > high:
             rd.fail(p + "max", "is below min")
+        check_plausible(rd, name, low, high, unit.strip(), known[1])
         source = entry.get("source", "")
         if not isinstance(source, str):
             rd.fail(p + "source", "must be text")
         limits.append(Limit(name, low, high, unit.strip(), source))
     return tuple(limits)
+
+
+def check_plausible(rd: Reader, name: str, low: float | None, high: float | None, unit: str, factor: float) -> None:
+    """Refuse a nonzero bound (SI) no breaker's limit has (:data:`vcbmodel.parameters.LIMIT_PLAUSIBLE`):
+    a unit slip, ``0.08`` under ``ms`` or ``1.0-1.5`` under ``mm/s``, that would fail every run."""
+    span = P.LIMIT_PLAUSIBLE.get(name)
+    if span is None:
+        return
+    for key, value in (("min", low), ("max", high)):
+        if value is not None and value != 0.0 and not span[0] <= value <= span[1]:
+            si = LIMITED_FIGURES[name][0]
+            rd.fail(f"breaker.limits.{name}.{key}", f"{value / factor:g} {unit} ({value:g} {si}) is no limit a breaker's "
+                    f"{name.replace('_', ' ')} has ({span[0]:g} to {span[1]:g} {si}): is the unit right?")
