@@ -59,6 +59,15 @@ def test_a_scopes_units_row_in_words_reads_the_time_in_seconds(tmp_path, capsys)
     assert "volts.csv: line 2, column 'pendulum_angle': the units row says 'Volt'" in err
 
 
+def test_an_older_scope_layout_with_the_data_in_later_columns_is_refused_saying_so(tmp_path, capsys):
+    """A Tektronix TDS CSV: settings in columns 1-3 of the first lines, the data in columns 4-5."""
+    rows = pendulum_rows()
+    settings = ["Record Length,6001,", "Sample Interval,0.001,", "Trigger Point,0,"]
+    lines = [f"{settings[k] if k < 3 else ',,'},{row}" for k, row in enumerate(rows)]
+    err = refusal(write(tmp_path, "tds", lines), capsys)
+    assert "tds.csv: line 4: the first column is empty and the values start in column 4" in err
+
+
 def test_a_sample_interval_the_data_does_not_have_is_refused(tmp_path, capsys):
     preamble = [line.replace("0.001", "0.0001") for line in TEK_PREAMBLE]
     err = refusal(write(tmp_path, "tek", preamble + ["TIME,pendulum_angle"] + pendulum_rows()), capsys)

@@ -268,6 +268,11 @@ def _preamble_line(cells: list, path: str, line: int, preamble: dict, comments: 
         at = min((ln for ln, _ in preamble.values()), default=line)
         name = next(iter(preamble), cells[0])
         raise InputError(path, f"line {at}", f"the first column must be the time, 't' or 'time', got {name[:40]!r}")
+    if cells[0] == "":
+        k = next((j for j, c in enumerate(cells, start=1) if c), len(cells))
+        raise InputError(path, f"line {line}", f"the first column is empty and the values start in column {k}: an "
+                         "instrument's layout with its settings in the first columns (an older Tektronix CSV)? Keep "
+                         "the time and channel columns alone, headed t and the channel")
     value = ", ".join(c for c in cells[1:] if c)
     preamble.setdefault(cells[0], (line, value))
     comments.append(f"{cells[0]}: {value}" if value else cells[0])
