@@ -106,3 +106,18 @@ def test_a_limit_in_the_wrong_unit_is_refused_by_check(tmp_path, capsys):
     code, err = check({"contact_force_closed": {"min": 3, "unit": "N"}})
     assert code == 2 and "breaker.limits.contact_force_closed.min" in err
     assert check({"bounce_duration": {"max": 0, "unit": "ms"}, "closing_speed": {"min": 1, "max": 1.5, "unit": "m/s"}})[0] == 0
+
+
+def test_check_lists_the_limits_simulate_will_judge(tmp_path, capsys):
+    """check said nothing of breaker.limits: a limit typed in the wrong unit or left out went unseen."""
+    data = json.loads(CYCLE.read_text())
+    data["breaker"]["limits"] = {"closing_speed": {"min": 1.0, "max": 1.5, "unit": "m/s"},
+                                 "closing_time_from_coil": {"max": 60, "unit": "ms"}}
+    (tmp_path / "l.rig.json").write_text(json.dumps(data))
+    assert main(["check", str(tmp_path / "l.rig.json")]) == 0
+    out = capsys.readouterr().out
+    assert "limits simulate judges (breaker.limits): closing speed 1-1.5 m/s; closing time from coil <= 60 ms" in out
+    del data["breaker"]["limits"]
+    (tmp_path / "l.rig.json").write_text(json.dumps(data))
+    assert main(["check", str(tmp_path / "l.rig.json")]) == 0
+    assert "limits: none given (breaker.limits)" in capsys.readouterr().out

@@ -165,7 +165,16 @@ def cam_lines(rig: Rig) -> list[str]:
              f"(gap {1e3 * b.poles.contact_gap:g} mm)"]
             + pressure_lines(rig)
             + [f"  closing speed: mean pole speed from {1e3 * b.speed_zone[0]:g} to {1e3 * b.speed_zone[1]:g} mm before "
-               "each pole's touch (breaker.speed_zone)"] + stop_lines(b) + shaft_lines(b) + cycle_check_lines(b))
+               "each pole's touch (breaker.speed_zone)"] + stop_lines(b) + shaft_lines(b) + cycle_check_lines(b)
+            + limit_lines(b))
+
+
+def limit_lines(b) -> list[str]:
+    """The acceptance limits ``simulate`` will judge (``breaker.limits``), each as stated with its unit."""
+    if not b.limits:
+        return ["  limits: none given (breaker.limits): simulate judges no figure"]
+    return ["  limits simulate judges (breaker.limits): "
+            + "; ".join(f"{lim.figure.replace('_', ' ')} {lim.text()}" for lim in b.limits)]
 
 
 def shaft_lines(b) -> list[str]:
