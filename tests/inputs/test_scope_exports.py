@@ -68,6 +68,11 @@ def test_an_older_scope_layout_with_the_data_in_later_columns_is_refused_saying_
     assert "tds.csv: line 4: the first column is empty and the values start in column 4" in err
 
 
+def test_a_units_row_above_the_header_is_refused_not_read_as_a_preamble(tmp_path, capsys):
+    err = refusal(write(tmp_path, "above", ["s,rad", "t,pendulum_angle"] + pendulum_rows()), capsys)
+    assert "above.csv: line 1: reads as a units row (s, rad) above the header" in err
+
+
 def test_a_sample_interval_the_data_does_not_have_is_refused(tmp_path, capsys):
     preamble = [line.replace("0.001", "0.0001") for line in TEK_PREAMBLE]
     err = refusal(write(tmp_path, "tek", preamble + ["TIME,pendulum_angle"] + pendulum_rows()), capsys)
