@@ -70,7 +70,10 @@ def test_an_older_scope_layout_with_the_data_in_later_columns_is_refused_saying_
 
 def test_a_units_row_above_the_header_is_refused_not_read_as_a_preamble(tmp_path, capsys):
     err = refusal(write(tmp_path, "above", ["s,rad", "t,pendulum_angle"] + pendulum_rows()), capsys)
-    assert "above.csv: line 1: reads as a units row (s, rad) above the header" in err
+    assert "above.csv: line 1: reads as a units row (s, rad) with no header above it" in err
+    err = refusal(write(tmp_path, "typo", ["tim,pendulum_angle", "ms,rad"] + pendulum_rows()), capsys)
+    assert "typo.csv: line 2: reads as a units row (ms, rad)" in err and "line 1, does not start with the time" in err
+    assert "got 'tim'" in err
 
 
 def test_a_sample_interval_the_data_does_not_have_is_refused(tmp_path, capsys):

@@ -269,8 +269,10 @@ def _preamble_line(cells: list, path: str, line: int, preamble: dict, comments: 
         name = next(iter(preamble), cells[0])
         raise InputError(path, f"line {at}", f"the first column must be the time, 't' or 'time', got {name[:40]!r}")
     if len(cells) > 1 and all(UNIT_CELL.fullmatch(c) and to_si(UNIT_CELL.fullmatch(c).group("unit")) for c in cells):
-        raise InputError(path, f"line {line}", f"reads as a units row ({', '.join(cells)[:40]}) above the header: a "
-                         "units row goes right under the header (or state each unit in the header: t [ms])")
+        above = next(((key, ln) for key, (ln, _) in preamble.items()), None)
+        where = (f"; the line above it, line {above[1]}, does not start with the time ('t' or 'time'), got {above[0][:40]!r}"
+                 if above else ": a units row goes right under the header (or state each unit in it: t [ms])")
+        raise InputError(path, f"line {line}", f"reads as a units row ({', '.join(cells)[:40]}) with no header above it{where}")
     if cells[0] == "":
         k = next((j for j, c in enumerate(cells, start=1) if c), len(cells))
         raise InputError(path, f"line {line}", f"the first column is empty and the values start in column {k}: an "
