@@ -26,6 +26,16 @@ def test_a_closing_onto_a_fault_writes_each_poles_making_current_and_repulsion(t
     touch = t[np.argmax(contact > 0)]
     assert np.all(current[t < touch] == 0.0) and np.max(np.abs(current)) > 5e4  # the fault flows from the touch
     assert np.max(record.channel("pole_1_repulsion_force")) > 100.0  # Holm's force pushes the contacts apart
+    lines = [line for line in out.read_text().splitlines() if not line.startswith("#")]
+    header = lines[0].split(",")
+    k = header.index("pole_1_making_current")
+    header[k] += " [kA]"  # an analyser's current channel in kA
+    rows = [row.split(",") for row in lines[1:]]
+    for row in rows:
+        row[k] = repr(float(row[k]) / 1e3)
+    out.write_text("\n".join([",".join(header)] + [",".join(row) for row in rows]) + "\n")
+    _, in_ka = load_pair(out)
+    assert np.allclose(in_ka.channel("pole_1_making_current"), current, rtol=1e-12, atol=1e-9)
 
 
 def test_the_opening_figure_names_the_poles_the_breaker_has(tmp_path):
