@@ -131,3 +131,22 @@ def test_check_lists_the_limits_simulate_will_judge(tmp_path, capsys):
     (tmp_path / "l.rig.json").write_text(json.dumps(data))
     assert main(["check", str(tmp_path / "l.rig.json")]) == 0
     assert "limits: none given (breaker.limits)" in capsys.readouterr().out
+
+
+def test_a_sequence_judges_its_closings_against_the_limits(tmp_path, capsys):
+    """O-0.3s-CO printed the CO's bounce beside no limit: a bounce over the rig's limit read as fine."""
+    data = json.loads(CYCLE.read_text())
+    data["breaker"]["limits"] = {"bounce_duration": {"max": 1, "unit": "ms"},
+                                 "closing_speed": {"min": 1.0, "max": 1.5, "unit": "m/s"},
+                                 "contact_force_closed": {"min": 3, "unit": "kN"}}
+    rig = tmp_path / "seq.rig.json"
+    rig.write_text(json.dumps(data))
+    assert main(["simulate", str(rig), "--sequence", "O-0.3s-CO", "--backend", "fast", "-q"]) == 0
+    out = capsys.readouterr().out
+    assert "  limits (breaker.limits): bounce duration <= 1 ms FAIL; closing speed 1-1.5 m/s pass; " \
+           "not judged in a sequence: contact force closed" in out
+    assert out.splitlines()[-1] == "limits (breaker.limits), the closings: FAIL: CO at 0.3 s: bounce duration (limit <= 1 ms)"
+    assert main(["simulate", str(rig), "--sequence", "O-0.3s-CO", "--backend", "fast", "--json", "-q"]) == 0
+    co = json.loads(capsys.readouterr().out)["operations"][1]
+    bounce = next(c for c in co["limits"] if c["limit"] == "bounce_duration")
+    assert bounce["pass"] is False and bounce["values_si"][0] == co["bounce_duration_s"] > 1e-3
