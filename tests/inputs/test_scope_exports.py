@@ -97,6 +97,17 @@ def test_a_summary_line_below_the_data_is_refused_saying_so(tmp_path, capsys, ta
     assert f"summ.csv: line {len(lines) - len(tail) + 1}:" in err and "below the data" in err
 
 
+def test_rows_broken_from_the_first_or_the_middle_on_are_not_called_a_summary(tmp_path, capsys):
+    """Decimal commas in a comma-separated file: every row fails; that is no summary below the data."""
+    rows = [row.replace(".", ",") for row in pendulum_rows()]
+    err = refusal(write(tmp_path, "commas", ["t,pendulum_angle"] + rows), capsys)
+    assert "commas.csv: line 2: has 4 values" in err and "below the data" not in err
+    rows = pendulum_rows()
+    err = refusal(write(tmp_path, "half", ["t,pendulum_angle"] + rows[:100] + [r.replace(".", ",") for r in rows[100:]]),
+                  capsys)
+    assert "half.csv: line 102: has 4 values" in err and "below the data" not in err
+
+
 def test_a_text_row_inside_the_data_is_not_called_a_summary(tmp_path, capsys):
     rows = pendulum_rows()
     lines = ["t,pendulum_angle"] + rows[:100] + ["Mean,0.0123"] + rows[100:]
