@@ -377,6 +377,22 @@ REFERENCE_LIMITS = {
     "bounce_duration": {"max": 2, "unit": "ms", "source": "assumed manufacturer practice (IEC 62271-100: none)"},
     "contact_force_closed": {"min": 3, "unit": "kN", "source": "40 kA interrupters need 3-4 kN"},
 }
+#: The span (SI units) within which a stated acceptance limit (``breaker.limits``, nonzero bounds) can
+#: belong to a medium-voltage breaker; a limit outside it is a unit slip (seconds typed under ``ms``,
+#: ``mm/s`` for ``m/s``, ``N`` for ``kN``) that would fail every run, and is refused naming the field.
+#: Wide on purpose (a decade or more beyond the range of real breakers) so that no real limit is
+#: refused: spring mechanisms close in 20-100 ms (40-80 ms from the command, above); contacts close at
+#: 0.5-3 m/s and open at 1-6 m/s; bounce and pole spread are judged in ms (IEC 62271-100's 5 ms);
+#: wipe and travels are millimetres (a 2-5 mm wipe on a 6-25 mm gap); contact forces are 1-10 kN per
+#: pole (interrupters of 16-63 kA), cam-roller forces up to tens of kN; a cam's kinetic margin is
+#: tens to hundreds of J (the reference keeps 78 J of 282 J).
+LIMIT_PLAUSIBLE = {
+    "closing_time": (1e-3, 1.0), "closing_time_from_coil": (1e-3, 1.0), "pole_spread": (1e-5, 0.1),
+    "bounce_duration": (1e-5, 0.1), "travel_settled": (1e-3, 1.0),
+    "closing_speed": (0.05, 20.0), "touch_speed": (0.05, 20.0),
+    "wipe": (1e-5, 0.05), "overtravel": (1e-5, 0.05), "rebound": (1e-5, 0.05),
+    "contact_force_closed": (10.0, 1e5), "peak_cam_roller_force": (10.0, 1e6), "kinetic_margin": (1e-3, 1e5),
+}
 REFERENCE_BREAKER_SECTION = {
     "cam_profile": {"base_radius": 0.045, "lift": 0.0094, "rise_start": 0.20944, "rise_end": 4.18879,
                     "return_start": 5.75959, "return_end": 6.42281},

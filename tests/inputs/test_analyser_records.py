@@ -76,6 +76,7 @@ def test_a_closing_export_without_the_drive_travel_says_what_to_rename(tmp_path,
     line = refused(capsys, ["diagnose", str(f), "--rig", str(rig)], "closing.csv", "line 1")
     assert "needs the column 'follower_displacement' (it has t, pole_1_travel, pole_1_contact)" in line
     assert "name that column 'follower_displacement'" in line
+    assert "not a pole's travel" in line and "the poles alone cannot be fitted" in line  # renaming one would mislead
 
 
 @pytest.mark.parametrize("samples", [3, 10, MIN_SAMPLES - 1])

@@ -69,3 +69,12 @@ def test_coil_stiffness_scales_as_d4_over_d3_n():
     assert coil_stiffness(0.016, 0.048, 12, 79.3e9) == pytest.approx(16 * k)
     assert coil_stiffness(0.008, 0.096, 12, 79.3e9) == pytest.approx(k / 8)
     assert coil_stiffness(0.008, 0.048, 24, 79.3e9) == pytest.approx(k / 2)
+
+
+def test_check_says_the_density_a_datasheet_springs_mass_rests_on(tmp_path):
+    """The mass from a datasheet without `density` is steel's (documented): check says so, not only
+    'from the datasheet'; a given density is the rig's."""
+    text = "\n".join(explain(load_rig(datasheet_rig(tmp_path))))
+    assert "active mass" in text and "from the datasheet, at steel's 7850 kg/m^3: no density given" in text
+    text = "\n".join(explain(load_rig(datasheet_rig(tmp_path, density=8000.0))))
+    assert "no density given" not in text and "kg (from the datasheet)" in text

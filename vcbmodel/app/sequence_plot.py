@@ -136,7 +136,9 @@ def opening_row(row: np.ndarray, result: SimulationResult, rig: Rig, fom: dict, 
     opening_speed_panel(row[1], result, rig, opening, windows, t_ms)
     contact_bars(row[2], result, rig, t_ms)
     times = " / ".join("-" if p is None else f"{1e3 * p:.2f}" for p in opening["parting_s"])
-    row[2].set_title(f"contact timing (bar: closed); partings, poles 1/2/3: {times} ms after the trip", fontsize=9,
+    n = len(opening["parting_s"])
+    poles = "pole 1" if n == 1 else "poles " + "/".join(str(i) for i in range(1, n + 1))
+    row[2].set_title(f"contact timing (bar: closed); partings, {poles}: {times} ms after the trip", fontsize=9,
                      loc="left")
     open_end_panel(row[3], result, opening, t_ms)
     for ax in row[:3]:

@@ -152,7 +152,8 @@ def plot_sweep(path: str, x: str, ys: Sequence[str], output: str) -> None:
     """``vcbmodel plot``: the sweep table at ``path`` drawn into ``output``."""
     table = read_table(path)
     check_columns(table, path, x, ys)
-    save(sweep_figure(table, x, ys, f"{os.path.basename(path)}: {len(table)} runs"), output, tight=False)
+    title = f"{os.path.basename(path)}: {len(table)} runs, SIMULATED, not measured"  # a figure for a test report
+    save(sweep_figure(table, x, ys, title), output, tight=False)
 
 
 def fit_figure(result) -> Figure:

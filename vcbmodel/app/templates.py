@@ -165,7 +165,16 @@ def cam_lines(rig: Rig) -> list[str]:
              f"(gap {1e3 * b.poles.contact_gap:g} mm)"]
             + pressure_lines(rig)
             + [f"  closing speed: mean pole speed from {1e3 * b.speed_zone[0]:g} to {1e3 * b.speed_zone[1]:g} mm before "
-               "each pole's touch (breaker.speed_zone)"] + stop_lines(b) + shaft_lines(b) + cycle_check_lines(b))
+               "each pole's touch (breaker.speed_zone)"] + stop_lines(b) + shaft_lines(b) + cycle_check_lines(b)
+            + limit_lines(b))
+
+
+def limit_lines(b) -> list[str]:
+    """The acceptance limits ``simulate`` will judge (``breaker.limits``), each as stated with its unit."""
+    if not b.limits:
+        return ["  limits: none given (breaker.limits): simulate judges no figure"]
+    return ["  limits simulate judges (breaker.limits): "
+            + "; ".join(f"{lim.figure.replace('_', ' ')} {lim.text()}" for lim in b.limits)]
 
 
 def shaft_lines(b) -> list[str]:
@@ -212,7 +221,11 @@ def spring_lines(rig: Rig) -> list[str]:
     c = spring_check(s, pull)
 
     def source(key):
-        return "from the datasheet" if key in s.from_datasheet else "given"
+        if key not in s.from_datasheet:
+            return "given"
+        if key == "mass" and s.density is None:  # say the density the mass rests on: the rig did not give it
+            return f"from the datasheet, at steel's {P.STEEL_DENSITY:g} kg/m^3: no density given"
+        return "from the datasheet"
 
     coil = (f"wire {1e3 * c['wire_diameter_m']:.2f} mm on a {1e3 * c['coil_diameter_m']:.1f} mm mean diameter "
             f"(index {c['coil_diameter_m'] / c['wire_diameter_m']:.3g})"

@@ -168,6 +168,33 @@ def operation_summary(entry: dict) -> dict:
     return out
 
 
+#: The closing figures a sequence judges against the rig's ``breaker.limits``: {limit: the figures
+#: (SI) it bounds, every one of which must hold: each pole's closing speed through the slowest and the
+#: fastest pole's}. A closing's contact force at the end of its run is not judged (a CO reopens), nor
+#: any figure of the travel after the touch.
+SEQUENCE_LIMITED = {"closing_time": ("closing_time_s",), "closing_time_from_coil": ("closing_time_from_coil",),
+                    "pole_spread": ("pole_spread_s",), "closing_speed": ("zone_speed_min_m_s", "zone_speed_max_m_s"),
+                    "bounce_duration": ("bounce_duration_s",), "bounce_count": ("bounce_count",),
+                    "kinetic_margin": ("kinetic_margin_J",)}
+
+
+def operation_limits(limits: tuple, entry: dict) -> list[dict]:
+    """A closing operation's figures against the rig's limits (:data:`SEQUENCE_LIMITED`): one dict per
+    limit, ``limit`` (its key), ``text`` (as the rig states it), ``values_si`` and ``pass`` (None: the run
+    did not show the figure, e.g. a cam that has not latched has no kinetic margin)."""
+    f, out = entry["figures"], []
+    for lim in limits:
+        keys = SEQUENCE_LIMITED.get(lim.figure)
+        if keys is None or entry["op"] == "O":
+            continue
+        coil = f.get("closing_time_from_coil_s")
+        values = [(coil[1] if coil else None) if k == "closing_time_from_coil" else f.get(k) for k in keys]
+        holds = [lim.holds(None if v is None else float(v)) for v in values]
+        verdict = None if None in holds else all(holds)
+        out.append({"limit": lim.figure, "text": lim.text(), "values_si": values, "pass": verdict})
+    return out
+
+
 def _closed_at_end(f: dict) -> bool:
     """Whether every pole is closed at the end of the run (from its touches, reopenings, partings)."""
     opening = f.get("opening") or {}
@@ -189,6 +216,9 @@ def run_sequence(rig: Rig, text: str, backend: str = "exudyn", results: list | N
         if results is not None:
             results.append(result)
         summary = operation_summary(entry)
+        if step.op != "O" and rig.breaker.limits:
+            summary["limits"] = operation_limits(rig.breaker.limits, entry)
+            summary["limits_not_judged"] = [lim.figure for lim in rig.breaker.limits if lim.figure not in SEQUENCE_LIMITED]
         entries.append(summary)
         notes += _operation_notes(entry, summary, steps[k + 1] if k + 1 < len(steps) else None)
     for key, ops in (("closing_release", ("C", "CO")), ("opening_release", ("O", "CO"))):
@@ -253,7 +283,7 @@ def dead_times(steps: list[Step], entries: list[dict]) -> list[float | None]:
 
 def sequence_lines(report: dict) -> list[str]:
     """The text ``vcbmodel simulate --sequence`` prints: one block per operation, its figures with
-    units (ms, m/s, mm, J), then the notes."""
+    units (ms, m/s, mm, J) and each closing against the limits, then the notes and the closings' verdict."""
     def ms(x):
         return "-" if x is None else f"{1e3 * x:.2f} ms"
 
@@ -280,4 +310,26 @@ def sequence_lines(report: dict) -> list[str]:
                          f"{1e3 * (e['opening_rebound_m'] or 0.0):.3g} mm")
         if e.get("close_open_time_s") is not None:
             lines.append(f"  close-open time {ms(e['close_open_time_s'])}")
-    return lines + [f"note: {n}" for n in report["notes"]]
+        lines += limit_lines(e)
+    return lines + [f"note: {n}" for n in report["notes"]] + sequence_verdict(report)
+
+
+def limit_lines(e: dict) -> list[str]:
+    """An operation's closing against the limits: ``limits: closing speed 1-1.5 m/s pass; ...``."""
+    if not e.get("limits"):
+        return []
+    words = {True: "pass", False: "FAIL", None: "no value"}
+    left = [name.replace("_", " ") for name in e.get("limits_not_judged", [])]
+    return ["  limits (breaker.limits): " + "; ".join(f"{c['limit'].replace('_', ' ')} {c['text']} {words[c['pass']]}"
+                                                      for c in e["limits"])
+            + (f"; not judged in a sequence: {', '.join(left)}" if left else "")]
+
+
+def sequence_verdict(report: dict) -> list[str]:
+    """One line: the closings' limits all pass, or which operation fails which (none without limits)."""
+    judged = [(e, c) for e in report["operations"] for c in e.get("limits", [])]
+    if not judged:
+        return []
+    failed = [f"{e['op']} at {e['command_s']:g} s: {c['limit'].replace('_', ' ')} (limit {c['text']})"
+              for e, c in judged if c["pass"] is False]
+    return ["limits (breaker.limits), the closings: " + (f"FAIL: {'; '.join(failed)}" if failed else "all pass")]

@@ -26,7 +26,8 @@ if TYPE_CHECKING:
 def closing_record_channels(result: SimulationResult, rig: Rig) -> dict[str, tuple[np.ndarray, str]]:
     """What a closing's CSV holds, each channel with its SI unit: the follower's travel (the measured
     channel); per pole, as a breaker analyser records them, travel (m), speed (m/s) and contact (0
-    open, 1 closed: travel beyond the pole's gap), then its contact force and push-rod force (N); the
+    open, 1 closed: travel beyond the pole's gap), then its contact force and push-rod force (N), with
+    a making current its current (A) and Holm repulsion (N); the
     cam's angle (rad) and speed (rad/s), the cam-roller force (N) and the end stop's and holding
     latch's forces (N) where the rig has them. A file ``vcbmodel diagnose`` reads (the analyser's
     channels are fitted, the others ignored)."""

@@ -94,8 +94,9 @@ VCB_CLOSING = Experiment(
     # the follower moves a few centimetres at most: a value above 0.5 is millimetres
     min_duration=2e-3, max_magnitude=0.5, unit_hint=": is it in millimetres? follower_displacement must be in m",
     channel_hint=("the drive's travel (an analyser's travel transducer on the operating rod or main shaft): "
-                  "name that column 'follower_displacement'; each pole's pole_N_travel and pole_N_contact "
-                  "are read beside it"),
+                  "name that column 'follower_displacement', not a pole's travel (a pole stops at its touch "
+                  "while the drive goes on through the wipe: a record of the poles alone cannot be fitted); "
+                  "each pole's pole_N_travel and pole_N_contact are read beside it"),
     build=build, channels=closing_channels, step=default_step, figures_of_merit=figures_of_merit,
     signature=spring_signature,
     # a breaker analyser's timing and travel channels (vcbmodel.records.analyser), fitted when present

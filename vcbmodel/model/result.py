@@ -19,6 +19,7 @@ CHANNEL_UNITS = (
     (r"pole_\d+_lever_angle", "rad"),
     (r"(hold_latch_engaged|pole_\d+_contact)", "-"),
     (r"friction_torque", "N m"),
+    (r"pole_\d+_making_current", "A"),
     (r".*(force|_N)$", "N"),
     (r".*(penetration_rate|rod_rate|pole_\d+_velocity|spring_velocity_\d+_[xy])$", "m/s"),
     (r".*(displacement|travel|penetration|compression|_x|_y)$", "m"),

@@ -61,9 +61,11 @@ def analyser_channels(poles: int) -> tuple[str, ...]:
 
 def simulated_channels(poles: int) -> tuple[str, ...]:
     """Channels ``vcbmodel simulate`` writes into a closing's record beside the analyser's: each pole's
-    speed (m/s), contact force and push-rod force (N), the cam's angle (rad) and speed (rad/s), the
-    cam-roller force and the end stop's and holding latch's forces (N). Read back, never fitted."""
-    per_pole = tuple(f"pole_{i}_{kind}" for i in range(1, poles + 1) for kind in ("velocity", "contact_force", "rod_force"))
+    speed (m/s), contact force and push-rod force (N), with a making current (``breaker.making_current``)
+    its current (A) and Holm repulsion (N), the cam's angle (rad) and speed (rad/s), the cam-roller
+    force and the end stop's and holding latch's forces (N). Read back, never fitted."""
+    kinds = ("velocity", "contact_force", "rod_force", "making_current", "repulsion_force")
+    per_pole = tuple(f"pole_{i}_{kind}" for i in range(1, poles + 1) for kind in kinds)
     return per_pole + ("cam_angle", "shaft_velocity", "cam_roller_force", "end_stop_force", "hold_latch_force")
 
 

@@ -3,7 +3,8 @@
 channels exist). A breaker analyser's export reads as written: ``t [ms]``, ``pole_1_travel [mm]``,
 or a units row under the header (``ms,mm,-``); every column is converted to SI on reading
 (:mod:`.units`), units such as ``µs``, ``µm`` or ``°`` included (UTF-8). The time column may be
-headed ``t`` or ``time`` (``Time [ms]``, as analysers write it). Reading refuses anything malformed
+headed ``t`` or ``time`` (``Time [ms]``, as analysers write it); an oscilloscope's preamble above the
+header (``Record Length,10000``) is kept as comments, its ``Sample Interval`` checked. Reading refuses anything malformed
 with one line naming the file and the line or column; writing is the inverse (SI)."""
 from __future__ import annotations
 
@@ -176,7 +177,7 @@ def load_measurement(path: str | Path, channel: str | None = None, known: Iterab
         ``t`` in s; each channel in its SI unit (rad, m; 0/1 for contact channels).
     """
     path = str(path)
-    comments, header, header_line, factors, rows, row_lines = _parse(path, known, units)
+    comments, header, header_line, factors, rows, row_lines, preamble = _parse(path, known, units)
     if len(rows) < 3:
         raise InputError(path, "data", f"needs at least 3 samples, has {len(rows)}")
     arr = np.array(rows) * np.array([1.0 if f is None else f for f in factors])
@@ -186,6 +187,7 @@ def load_measurement(path: str | Path, channel: str | None = None, known: Iterab
         k = bad[0]
         raise InputError(path, f"line {row_lines[k + 1]}, column 't'", f"time is not strictly increasing: "
                          f"{rows[k + 1][0]:g} after {rows[k][0]:g} on line {row_lines[k]} (a repeated or misplaced row)")
+    _check_sample_interval(preamble, t, path)
     channels = {col: arr[:, j] for j, col in enumerate(header) if j > 0}
     if channel is not None and channel not in channels:
         hint = f" (it has {', '.join(header)}): {channel_hint}" if channel_hint else ""
@@ -194,12 +196,16 @@ def load_measurement(path: str | Path, channel: str | None = None, known: Iterab
 
 
 def _parse(path: str, known: Iterable[str] | None, units: dict[str, str] | None) -> tuple:
-    """(comments, header, its line, factors to SI, rows of values, each row's line) of a measurement file.
-    A line of empty cells (``;;``, as a spreadsheet exports the formatted rows below its data) is a blank line."""
+    """(comments, header, its line, factors to SI, rows of values, each row's line, preamble) of a
+    measurement file. A line of empty cells (``;;``, as a spreadsheet exports the formatted rows below
+    its data) is a blank line. Lines above a header whose first column names the time, each starting
+    with text (an oscilloscope's ``Record Length,10000``), are an instrument's preamble: kept as
+    comments (``Record Length: 10000``) and in ``preamble`` ({key: (line, value)})."""
     comments, rows, header, header_line, units_row, factors, row_lines = [], [], None, 0, None, [], []
-    separator = None
+    separator, preamble = None, {}
     dialect = (",", False)
-    for i, s in _lines(path, read_bytes(path)):
+    lines = list(_lines(path, read_bytes(path)))
+    for k, (i, s) in enumerate(lines):
         if not s:
             continue
         if s.startswith("#"):
@@ -210,8 +216,9 @@ def _parse(path: str, known: Iterable[str] | None, units: dict[str, str] | None)
             continue
         if header is None:
             dialect = _dialect(s, separator)
-            (header, factors), header_line = _header(_cells(s, *dialect), path, i, units), i
-            _check_header(header, path, i, known)
+            found = _header_or_preamble(_cells(s, *dialect), path, i, units, known, preamble, comments)
+            if found is not None:
+                (header, factors), header_line = found, i
             continue
         cells = _cells(s, *dialect)
         if not any(cells):
@@ -222,11 +229,96 @@ def _parse(path: str, known: Iterable[str] | None, units: dict[str, str] | None)
                 factors = _merge_units(header, factors, units_row, path, i)
                 continue
             units_row = []
-        rows.append(_data_row(cells, header, dialect, path, i))
+        try:
+            rows.append(_data_row(cells, header, dialect, path, i))
+        except InputError as e:
+            raise (_summary_below_the_data(e, lines[k + 1:], header, dialect, path) if rows else e) from None
         row_lines.append(i)
+    if header is None and preamble:
+        _preamble_line([next(iter(preamble))], path, min(line for line, _ in preamble.values()), {}, [], first=True)
     if header is None:
         raise InputError(path, "header", "missing (no line other than comments)")
-    return comments, header, header_line, factors, rows, row_lines
+    return comments, header, header_line, factors, rows, row_lines, preamble
+
+
+def _header_or_preamble(cells: list, path: str, line: int, units: dict[str, str] | None, known: Iterable[str] | None,
+                        preamble: dict, comments: list) -> tuple | None:
+    """(names, factors) of the header line, checked; None for a blank line or a preamble line (kept)."""
+    if not any(cells):
+        return None
+    if not _names_time(cells[0]):
+        _preamble_line(cells, path, line, preamble, comments)
+        return None
+    names, factors = _header(cells, path, line, units)
+    _check_header(names, path, line, known)
+    return names, factors
+
+
+def _names_time(cell: str) -> bool:
+    """Whether a header cell names the time column (``t``, ``Time [ms]``, ``TIME``)."""
+    m = HEADER_UNIT.fullmatch(cell)
+    return (m.group("name") if m else cell).lower() in TIME_NAMES
+
+
+def _preamble_line(cells: list, path: str, line: int, preamble: dict, comments: list, first: bool = False) -> None:
+    """Keep a line above the header as an instrument's preamble (``Record Length,10000``), or refuse it
+    as the header whose first column is not the time: a line that starts with a number (data before
+    any header), or the preamble's first line when no header follows (``first``)."""
+    if first or NUMBER.fullmatch(cells[0]):
+        at = min((ln for ln, _ in preamble.values()), default=line)
+        name = next(iter(preamble), cells[0])
+        raise InputError(path, f"line {at}", f"the first column must be the time, 't' or 'time', got {name[:40]!r}")
+    if len(cells) > 1 and all(UNIT_CELL.fullmatch(c) and to_si(UNIT_CELL.fullmatch(c).group("unit")) for c in cells):
+        above = next(((key, ln) for key, (ln, _) in preamble.items()), None)
+        where = (f"; the line above it, line {above[1]}, does not start with the time ('t' or 'time'), got {above[0][:40]!r}"
+                 if above else ": a units row goes right under the header (or state each unit in it: t [ms])")
+        raise InputError(path, f"line {line}", f"reads as a units row ({', '.join(cells)[:40]}) with no header above it{where}")
+    if cells[0] == "":
+        k = next((j for j, c in enumerate(cells, start=1) if c), len(cells))
+        raise InputError(path, f"line {line}", f"the first column is empty and the values start in column {k}: an "
+                         "instrument's layout with its settings in the first columns (an older Tektronix CSV)? Keep "
+                         "the time and channel columns alone, headed t and the channel")
+    value = ", ".join(c for c in cells[1:] if c)
+    preamble.setdefault(cells[0], (line, value))
+    comments.append(f"{cells[0]}: {value}" if value else cells[0])
+
+
+#: The most lines below the data that a refused row and its followers may be to be called a summary
+#: (a spreadsheet's mean, max, count... under its data); more are a file whose rows are broken.
+SUMMARY_LINES = 10
+
+
+def _summary_below_the_data(error: InputError, rest: list, header: list, dialect: tuple, path: str) -> InputError:
+    """A data row's refusal, saying so when it and every line after it, a few at most, are text, not
+    samples (a spreadsheet's ``Mean,0.012`` or ``6001 samples`` under the data)."""
+    if sum(1 for _, s in rest if s and not s.startswith("#")) > SUMMARY_LINES:
+        return error
+    for i, s in rest:
+        cells = _cells(s, *dialect) if s and not s.startswith("#") else []
+        if not any(cells):
+            continue
+        try:
+            _data_row(cells, header, dialect, path, i)
+        except InputError:
+            continue
+        return error
+    return InputError(error.path, error.field, f"{error.message}: a summary line below the data, not a sample "
+                      "(delete it, or start it with '#' to keep it as a comment)")
+
+
+def _check_sample_interval(preamble: dict, t: np.ndarray, path: str) -> None:
+    """Refuse a record whose time steps are not the sample interval its instrument's preamble states
+    (``Sample Interval,1e-05``, in the preamble's ``Horizontal Units``, seconds if absent): a time
+    column in another unit, or a preamble of another record."""
+    stated = preamble.get("Sample Interval")
+    horizontal = preamble.get("Horizontal Units", (0, "s"))[1]
+    if stated is None or to_si(horizontal) != ("s", 1.0) or t.size < 2 or not NUMBER.fullmatch(stated[1]):
+        return
+    step, interval = float(np.median(np.diff(t))), float(stated[1])
+    if interval > 0 and abs(step - interval) > 1e-3 * interval:
+        raise InputError(path, f"line {stated[0]}", f"the preamble's sample interval {interval:g} s is not the "
+                         f"data's time step {step:g} s: the time column is in another unit, or the preamble "
+                         "belongs to another record")
 
 
 def _merge_units(header: list, factors: list, units_row: list, path: str, line: int) -> list:
@@ -254,6 +346,11 @@ def _data_row(cells: list, header: list, dialect: tuple, path: str, line: int) -
 def _check_header(header, path, line, known):
     if header[0] != "t":
         raise InputError(path, f"line {line}", f"the first column must be the time, 't' or 'time', got {header[0][:40]!r}")
+    for j, col in enumerate(header[1:], start=2):
+        if col == "" or col in TIME_NAMES:
+            what = "has no name" if col == "" else f"is a second time column {col!r}"
+            raise InputError(path, f"line {line}, column {j}", f"{what}: two records side by side? Give one "
+                             "record per file (one time column, then its channels)")
     for col in header[1:]:
         if known is not None and col not in known:
             raise InputError(path, f"column {col[:40]!r}", f"unknown channel{did_you_mean(col, known)} "

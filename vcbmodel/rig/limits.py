@@ -12,6 +12,7 @@ from __future__ import annotations
 import math
 from dataclasses import dataclass
 
+from .. import parameters as P
 from .units import to_si
 from .reader import Reader
 
@@ -31,6 +32,9 @@ LIMITED_FIGURES = {
     "contact_force_closed": ("N", "contact force at the end of the run"),
     "peak_cam_roller_force": ("N", "largest cam-roller force"),
     "travel_settled": ("s", "travel within 0.05 mm of its final position"),
+    "closing_time_from_coil": ("s", "energising the closing coil to the last pole's touch, at rated supply "
+                               "(IEC 62271-100's closing time; needs breaker.closing_release)"),
+    "kinetic_margin": ("J", "the cam's least kinetic energy from the first touch to its latch"),
 }
 LIMIT_KEYS = ("min", "max", "unit", "source")
 
@@ -73,6 +77,9 @@ def read_limits(rd: Reader, b: dict) -> tuple[Limit, ...]:
             continue
         p = f"breaker.limits.{name}."
         entry = rd.optional_section(section, name, "breaker.limits.", LIMIT_KEYS)
+        if name == "closing_time_from_coil" and "closing_release" not in b:
+            rd.fail(p[:-1], "needs breaker.closing_release, the coil this closing time is counted from "
+                    "(without it, closing_time bounds the time from the latch release)")
         si_unit = LIMITED_FIGURES[name][0]
         unit = entry.get("unit")
         if not isinstance(unit, str):
@@ -86,8 +93,22 @@ def read_limits(rd: Reader, b: dict) -> tuple[Limit, ...]:
             rd.fail(p + "min", "give min, max or both")
         if low is not None and high is not None and low > high:
             rd.fail(p + "max", "is below min")
+        check_plausible(rd, name, low, high, unit.strip(), known[1])
         source = entry.get("source", "")
         if not isinstance(source, str):
             rd.fail(p + "source", "must be text")
         limits.append(Limit(name, low, high, unit.strip(), source))
     return tuple(limits)
+
+
+def check_plausible(rd: Reader, name: str, low: float | None, high: float | None, unit: str, factor: float) -> None:
+    """Refuse a nonzero bound (SI) no breaker's limit has (:data:`vcbmodel.parameters.LIMIT_PLAUSIBLE`):
+    a unit slip, ``0.08`` under ``ms`` or ``1.0-1.5`` under ``mm/s``, that would fail every run."""
+    span = P.LIMIT_PLAUSIBLE.get(name)
+    if span is None:
+        return
+    for key, value in (("min", low), ("max", high)):
+        if value is not None and value != 0.0 and not span[0] <= value <= span[1]:
+            si = LIMITED_FIGURES[name][0]
+            rd.fail(f"breaker.limits.{name}.{key}", f"{value / factor:g} {unit} ({value:g} {si}) is no limit a breaker's "
+                    f"{name.replace('_', ' ')} has ({span[0]:g} to {span[1]:g} {si}): is the unit right?")

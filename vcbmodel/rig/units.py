@@ -19,11 +19,12 @@ from typing import NamedTuple
 #: their entry (``us`` and ``µs``; ``-`` and ``1`` for 0/1 or dimensionless channels).
 TO_SI = {
     "s": ("s", 1.0), "ms": ("s", 1e-3), "us": ("s", 1e-6), "µs": ("s", 1e-6), "min": ("s", 60.0),
+    "second": ("s", 1.0), "seconds": ("s", 1.0), "sec": ("s", 1.0),  # a Keysight scope's units row: second,Volt
     "m": ("m", 1.0), "mm": ("m", 1e-3), "cm": ("m", 1e-2), "um": ("m", 1e-6), "µm": ("m", 1e-6),
     "rad": ("rad", 1.0), "mrad": ("rad", 1e-3), "deg": ("rad", math.pi / 180), "°": ("rad", math.pi / 180),
     "m/s": ("m/s", 1.0), "mm/ms": ("m/s", 1.0), "mm/s": ("m/s", 1e-3),
     "rad/s": ("rad/s", 1.0), "deg/s": ("rad/s", math.pi / 180), "rpm": ("rad/s", 2 * math.pi / 60),
-    "N": ("N", 1.0), "kN": ("N", 1e3), "N m": ("N m", 1.0), "Nm": ("N m", 1.0),
+    "N": ("N", 1.0), "kN": ("N", 1e3), "N m": ("N m", 1.0), "Nm": ("N m", 1.0), "J": ("J", 1.0), "A": ("A", 1.0), "kA": ("A", 1e3),
     "-": ("-", 1.0), "1": ("-", 1.0),
 }
 

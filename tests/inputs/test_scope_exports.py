@@ -1,0 +1,115 @@
+"""Records as instruments export them (a second new user's trial): an oscilloscope's CSV with its
+preamble ('Record Length', 'Sample Interval', ... above the header), two records pasted side by
+side, a summary line below the data, an analyser's record of the poles alone. Each is read as meant
+or refused with one line naming the file, the line or column, and the cause."""
+import numpy as np
+import pytest
+
+from vcbmodel.app.cli import main
+from vcbmodel.experiments.loading import load_pair
+
+from conftest import ROOT
+
+PENDULUM = ROOT / "results" / "synthetic" / "pendulum_10deg"
+#: A Tektronix MSO's CSV preamble (key, value lines above the header), as the scope saves it.
+TEK_PREAMBLE = ["Model,MSO44", "Firmware Version,1.30.5", "", "Waveform Type,ANALOG", "Point Format,Y",
+                "Horizontal Units,s", "Sample Interval,0.001", "Record Length,6001", "Gating,0.0%,100.0%",
+                "Vertical Units,V", "Vertical Scale,0.05", ",", ",", "Label,"]
+
+
+def pendulum_rows():
+    lines = PENDULUM.with_suffix(".csv").read_text().splitlines()
+    return [line for line in lines if not line.startswith("#")][1:]
+
+
+def write(tmp_path, name, lines, ends="\r\n"):
+    (tmp_path / f"{name}.csv").write_text(ends.join(lines) + ends)
+    (tmp_path / f"{name}.rig.json").write_text(PENDULUM.with_suffix(".rig.json").read_text())
+    return tmp_path / f"{name}.csv"
+
+
+def refusal(path, capsys):
+    assert main(["identify", str(path), "--law", "hybrid"]) == 2
+    out, err = capsys.readouterr()
+    err = err.strip()
+    assert out == "" and "\n" not in err and "Traceback" not in err
+    return err
+
+
+def test_an_oscilloscopes_preamble_above_the_header_is_read_as_comments(tmp_path):
+    _, plain = load_pair(PENDULUM.with_suffix(".csv"))
+    path = write(tmp_path, "tek", TEK_PREAMBLE + ["TIME,pendulum_angle"] + pendulum_rows())
+    _, scope = load_pair(path)
+    assert np.array_equal(scope.t, plain.t)
+    assert np.array_equal(scope.channel("pendulum_angle"), plain.channel("pendulum_angle"))
+    assert "Record Length: 6001" in scope.comments and "Sample Interval: 0.001" in scope.comments
+
+
+def test_a_preamble_whose_header_does_not_name_the_time_is_refused_naming_its_first_line(tmp_path, capsys):
+    path = write(tmp_path, "keysight", ["x-axis,1", "second,Volt"] + pendulum_rows())
+    err = refusal(path, capsys)
+    assert "keysight.csv: line 1: the first column must be the time" in err and "'x-axis'" in err
+
+
+def test_a_scopes_units_row_in_words_reads_the_time_in_seconds(tmp_path, capsys):
+    _, plain = load_pair(PENDULUM.with_suffix(".csv"))
+    _, scope = load_pair(write(tmp_path, "keysight", ["t,pendulum_angle", "second,rad"] + pendulum_rows()))
+    assert np.array_equal(scope.t, plain.t)
+    err = refusal(write(tmp_path, "volts", ["t,pendulum_angle", "second,Volt"] + pendulum_rows()), capsys)
+    assert "volts.csv: line 2, column 'pendulum_angle': the units row says 'Volt'" in err
+
+
+def test_an_older_scope_layout_with_the_data_in_later_columns_is_refused_saying_so(tmp_path, capsys):
+    """A Tektronix TDS CSV: settings in columns 1-3 of the first lines, the data in columns 4-5."""
+    rows = pendulum_rows()
+    settings = ["Record Length,6001,", "Sample Interval,0.001,", "Trigger Point,0,"]
+    lines = [f"{settings[k] if k < 3 else ',,'},{row}" for k, row in enumerate(rows)]
+    err = refusal(write(tmp_path, "tds", lines), capsys)
+    assert "tds.csv: line 4: the first column is empty and the values start in column 4" in err
+
+
+def test_a_units_row_above_the_header_is_refused_not_read_as_a_preamble(tmp_path, capsys):
+    err = refusal(write(tmp_path, "above", ["s,rad", "t,pendulum_angle"] + pendulum_rows()), capsys)
+    assert "above.csv: line 1: reads as a units row (s, rad) with no header above it" in err
+    err = refusal(write(tmp_path, "typo", ["tim,pendulum_angle", "ms,rad"] + pendulum_rows()), capsys)
+    assert "typo.csv: line 2: reads as a units row (ms, rad)" in err and "line 1, does not start with the time" in err
+    assert "got 'tim'" in err
+
+
+def test_a_sample_interval_the_data_does_not_have_is_refused(tmp_path, capsys):
+    preamble = [line.replace("0.001", "0.0001") for line in TEK_PREAMBLE]
+    err = refusal(write(tmp_path, "tek", preamble + ["TIME,pendulum_angle"] + pendulum_rows()), capsys)
+    assert "tek.csv: line 7: the preamble's sample interval 0.0001 s" in err and "0.001 s" in err
+
+
+@pytest.mark.parametrize("header, pad, column", [("t,pendulum_angle,t,pendulum_angle", ",", "column 3"),
+                                                 ("t,pendulum_angle,,t,pendulum_angle", ",,", "column 3")])
+def test_two_records_side_by_side_are_refused_as_such(tmp_path, capsys, header, pad, column):
+    rows = [f"{row}{pad}{row}" for row in pendulum_rows()]
+    err = refusal(write(tmp_path, "side", [header] + rows), capsys)
+    assert f"side.csv: line 1, {column}" in err and "two records side by side" in err
+
+
+@pytest.mark.parametrize("tail", [["Mean,0.0123", "Max,0.1745"], ["6001 samples"]])
+def test_a_summary_line_below_the_data_is_refused_saying_so(tmp_path, capsys, tail):
+    lines = ["t,pendulum_angle"] + pendulum_rows() + tail
+    err = refusal(write(tmp_path, "summ", lines), capsys)
+    assert f"summ.csv: line {len(lines) - len(tail) + 1}:" in err and "below the data" in err
+
+
+def test_rows_broken_from_the_first_or_the_middle_on_are_not_called_a_summary(tmp_path, capsys):
+    """Decimal commas in a comma-separated file: every row fails; that is no summary below the data."""
+    rows = [row.replace(".", ",") for row in pendulum_rows()]
+    err = refusal(write(tmp_path, "commas", ["t,pendulum_angle"] + rows), capsys)
+    assert "commas.csv: line 2: has 4 values" in err and "below the data" not in err
+    rows = pendulum_rows()
+    err = refusal(write(tmp_path, "half", ["t,pendulum_angle"] + rows[:100] + [r.replace(".", ",") for r in rows[100:]]),
+                  capsys)
+    assert "half.csv: line 102: has 4 values" in err and "below the data" not in err
+
+
+def test_a_text_row_inside_the_data_is_not_called_a_summary(tmp_path, capsys):
+    rows = pendulum_rows()
+    lines = ["t,pendulum_angle"] + rows[:100] + ["Mean,0.0123"] + rows[100:]
+    err = refusal(write(tmp_path, "mid", lines), capsys)
+    assert "mid.csv: line 102: value 'Mean' is not a number" in err and "below the data" not in err
