@@ -19,6 +19,7 @@ from __future__ import annotations
 
 import time
 from collections.abc import Sequence
+from concurrent.futures import ThreadPoolExecutor
 from dataclasses import dataclass, field
 
 from ...errors import SimulationError
@@ -33,7 +34,7 @@ from .judge import EXPLAINS, evidence, explains, scoring_noise
 from .library import columns, library_for, model_columns, reading, unit
 from .refit import MACHINERY, profile, refit, terms_of
 from .regression import Selection, select
-from .search import forward
+from .search import forward, side_by_side
 
 
 #: Profiles of a coefficient taken at most (each one whose parabola's lowest point lies away from the
@@ -259,11 +260,8 @@ def _prune(dataset, registered, support, after, index, noise, sigma, pool, shoul
     Returns (support, fit, index of its row in ``tried``)."""
     while len(support) > 1:
         weakest = None
-        for name in support:
-            rest = {k: v for k, v in terms_of(after).items() if k != name}
-            try:
-                without = refit(dataset, after, rest, None, sigma=sigma, pool=pool, should_stop=should_stop)
-            except (SimulationError, FitAborted):
+        for name, without in zip(support, _without_each(dataset, after, support, sigma, pool, should_stop)):
+            if without is None:
                 continue
             step = evidence(without, after, noise, sigma, kw["bic_margin"], kw["min_gain"])
             if not step["earned"] and (weakest is None or step["delta_bic"] < weakest[1]["delta_bic"]):
@@ -280,18 +278,32 @@ def _prune(dataset, registered, support, after, index, noise, sigma, pool, shoul
     return support, after, index
 
 
+def _without_each(dataset, after, support, sigma, pool, should_stop) -> list:
+    """``after`` refitted without each term of ``support`` in turn (None where the refit failed); the
+    refits are independent: side by side, in ``support``'s order."""
+    def without(name):
+        rest = {k: v for k, v in terms_of(after).items() if k != name}
+        try:
+            return refit(dataset, after, rest, None, sigma=sigma, pool=pool, should_stop=should_stop)
+        except (SimulationError, FitAborted):
+            return None
+    with ThreadPoolExecutor(max_workers=side_by_side(pool, len(support))) as threads:
+        return list(threads.map(without, support))
+
+
 def discover_among(rig, measurement, fits: Sequence[FitResult], **options) -> Discovery:
     """Discovery on each registered model of ``fits`` (e.g. the diagnosis's final model and its
     starting model; ``options`` as :func:`discover`), keeping the one whose resulting model (with
     its discovered torque, or without when none earned it) has the lowest BIC under one noise model.
     A registered effect the diagnosis added can be a stand-in for the torque it could not name
-    (a Stribeck curve bent to follow air drag): with the torque found, the simpler base can win."""
+    (a Stribeck curve bent to follow air drag): with the torque found, the simpler base can win.
+    The searches on the bases are independent: they run side by side (:func:`.search.side_by_side`;
+    each still runs its own independent fits side by side), and the choice reads them in ``fits``' order."""
     if not covers(rig.experiment):
         return discover(rig, measurement, fits[0], **options)
-    results = []
-    for f in fits:
-        if all(f is not r.given for r in results):
-            results.append(discover(rig, measurement, f, **options))
+    bases = [f for i, f in enumerate(fits) if all(f is not g for g in fits[:i])]
+    with ThreadPoolExecutor(max_workers=side_by_side(options.get("pool"), len(bases))) as threads:
+        results = list(threads.map(lambda f: discover(rig, measurement, f, **options), bases))
     if len(results) == 1:
         return results[0]
     sigma = options.get("sigma") or min(r.noise for r in results)

@@ -190,13 +190,17 @@ REBASE_FROM = 2
 
 
 def _rebased(dataset, given, registered, scored, sigma, pool, should_stop) -> FitResult:
-    """``registered``, or the registered model refitted from the best singles' values when better."""
-    best = registered
-    for _, f in sorted(scored, key=lambda s: s[1].chi2)[:REBASE_FROM]:
+    """``registered``, or the registered model refitted from the best singles' values when better (the
+    refits are independent: side by side, read in their order)."""
+    def rebased(f):
         try:
-            again = refit(dataset, given, {}, None, sigma=sigma, pool=pool, should_stop=should_stop, also=f)
+            return refit(dataset, given, {}, None, sigma=sigma, pool=pool, should_stop=should_stop, also=f)
         except (SimulationError, FitAborted):
-            continue
-        if again.chi2 < best.chi2:
-            best = again
+            return None
+    starts = [f for _, f in sorted(scored, key=lambda s: s[1].chi2)[:REBASE_FROM]]
+    best = registered
+    with ThreadPoolExecutor(max_workers=side_by_side(pool, len(starts))) as threads:  # independent fits
+        for again in threads.map(rebased, starts):
+            if again is not None and again.chi2 < best.chi2:
+                best = again
     return best
