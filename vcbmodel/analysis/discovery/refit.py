@@ -99,8 +99,8 @@ def terms_of(fit: FitResult) -> dict[str, float]:
 
 def profile(dataset, fit: FitResult, name: str, noise, *, sigma: float, pool=None, should_stop=None) -> tuple:
     """(standard error, polished fit) of the coefficient of ``name`` from the profile of chi^2 (under
-    ``noise``, the whitened residual): the coefficient fixed PROFILE_STEP either side of its value (the two sides fitted side by side),
-    everything else refitted, a parabola through the three. The profile follows the valley the
+    ``noise``, the whitened residual): the coefficient fixed PROFILE_STEP either side of its value,
+    everything else refitted (the two sides side by side), a parabola through the three. The profile follows the valley the
     friction forms share, where the Jacobian at the fit's end point (its optimiser stops once a step
     would gain less than its tolerance) sees only the valley's steep walls. When the parabola's
     lowest point lies away from the value, the fit is repeated from there (everything free) and
