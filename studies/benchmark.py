@@ -3,7 +3,8 @@
 Wall times are medians of several runs on this machine; tests never assert them.
 ``--scaling-only`` runs the scale-out part alone (Dask against local processes, weak scaling over as
 many workers as the machine has cores) and writes scale_out.json and scale_out.md: how the 16-core
-table in results/scale_out_16_cores/ was made.
+table in results/scale_out_16_cores/ was made. ``--diagnosis-only`` times the nine diagnoses of realistic
+records alone (:func:`diagnosis_times`) and writes diagnosis.json.
 """
 import copy
 import json
@@ -223,9 +224,15 @@ def scaling_only(out: Path, quick: bool) -> None:
 
 
 def main():
-    args = parse_args(__doc__, flags={"--scaling-only": "run the scale-out part alone (scale_out.json, scale_out.md)"})
+    args = parse_args(__doc__, flags={"--scaling-only": "run the scale-out part alone (scale_out.json, scale_out.md)",
+                                      "--diagnosis-only": "time the nine diagnoses alone (diagnosis.json)"})
     if args.scaling_only:
         scaling_only(Path(args.out), args.quick)
+        return
+    if args.diagnosis_only:
+        times = diagnosis_times(Path(tempfile.mkdtemp()))
+        write_json(Path(args.out) / "diagnosis.json", {"diagnosis_s": times})
+        print(times)
         return
     repeat = 1 if args.quick else 3
     out = Path(args.out)

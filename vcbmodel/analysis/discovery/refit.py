@@ -5,6 +5,7 @@ from __future__ import annotations
 
 import math
 from collections.abc import Mapping
+from concurrent.futures import ThreadPoolExecutor
 from dataclasses import replace
 
 from .. import fit as fitting
@@ -99,7 +100,7 @@ def terms_of(fit: FitResult) -> dict[str, float]:
 def profile(dataset, fit: FitResult, name: str, noise, *, sigma: float, pool=None, should_stop=None) -> tuple:
     """(standard error, polished fit) of the coefficient of ``name`` from the profile of chi^2 (under
     ``noise``, the whitened residual): the coefficient fixed PROFILE_STEP either side of its value,
-    everything else refitted, a parabola through the three. The profile follows the valley the
+    everything else refitted (the two sides side by side), a parabola through the three. The profile follows the valley the
     friction forms share, where the Jacobian at the fit's end point (its optimiser stops once a step
     would gain less than its tolerance) sees only the valley's steep walls. When the parabola's
     lowest point lies away from the value, the fit is repeated from there (everything free) and
@@ -109,11 +110,13 @@ def profile(dataset, fit: FitResult, name: str, noise, *, sigma: float, pool=Non
     h = PROFILE_STEP * abs(c)
     if h == 0.0:
         return None, fit
-    sides = []
-    for value in (c - h, c + h):
+
+    def side(value):
         params = {k: replace(p, stderr=None) for k, p in fit.parameters.items()}
         params[key] = replace(params[key], value=value, vary=False)
-        sides.append(_fit_from(dataset, fit, params, sigma, pool, should_stop))
+        return _fit_from(dataset, fit, params, sigma, pool, should_stop)
+    with ThreadPoolExecutor(max_workers=max(1, min(getattr(pool, "processes", 1), 2))) as threads:  # independent fits
+        sides = list(threads.map(side, (c - h, c + h)))
     lo, mid, hi = sides[0].chi2_with(noise), fit.chi2_with(noise), sides[1].chi2_with(noise)
     curvature = (lo + hi - 2.0 * mid) / h**2
     if curvature <= 0:

@@ -104,14 +104,16 @@ def choose(scored: list, margin: float) -> tuple:
 
 
 def forward(dataset, given: FitResult, registered: FitResult, sel, *, sigma: float, quantisation: float, kw: dict,
-            pool=None, should_stop=None) -> dict:
+            pool=None, should_stop=None, max_terms: int = MAX_TERMS) -> dict:
     """Forward selection over ``sel`` (:class:`.regression.Selection`) from ``registered`` (the best
-    registered fit; ``given``: the fit discovery was handed, the base of every refit). Returns
-    {"support": kept terms, "fit": their fit (or None), "tried": rows, "ties": [...], "fits": every fit}."""
+    registered fit; ``given``: the fit discovery was handed, the base of every refit), at most
+    ``max_terms`` terms. Returns {"support": kept terms, "fit": their fit (or None), "tried": rows,
+    "ties": [...], "fits": every fit}."""
     support, current, fits, tried, ties = [], registered, [registered], [], []
     also = registered if registered is not given else None
-    while len(support) < MAX_TERMS:
-        scored = _refits(dataset, given, current if support else also, sel, support, sigma, pool, should_stop)
+    while len(support) < max_terms:
+        scored = _refits(dataset, given, current if support else also, sel, support, sigma, pool, should_stop,
+                         max_terms)
         if not scored:
             break
         scored = _polished(dataset, scored, fits, sigma, quantisation, kw["bic_margin"], pool, should_stop)
@@ -138,11 +140,11 @@ def forward(dataset, given: FitResult, registered: FitResult, sel, *, sigma: flo
             "registered": registered}
 
 
-def _refits(dataset, given, start, sel, support, sigma, pool, should_stop) -> list:
+def _refits(dataset, given, start, sel, support, sigma, pool, should_stop, max_terms: int = MAX_TERMS) -> list:
     """[(form, fit of ``support`` + form)] for each of :func:`options`, in their order; a failed refit
     is left out. The screens are independent fits, run side by side (:func:`side_by_side`)."""
     starts = [(form, *sel.support_fit(support + list(form))) for form in options(sel, support)
-              if len(support) + len(form) <= MAX_TERMS]
+              if len(support) + len(form) <= max_terms]
 
     def screened(item):
         form, coefficients, _, shifts = item
@@ -190,13 +192,17 @@ REBASE_FROM = 2
 
 
 def _rebased(dataset, given, registered, scored, sigma, pool, should_stop) -> FitResult:
-    """``registered``, or the registered model refitted from the best singles' values when better."""
-    best = registered
-    for _, f in sorted(scored, key=lambda s: s[1].chi2)[:REBASE_FROM]:
+    """``registered``, or the registered model refitted from the best singles' values when better (the
+    refits are independent: side by side, read in their order)."""
+    def rebased(f):
         try:
-            again = refit(dataset, given, {}, None, sigma=sigma, pool=pool, should_stop=should_stop, also=f)
+            return refit(dataset, given, {}, None, sigma=sigma, pool=pool, should_stop=should_stop, also=f)
         except (SimulationError, FitAborted):
-            continue
-        if again.chi2 < best.chi2:
-            best = again
+            return None
+    starts = [f for _, f in sorted(scored, key=lambda s: s[1].chi2)[:REBASE_FROM]]
+    best = registered
+    with ThreadPoolExecutor(max_workers=side_by_side(pool, len(starts))) as threads:  # independent fits
+        for again in threads.map(rebased, starts):
+            if again is not None and again.chi2 < best.chi2:
+                best = again
     return best
