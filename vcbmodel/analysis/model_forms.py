@@ -23,7 +23,14 @@ Multi-model inference (Burnham & Anderson, *Model Selection and Multimodel Infer
 - the 95 % interval theta +- 1.96 sqrt(var), widened to hold each form within the evidence margin
   (dBIC <= :data:`EVIDENCE_MARGIN`) at its own 95 % interval: those are the forms the record does
   not tell apart (a BIC difference of 10 is "very strong" evidence, Kass & Raftery, JASA 90, 1995),
-  and a form the record cannot reject must not fall outside what is reported.
+  and a form the record cannot reject must not fall outside what is reported;
+- widened again to hold each such form's values at the ends of the profile of each parameter it adds
+  (:func:`profile_forms`, :mod:`.fit.profile`: a drift or an added drag refitted held outward of its
+  stated ends until the record rejects it), where a curved valley lets it further than its Jacobian's
+  error says (a drift traded against viscous friction along a swing's decay: 3.4 times its stated
+  95 % half-width on a laboratory record);
+- the stated 1-sigma: the larger of sqrt(var) and the interval's half-width over 1.96, so that a value
+  and its error say what the interval beside them says.
 
 BIC rather than AIC: the diagnosis selects effects by BIC, the weights approximate the forms'
 posterior probabilities (equal priors, unit-information prior on the parameters), and on records of
