@@ -27,7 +27,7 @@ Multi-model inference (Burnham & Anderson, *Model Selection and Multimodel Infer
 - widened again to hold each such form's values at the ends of the profile of each parameter it adds
   (:func:`profile_forms`, :mod:`.fit.profile`: a drift or an added drag refitted held outward of its
   stated ends until the record rejects it), where a curved valley lets it further than its Jacobian's
-  error says (a drift traded against viscous friction along a swing's decay: 3.4 times its stated
+  error says (a drift traded against viscous friction along a swing's decay: 3.2 and 3.5 times its stated
   95 % half-width on a laboratory record);
 - the stated 1-sigma: the larger of sqrt(var) and the interval's half-width over 1.96, so that a value
   and its error say what the interval beside them says.
