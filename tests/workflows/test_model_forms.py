@@ -237,6 +237,12 @@ def test_a_drift_the_laboratory_record_does_not_resolve_is_said_and_held_by_the_
         assert q[name]["low"] <= tv[name] <= q[name]["high"], (name, tv[name], q[name])
         assert abs(q[name]["estimate"] - tv[name]) <= 3 * q[name]["stderr"], (name, tv[name], q[name])
     assert "does not resolve mu_k_drift" in d.report()
+    # the verdict stands (the residual is at the noise) and names the form the values rest on
+    unresolved = j["verdict"]["unresolved_forms"]
+    assert [(u["form"], u["parameter"]) for u in unresolved] == [("drifting", "mu_k_drift")]
+    low, high = unresolved[0]["values"]["viscous"]
+    assert low <= tv["viscous"] <= high and not abs(j["fitted"]["viscous"] - tv["viscous"]) <= Z95 * j["stderr"]["viscous"]
+    assert "the final values rest on it, read them from the model forms" in j["evidence"]
 
 
 def test_identify_reports_the_forms_in_text_and_json(pendulum_rig, tmp_path):
