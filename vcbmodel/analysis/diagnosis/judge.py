@@ -17,7 +17,7 @@ from ...errors import SimulationError
 from ...records.signals import disagreement_window, dominant_frequency, lag1_autocorrelation
 from ..fit import FitAborted, FitResult
 from ..fit.dataset import time_scale_name
-from ..model_forms import Z95, form_values
+from ..model_forms import form_values
 from ..noise import excess
 from ..plausibility import implausible
 from .artefacts import found_named
@@ -211,28 +211,33 @@ def rival_form(rig, final: FitResult, forms, options) -> dict | None:
     return {"form": best.alternative.label, "delta_bic": gain, "moved": moved, "message": message}
 
 
-def unresolved_forms(rig, final: FitResult, forms) -> list[dict]:
+def unresolved_forms(rig, final: FitResult, forms, errors: float) -> list[dict]:
     """The parameters of model forms within the evidence margin that the record does not resolve to
-    their stated errors (their profiles reach beyond them, :mod:`..fit.profile`), each with the final
-    fit's values whose stated 95 % interval the forms' interval then exceeds (in the forms' meanings):
-    those values rest on a form the record cannot tell from the final model."""
+    their stated errors (their profiles reach beyond them, :mod:`..fit.profile`) and that, at a profile's
+    end, move a value the final fit states beyond ``errors`` of its stated errors (in the forms'
+    meanings; ``options.rival_form_errors``, the rival-form rule's): each with those values' model-form
+    intervals. The final values then rest on a form the record cannot tell from the final model."""
     if forms is None:
         return []
     stated, _ = form_values(rig, final)
-    quantities = forms.quantities
-    beyond = {name: [quantities[name].low, quantities[name].high] for name, (v, se) in stated.items()
-              if name in quantities and final.parameters.get(name) is not None and final.parameters[name].vary
-              and (quantities[name].low < v - Z95 * se or quantities[name].high > v + Z95 * se)}
-    return [{"form": f.alternative.label, "parameter": pr.parameter, "stated": list(pr.stated),
-             "profile": [pr.low, pr.high], "values": beyond}
-            for f in forms.forms if f.within_margin for pr in f.profiles if pr.wider]
+    varied = {name: vse for name, vse in stated.items() if name in forms.quantities
+              and final.parameters.get(name) is not None and final.parameters[name].vary and 0 < vse[1] < np.inf}
+    out = []
+    for f in forms.forms:
+        for pr in (pr for pr in f.profiles if f.within_margin and pr.wider):
+            moved = {name: [forms.quantities[name].low, forms.quantities[name].high] for name, (v, se) in varied.items()
+                     if any(abs(end[name] - v) > errors * se for end in pr.ends if name in end)}
+            if moved:
+                out.append({"form": f.alternative.label, "parameter": pr.parameter, "stated": list(pr.stated),
+                            "profile": [pr.low, pr.high], "values": moved})
+    return out
 
 
 def judge_forms(ctx, verdict: Verdict, final: FitResult, forms) -> None:
     """After the model forms are fitted (report step): a :func:`rival_form` makes the record not
     explained, with the form and the values it moves in the verdict; a form the record does not
     resolve (:func:`unresolved_forms`) is named beside the verdict."""
-    verdict.unresolved_forms = unresolved_forms(ctx.rig, final, forms)
+    verdict.unresolved_forms = unresolved_forms(ctx.rig, final, forms, ctx.options.rival_form_errors)
     verdict.rival_form = rival_form(ctx.rig, final, forms, ctx.options)
     if verdict.rival_form:
         verdict.explained = False
