@@ -112,6 +112,33 @@ def test_a_profile_that_lets_a_form_s_parameter_further_widens_every_quantity(pe
         assert q.stderr == pytest.approx((q.high - q.low) / (2 * Z95))
 
 
+def test_a_form_the_record_does_not_resolve_is_named_only_where_it_moves_a_stated_value(pendulum_rig):
+    """A drifting form within the margin whose drift's profile reaches +-0.003 /s (stated +-0.0009) and
+    moves viscous from the final fit's 0.58 +- 0.004 to 0.47 and 0.70 is named with viscous's and mu_k's
+    model-form intervals; the same form with a profile no wider than stated, or one whose ends leave
+    every stated value within 1.96 of its errors, is not."""
+    from vcbmodel.analysis.diagnosis.judge import unresolved_forms
+    from vcbmodel.analysis.model_forms import ModelForms
+
+    def forms_with(low, high, ends):
+        sel = form("selected", 0.0, 0.9, ("coulomb_friction", "viscous_friction"), mu_k=(0.110, 0.0001),
+                   viscous=(0.58, 0.004))
+        drift = form("drifting", 6.4, 0.1, ("coulomb_friction", "viscous_friction", "drifting_coulomb_friction"),
+                     mu_k=(0.110, 0.001), viscous=(0.58, 0.018), mu_k_drift=(0.0, 0.00044))
+        drift.profiles = [Profile("mu_k_drift", (-0.0009, 0.0009), low, high, ends)]
+        return sel.fit, ModelForms([sel, drift], quantities_over(pendulum_rig, [sel, drift], {})[0])
+
+    far = [{"mu_k_drift": -0.003, "viscous": 0.47, "mu_k": 0.119}, {"mu_k_drift": 0.003, "viscous": 0.70, "mu_k": 0.100}]
+    final, forms = forms_with(-0.003, 0.003, far)
+    named = unresolved_forms(pendulum_rig, final, forms, 1.96)
+    assert [(u["form"], u["parameter"], u["profile"]) for u in named] == [("drifting", "mu_k_drift", [-0.003, 0.003])]
+    assert named[0]["values"]["viscous"] == pytest.approx([forms.quantities["viscous"].low, forms.quantities["viscous"].high])
+    assert set(named[0]["values"]) == {"mu_k", "viscous"}
+    assert unresolved_forms(pendulum_rig, *forms_with(-0.0009, 0.0009, far), 1.96) == []  # resolved
+    near = [{"mu_k_drift": -0.003, "viscous": 0.585, "mu_k": 0.1101}, {"mu_k_drift": 0.003, "viscous": 0.575, "mu_k": 0.1099}]
+    assert unresolved_forms(pendulum_rig, *forms_with(-0.003, 0.003, near), 1.96) == []  # moves nothing stated
+
+
 def _weighed_forms(rig, implausible_bic):
     """The selected form (BIC 100) and one with a viscous coefficient 1000 times its plausible range
     at ``implausible_bic``, weighed as fit_forms weighs them."""
