@@ -218,6 +218,7 @@ def run_one(case, seed, complications, folder, t_end=None, friction_truth="hybri
             "implausible": (j.get("model_forms") or {}).get("plausibility", []),
             "rival_form": (j["verdict"].get("rival_form") or {}).get("form"),
             "rival_moved": rival_moved(j),
+            "unresolved_forms": [[u["form"], u["parameter"]] for u in j["verdict"].get("unresolved_forms", [])],
             "simulations": j["timing"]["simulations"], "budget_used_s": j["timing"]["budget_used_s"],
             "budget_reached": j["timing"]["budget_reached"]}
 
@@ -332,7 +333,9 @@ def coverage_split(records):
                                                         for c in r["comparisons"]),
                       "explained_beyond_3_after": sum(abs(c["z"]) > EXPLAINED_Z for r in explained
                                                        for c in r["form_comparisons"]),
-                      "explained_compared": sum(len(r["form_comparisons"]) for r in explained)}
+                      "explained_compared": sum(len(r["form_comparisons"]) for r in explained),
+                      "explained_naming_unresolved_form": sum(bool(r["unresolved_forms"]) for r in explained),
+                      "explained": len(explained)}
     return out
 
 
@@ -498,7 +501,8 @@ def main():
     for label, c in summary["coverage_split"].items():
         print(f"{label}: selected fit covers {c['before']['covered']}/{c['before']['compared']}, model forms "
               f"{c['after']['covered']}/{c['after']['compared']}; explained values beyond {EXPLAINED_Z:g} errors "
-              f"{c['explained_beyond_3_before']} -> {c['explained_beyond_3_after']}")
+              f"{c['explained_beyond_3_before']} -> {c['explained_beyond_3_after']}; explained records naming a form the "
+              f"record does not resolve {c['explained_naming_unresolved_form']}/{c['explained']}")
 
 
 if __name__ == "__main__":

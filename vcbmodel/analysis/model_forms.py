@@ -23,7 +23,14 @@ Multi-model inference (Burnham & Anderson, *Model Selection and Multimodel Infer
 - the 95 % interval theta +- 1.96 sqrt(var), widened to hold each form within the evidence margin
   (dBIC <= :data:`EVIDENCE_MARGIN`) at its own 95 % interval: those are the forms the record does
   not tell apart (a BIC difference of 10 is "very strong" evidence, Kass & Raftery, JASA 90, 1995),
-  and a form the record cannot reject must not fall outside what is reported.
+  and a form the record cannot reject must not fall outside what is reported;
+- widened again to hold each such form's values at the ends of the profile of each parameter it adds
+  (:func:`profile_forms`, :mod:`.fit.profile`: a drift or an added drag refitted held outward of its
+  stated ends until the record rejects it), where a curved valley lets it further than its Jacobian's
+  error says (a drift traded against viscous friction along a swing's decay: 3.2 and 3.5 times its stated
+  95 % half-width on a laboratory record);
+- the stated 1-sigma: the larger of sqrt(var) and the interval's half-width over 1.96, so that a value
+  and its error say what the interval beside them says.
 
 BIC rather than AIC: the diagnosis selects effects by BIC, the weights approximate the forms'
 posterior probabilities (equal priors, unit-information prior on the parameters), and on records of
@@ -68,6 +75,7 @@ from ..laws.friction_forms import FORMS
 from ..model.effects import EFFECTS, parameter_specs
 from . import fit as fitting
 from .fit import FitAborted, FitResult, Parameter, make_parameters
+from .fit.profile import profile
 from .plausibility import findings_of, plausible_range
 from .noise import rounding_bic
 
@@ -132,6 +140,9 @@ class FormFit:
     #: the evidence margin of the best (:func:`_weigh`); an unweighed form gets weight 0 (a prior
     #: that rules its value out)
     weighed: bool = True
+    #: the profiles of the parameters the form adds (:func:`profile_forms`, :mod:`.fit.profile`): how far
+    #: the record lets each move, with the form's other values at the ends
+    profiles: list = field(default_factory=list)
 
     @property
     def within_margin(self) -> bool:
@@ -200,7 +211,8 @@ class ModelForms:
                            "rms": f.fit.rms, "values": {p.name: p.value for p in f.fit.parameters.values()
                                                         if p.kind == "model"},
                            "stderr": {p.name: _finite(p.stderr) for p in f.fit.parameters.values()
-                                      if p.kind == "model" and p.vary}} for f in self.forms],
+                                      if p.kind == "model" and p.vary},
+                           "profiles": [pr.to_json() for pr in f.profiles]} for f in self.forms],
                 "quantities": {name: q.to_json() for name, q in self.quantities.items()},
                 "not_determined": self.undetermined, "form_specific": self.form_specific,
                 "preferred_form": self.preferred.alternative.label,
@@ -215,6 +227,7 @@ class ModelForms:
                          f"{f.fit.rms:.3g} {unit}" + _form_note(f))
         for name, why in self.not_tried.items():
             lines.append(f"    {name:34s} not fitted: {why}")
+        lines += _profile_lines(self.forms)
         best, selected = self.preferred, self.forms[0]
         if best is not selected and selected.bic - best.bic > EVIDENCE_MARGIN:
             lines.append(f"    The record prefers {best.alternative.label} to the selected model by {selected.bic - best.bic:.0f} "
@@ -228,6 +241,18 @@ class ModelForms:
                              f"{q.high:.4g}] {q.unit}")
         lines += [f"    IMPLAUSIBLE: {f.message}" for f in self.findings]
         return "\n".join(lines)
+
+
+def _profile_lines(forms: list) -> list[str]:
+    """The report's lines on a form whose profile lets a parameter beyond its stated 95 % interval."""
+    out = []
+    for f in forms:
+        for pr in f.profiles:
+            if pr.wider:
+                out.append(f"    {f.alternative.label}: the record does not resolve {pr.parameter} to its stated error: "
+                           f"refitted with it held, it keeps [{pr.low:.4g}, {pr.high:.4g}] within 95 % (stated "
+                           f"[{pr.stated[0]:.4g}, {pr.stated[1]:.4g}]); the intervals below hold the values along it")
+    return out
 
 
 def _form_note(f: FormFit) -> str:
@@ -417,6 +442,7 @@ def fit_forms(rig, base: FitResult, refit: Refit, noise=None, *, label: str = "s
         for alt in alts:
             fit_one(parent.fit, alt if parent is selected else replace(alt, label=f"{alt.label}, {parent.alternative.label}"))
     _weigh(rig, fits, not_tried)
+    profile_forms(rig, selected.fit, fits, refit, deadline)
     quantities, specific = quantities_over(rig, fits, pinned or {})
     forms = ModelForms(fits, quantities, not_tried, specific)
     forms.findings = findings_of(rig, {p.name: p.value for p in base.parameters.values() if p.kind == "model"},
@@ -463,6 +489,55 @@ def _weigh(rig, fits: list, not_tried: dict) -> None:
     raw = [math.exp(-0.5 * (f.bic - best)) if f.weighed else 0.0 for f in fits]
     for f, w in zip(fits, raw):
         f.delta_bic, f.weight = f.bic - best, w / sum(raw)
+
+
+def profiled_parameters(alt: Alternative) -> list[str]:
+    """The parameters a form adds to the model it came from (its friction form's own, a decay
+    effect's coefficient): those the record may not resolve as their stated errors say."""
+    own = [fp.name for fp in FORMS[alt.form].parameters] if alt.form is not None else []
+    return own + [DECAY_SHARES[e] for e in alt.added if e in DECAY_SHARES and e in EFFECTS]
+
+
+def profile_forms(rig, base: FitResult, fits: list, refit: Refit, deadline: float | None = None) -> None:
+    """The profile (:mod:`.fit.profile`) of each parameter a form within the evidence margin adds,
+    into its ``profiles``: refitted with it held outward of its stated 95 % ends until the record
+    rejects a point. A curved valley (a drift traded against viscous and Coulomb friction along a
+    swing's decay) lets a value far beyond the error its Jacobian states; the ends' values then
+    widen every quantity's interval (:func:`quantities_over`)."""
+    def late() -> bool:
+        return deadline is not None and time.monotonic() > deadline
+
+    for f in fits[1:]:
+        if not f.within_margin:
+            continue
+        for name in profiled_parameters(f.alternative):
+            if name not in f.fit.parameters or late():
+                continue
+            pr = profile(f.fit, name, _held_refit(f, name, refit, base),
+                         lambda fit: {k: v for k, (v, _) in form_values(rig, fit)[0].items()}, late)
+            if pr is not None:
+                f.profiles.append(pr)
+
+
+def _held_refit(form: FormFit, name: str, refit: Refit, base: FitResult) -> Callable:
+    """refit_held(value, start) of :func:`.fit.profile.profile`: ``form``'s model refitted with
+    ``name`` held at ``value`` from ``start``'s values (a drift's move level-neutral: mu_k moved so
+    the level at the record's mean time stays, :func:`_level_neutral`); None when the fit fails."""
+    options = {"max_starts": 1, "every_start": False, "chi2_tolerance": CHI2_TOLERANCE,
+               "relative_tolerance": RELATIVE_TOLERANCE, "max_iterations": MAX_ITERATIONS}
+
+    def run(value: float, start: FitResult) -> FitResult | None:
+        params = {k: replace(p, stderr=None, stderr_naive=None) for k, p in start.parameters.items()}
+        if "mu_k" in params and params["mu_k"].vary:
+            moved = _level_neutral(name, value - params[name].value, params["mu_k"].value, base).get("mu_k")
+            if moved is not None:
+                params["mu_k"] = replace(params["mu_k"], value=float(np.clip(moved, params["mu_k"].min, params["mu_k"].max)))
+        params[name] = replace(params[name], value=float(value), vary=False)
+        try:
+            return refit(form.fit.effects, params, [], f"{form.alternative.label}, {name} held at {value:.3g}", **options)
+        except (FitAborted, SimulationError, ValueError):
+            return None
+    return run
 
 
 def plausible_fit(rig, fit: FitResult) -> bool:
@@ -540,7 +615,10 @@ def quantities_over(rig, fits: list[FormFit], pinned: dict) -> tuple[dict, dict]
             rows.append((f, v, math.hypot(se, pinned.get(name, 0.0))))
         if all(se == 0.0 for _, _, se in rows) and len({v for _, v, _ in rows}) == 1:
             continue  # no form fits it: a value the rig gives (mu_k of a closing), not one the record states
-        out[name] = _average(rig, name, units.get(name, "-"), rows, _physical_bounds(name, fits))
+        # where the profiles' ends put it (a pinned value's shift around each)
+        reach = [end[name] + k * Z95 * pinned.get(name, 0.0) for f in fits if f.within_margin for pr in f.profiles
+                 for end in pr.ends if name in end for k in (-1.0, 1.0)]
+        out[name] = _average(rig, name, units.get(name, "-"), rows, _physical_bounds(name, fits), reach)
     return out, {f.alternative.label: s for f, (_, s) in zip(fits, per_form) if s}
 
 
@@ -551,11 +629,15 @@ def _physical_bounds(name: str, fits: list[FormFit]) -> tuple[float, float]:
     return (min((p.min for p in params), default=-math.inf), max((p.max for p in params), default=math.inf))
 
 
-def _average(rig, name: str, unit: str, rows: list, physical: tuple = (-math.inf, math.inf)) -> Quantity:
+def _average(rig, name: str, unit: str, rows: list, physical: tuple = (-math.inf, math.inf),
+             reach: Sequence[float] = ()) -> Quantity:
     """The model average of one quantity over (form fit, value, stderr) rows: over the forms within
     the evidence margin (the others' weights, below exp(-5) of the best's, are dropped and the rest
     renormalised: a rejected form whose fit states no error must not make the quantity unknown), its
-    interval cut at the parameter's ``physical`` bounds."""
+    interval widened to hold the values in ``reach`` (the forms' profile ends) and cut at the
+    parameter's ``physical`` bounds. The stated 1-sigma is the one whose 95 % interval is the reported
+    one where that is wider than the average's own (a form within the margin or a profile holding
+    the interval open): a value and its error must not say less than the interval beside them."""
     by_form = {f.alternative.label: (float(x), float(s)) for f, x, s in rows}
     rows = [row for row in rows if row[0].within_margin]
     w = np.array([f.weight for f, _, _ in rows])
@@ -569,6 +651,8 @@ def _average(rig, name: str, unit: str, rows: list, physical: tuple = (-math.inf
     near = [(x, s) for _, x, s in rows]
     for x, s in near:
         low, high = min(low, x - Z95 * s), max(high, x + Z95 * s)
+    for x in reach:
+        low, high = min(low, x), max(high, x)
     finite = math.isfinite(sd) and all(math.isfinite(s) for _, s in near)
     bounds = plausible_range(name, rig)
     width = (bounds[1] - bounds[0]) if bounds else 2.0 * abs(mean)
@@ -577,6 +661,8 @@ def _average(rig, name: str, unit: str, rows: list, physical: tuple = (-math.inf
         values = [x for x, _ in near] + (list(bounds) if bounds else [])
         low, high = min(values), max(values)
     low, high = max(low, physical[0]), min(high, physical[1])
+    if finite:
+        sd = max(sd, (high - low) / (2.0 * Z95))
     meaning = ("the Coulomb level at speed: the friction at speed less C_v w, over r F" if name == "mu_k" else
                "the friction level at rest" if name == "mu_s" else "")
     return Quantity(name, unit, mean, sd, float(low), float(high), determined, by_form, meaning)

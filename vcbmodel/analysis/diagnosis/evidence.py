@@ -125,7 +125,20 @@ def evidence_text(ctx, baseline, final, missing, window, signature, verdict: Ver
                  + "; ".join(f["message"] for f in verdict.implausible) + ").")
     if verdict.rival_form:
         text += " Not explained: " + verdict.rival_form["message"] + "."
-    return text + artefact_sentences(verdict, ctx.record.unit)
+    return text + _unresolved_text(verdict) + artefact_sentences(verdict, ctx.record.unit)
+
+
+def _unresolved_text(verdict: Verdict) -> str:
+    """A sentence for each model form the record does not resolve (``verdict.unresolved_forms``): the
+    final values it leaves open, to be read from the model forms' intervals."""
+    text = ""
+    for u in verdict.unresolved_forms:
+        values = "; ".join(f"{name} in [{lo:.4g}, {hi:.4g}]" for name, (lo, hi) in u["values"].items())
+        text += (f" The record does not resolve {u['parameter']} of the model form '{u['form']}', which it cannot "
+                 f"tell from the final model: refitted with it held, {u['parameter']} keeps [{u['profile'][0]:.4g}, "
+                 f"{u['profile'][1]:.4g}] within 95 % (its stated [{u['stated'][0]:.4g}, {u['stated'][1]:.4g}])"
+                 + (f"; the final values rest on it, read them from the model forms: {values}." if values else "."))
+    return text
 
 
 def _start_text(ctx, baseline, window, signature, verdict: Verdict, period) -> str:

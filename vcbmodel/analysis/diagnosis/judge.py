@@ -211,9 +211,33 @@ def rival_form(rig, final: FitResult, forms, options) -> dict | None:
     return {"form": best.alternative.label, "delta_bic": gain, "moved": moved, "message": message}
 
 
+def unresolved_forms(rig, final: FitResult, forms, errors: float) -> list[dict]:
+    """The parameters of model forms within the evidence margin that the record does not resolve to
+    their stated errors (their profiles reach beyond them, :mod:`..fit.profile`) and that, at a profile's
+    end, move a value the final fit states beyond ``errors`` of its stated errors (in the forms'
+    meanings; ``options.rival_form_errors``, the rival-form rule's): each with those values' model-form
+    intervals. The final values then rest on a form the record cannot tell from the final model."""
+    if forms is None:
+        return []
+    stated, _ = form_values(rig, final)
+    varied = {name: vse for name, vse in stated.items() if name in forms.quantities
+              and final.parameters.get(name) is not None and final.parameters[name].vary and 0 < vse[1] < np.inf}
+    out = []
+    for f in forms.forms:
+        for pr in (pr for pr in f.profiles if f.within_margin and pr.wider):
+            moved = {name: [forms.quantities[name].low, forms.quantities[name].high] for name, (v, se) in varied.items()
+                     if any(abs(end[name] - v) > errors * se for end in pr.ends if name in end)}
+            if moved:
+                out.append({"form": f.alternative.label, "parameter": pr.parameter, "stated": list(pr.stated),
+                            "profile": [pr.low, pr.high], "values": moved})
+    return out
+
+
 def judge_forms(ctx, verdict: Verdict, final: FitResult, forms) -> None:
     """After the model forms are fitted (report step): a :func:`rival_form` makes the record not
-    explained, with the form and the values it moves in the verdict."""
+    explained, with the form and the values it moves in the verdict; a form the record does not
+    resolve (:func:`unresolved_forms`) is named beside the verdict."""
+    verdict.unresolved_forms = unresolved_forms(ctx.rig, final, forms, ctx.options.rival_form_errors)
     verdict.rival_form = rival_form(ctx.rig, final, forms, ctx.options)
     if verdict.rival_form:
         verdict.explained = False

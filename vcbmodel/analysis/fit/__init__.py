@@ -28,7 +28,8 @@ analyser's channels), :mod:`.pool` (simulations on worker processes), :mod:`.obj
 (residuals and Jacobian), :mod:`.optimisers` (Levenberg-Marquardt, Nelder-Mead),
 :mod:`.covariance` (the parameters' errors: stated ones covering model-form error, and the
 white-noise ones), :mod:`.result` (:class:`FitResult`), :mod:`.starts` (start ranking, grid
-scans) and :mod:`.minimizer` (:func:`fit`, :func:`staged_fit`, :func:`refine`).
+scans), :mod:`.minimizer` (:func:`fit`, :func:`staged_fit`, :func:`refine`) and :mod:`.profile` (how far
+the record lets one parameter move, by refits with it held: the model forms' check of a stated error).
 """
 from .covariance import Covariance, parameter_covariance
 from .dataset import AlignedModel, Dataset, truncated
