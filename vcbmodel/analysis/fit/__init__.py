@@ -22,7 +22,8 @@ simplex for a polish.
 A dataset without a :class:`~..nuisance.RecordSetup` is fitted as before: the model starts at
 the record's t = 0 with the rig's initial state, the sensor reads the model channel itself.
 
-Rooms, each importing only the ones before it: :mod:`.parameters` (parameters, noise level),
+Rooms, each importing only the ones before it: :mod:`.arithmetic` (trial arithmetic with numpy's
+floating-point warnings silenced), :mod:`.parameters` (parameters, noise level),
 :mod:`.options` (:class:`FitOptions`, :class:`FitAborted`), :mod:`.dataset` (records and the
 analyser's channels), :mod:`.pool` (simulations on worker processes), :mod:`.objective`
 (residuals and Jacobian), :mod:`.optimisers` (Levenberg-Marquardt, Nelder-Mead),
