@@ -82,17 +82,19 @@ def test_run_all_runs_every_study_once_and_the_benchmark_alone():
 
 def test_run_all_lanes_drain_one_queue_each_study_once():
     import threading
-    import time as clock
     run_all = _load_study("run_all")
-    ran, lock = [], threading.Lock()
+    ran, lock, rest_done = [], threading.Lock(), threading.Event()
 
     class Fake:
         take = run_all.Runner.take
 
-        def run(self, script):
-            clock.sleep(0.02 if script == "long" else 0.001)
+        def run(self, script):  # the long study lasts until the other lane has run the rest (at most 10 s)
+            if script == "long":
+                rest_done.wait(timeout=10)
             with lock:
                 ran.append((script, threading.current_thread().name))
+                if sum(s != "long" for s, _ in ran) == 8:
+                    rest_done.set()
 
     queue = ["long"] + [f"s{i}" for i in range(8)]
     threads = [threading.Thread(target=Fake().take, args=(queue, lock), name=f"lane{k}") for k in range(2)]

@@ -14,7 +14,8 @@ from vcbmodel.analysis.synthetic import synthetic_measurement
 
 MU_K = 0.11
 EFFECTS = ("coulomb_friction",)
-ROOMS = ["arithmetic", "parameters", "options", "dataset", "pool", "objective", "optimisers", "covariance", "result", "starts", "minimizer", "profile"]
+ROOMS = ["arithmetic", "parameters", "options", "dataset", "pool", "objective", "optimisers", "covariance", "result", "starts",
+         "minimizer", "profile"]
 
 
 @pytest.fixture
