@@ -34,7 +34,7 @@ from .judge import EXPLAINS, evidence, explains, scoring_noise
 from .library import columns, library_for, model_columns, reading, unit
 from .refit import MACHINERY, profile, refit, terms_of
 from .regression import Selection, select
-from .search import MAX_TERMS, forward, side_by_side
+from .search import forward, side_by_side
 
 
 #: Profiles of a coefficient taken at most (each one whose parabola's lowest point lies away from the
@@ -149,14 +149,13 @@ def covered() -> list[str]:
     return [name for name in EXPERIMENTS if covers(name)]
 
 
-def discover(rig, measurement, fit: FitResult, *, bic_margin: float, min_gain: float, dataset: Dataset | None = None,  # noqa: PLR0913 (its documented keyword options)
+def discover(rig, measurement, fit: FitResult, *, bic_margin: float, min_gain: float, dataset: Dataset | None = None,
              sigma: float | None = None, quantisation: float | None = None, pool=None,
-             library: Sequence[str] | None = None, should_stop=None, max_terms: int = MAX_TERMS) -> Discovery:
+             library: Sequence[str] | None = None, should_stop=None) -> Discovery:
     """Search ``library`` (default: the experiment's, :func:`.library.library_for`) for the torque
     ``fit`` (the best registered model of ``measurement``) lacks (module docstring). ``bic_margin`` and ``min_gain`` are the evidence a registered
     effect must give (the diagnosis's); ``dataset``, ``sigma`` (measured unit) and
-    ``quantisation``: the diagnosis's own (built from the record when not given); ``max_terms``: the
-    most terms the torque may have (:data:`.search.MAX_TERMS`)."""
+    ``quantisation``: the diagnosis's own (built from the record when not given)."""
     started = time.monotonic()
     rec = experiment_of(rig.experiment)
     if dataset is None:
@@ -176,7 +175,7 @@ def discover(rig, measurement, fit: FitResult, *, bic_margin: float, min_gain: f
     used = est.used
     z_names, Z = model_columns(fit, est)
     sel = select(names, columns(names, est)[used], est.torque[used], Z[used], z_names)
-    out = _search(dataset, fit, sel, sigma, quantisation, pool, should_stop, kw, max_terms)
+    out = _search(dataset, fit, sel, sigma, quantisation, pool, should_stop, kw)
     out.selection, out.estimate, out.seconds = sel, est, time.monotonic() - started
     return out
 
@@ -216,13 +215,13 @@ def _terms(dataset, after, names, noise, sigma, pool, should_stop) -> tuple[list
     return terms, after
 
 
-def _search(dataset, fit, sel, sigma, quantisation, pool, should_stop, kw, max_terms: int = MAX_TERMS) -> Discovery:
+def _search(dataset, fit, sel, sigma, quantisation, pool, should_stop, kw) -> Discovery:
     """Forward selection from the best registered fit, singles first, ties read physics
     (:func:`.search.forward`); the kept terms pruned and their errors stated."""
     unit_ = experiment_of(dataset.rig.experiment).unit
     given, fit = fit, _registered_best(dataset, fit, sel, sigma, pool, should_stop)
     found = forward(dataset, given, fit, sel, sigma=sigma, quantisation=quantisation, kw=kw, pool=pool,
-                    should_stop=should_stop, max_terms=max_terms)
+                    should_stop=should_stop)
     tried, ties, fit = found["tried"], found["ties"], found["registered"]
     noise = scoring_noise(found["fits"], sigma, quantisation)
     if not found["support"]:
@@ -298,16 +297,13 @@ def discover_among(rig, measurement, fits: Sequence[FitResult], **options) -> Di
     its discovered torque, or without when none earned it) has the lowest BIC under one noise model.
     A registered effect the diagnosis added can be a stand-in for the torque it could not name
     (a Stribeck curve bent to follow air drag): with the torque found, the simpler base can win.
-    On a base that lacks effects of the first (the diagnosis's final model), the discovered torque stands
-    in for them: it may have as many terms as they have fitted values, no more
-    (:func:`terms_in_place`). The searches on the bases are independent: they run side by side (:func:`.search.side_by_side`;
+    The searches on the bases are independent: they run side by side (:func:`.search.side_by_side`;
     each still runs its own independent fits side by side), and the choice reads them in ``fits``' order."""
     if not covers(rig.experiment):
         return discover(rig, measurement, fits[0], **options)
     bases = [f for i, f in enumerate(fits) if all(f is not g for g in fits[:i])]
     with ThreadPoolExecutor(max_workers=side_by_side(options.get("pool"), len(bases))) as threads:
-        results = list(threads.map(lambda f: discover(rig, measurement, f, **options,
-                                                      max_terms=terms_in_place(fits[0], f)), bases))
+        results = list(threads.map(lambda f: discover(rig, measurement, f, **options), bases))
     if len(results) == 1:
         return results[0]
     sigma = options.get("sigma") or min(r.noise for r in results)
@@ -318,23 +314,6 @@ def discover_among(rig, measurement, fits: Sequence[FitResult], **options) -> Di
     best.alternatives = [{"base_effects": list(r.given.effects), "found": r.found, "terms": [t.name for t in r.terms],
                           "bic": (r.after or r.before).bic_with(noise)} for r in results]
     return best
-
-
-def varied_model_values(fit: FitResult) -> int:
-    """The number of model values ``fit`` fitted (not the record's nuisance)."""
-    return sum(1 for p in fit.parameters.values() if p.vary and p.kind == "model")
-
-
-def terms_in_place(final: FitResult, base: FitResult) -> int:
-    """The most terms a torque discovered on ``base`` may have. On a base that lacks effects of ``final``
-    (``discover_among``'s other base: the starting model beside the final one), the torque is searched as
-    a stand-in for those effects (a Stribeck curve bent to follow air drag: with the drag found, the
-    simpler base wins): the base with it may fit no more values than ``final`` does (at least one term).
-    A torque that needs more is a stand-in plus something else, which the search on ``final`` itself
-    looks for. Otherwise (the same effects, or others) :data:`.search.MAX_TERMS`."""
-    if base is final or not set(base.effects) < set(final.effects):
-        return MAX_TERMS
-    return min(MAX_TERMS, max(1, varied_model_values(final) - varied_model_values(base)))
 
 
 def _registered_first(results: list, noise, margin: float) -> Discovery:

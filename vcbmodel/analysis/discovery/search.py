@@ -104,16 +104,14 @@ def choose(scored: list, margin: float) -> tuple:
 
 
 def forward(dataset, given: FitResult, registered: FitResult, sel, *, sigma: float, quantisation: float, kw: dict,
-            pool=None, should_stop=None, max_terms: int = MAX_TERMS) -> dict:
+            pool=None, should_stop=None) -> dict:
     """Forward selection over ``sel`` (:class:`.regression.Selection`) from ``registered`` (the best
-    registered fit; ``given``: the fit discovery was handed, the base of every refit), at most
-    ``max_terms`` terms. Returns {"support": kept terms, "fit": their fit (or None), "tried": rows,
-    "ties": [...], "fits": every fit}."""
+    registered fit; ``given``: the fit discovery was handed, the base of every refit). Returns
+    {"support": kept terms, "fit": their fit (or None), "tried": rows, "ties": [...], "fits": every fit}."""
     support, current, fits, tried, ties = [], registered, [registered], [], []
     also = registered if registered is not given else None
-    while len(support) < max_terms:
-        scored = _refits(dataset, given, current if support else also, sel, support, sigma, pool, should_stop,
-                         max_terms)
+    while len(support) < MAX_TERMS:
+        scored = _refits(dataset, given, current if support else also, sel, support, sigma, pool, should_stop)
         if not scored:
             break
         scored = _polished(dataset, scored, fits, sigma, quantisation, kw["bic_margin"], pool, should_stop)
@@ -140,11 +138,11 @@ def forward(dataset, given: FitResult, registered: FitResult, sel, *, sigma: flo
             "registered": registered}
 
 
-def _refits(dataset, given, start, sel, support, sigma, pool, should_stop, max_terms: int = MAX_TERMS) -> list:
+def _refits(dataset, given, start, sel, support, sigma, pool, should_stop) -> list:
     """[(form, fit of ``support`` + form)] for each of :func:`options`, in their order; a failed refit
     is left out. The screens are independent fits, run side by side (:func:`side_by_side`)."""
     starts = [(form, *sel.support_fit(support + list(form))) for form in options(sel, support)
-              if len(support) + len(form) <= max_terms]
+              if len(support) + len(form) <= MAX_TERMS]
 
     def screened(item):
         form, coefficients, _, shifts = item
