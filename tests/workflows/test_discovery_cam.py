@@ -3,6 +3,7 @@ torque on every backend from one source; the independent truth (vcbmodel.referen
 agrees with the model where they share the physics; on its synthetic records a profile torque
 -A sin(2 theta - phi) is found with its coefficients, and a torque outside the library gives "nothing"."""
 import math
+from pathlib import Path
 
 import numpy as np
 import pytest
@@ -162,3 +163,22 @@ def test_a_torque_outside_the_library_gives_nothing_after_the_diagnosis(cam_rig)
 def test_an_in_family_record_gives_nothing(cam_rig):
     clean = discovery_of(cam_rig, lambda t, th, w: 0.0, seed=13)
     assert not clean.found and clean.after is None
+
+
+@pytest.mark.slow
+def test_a_profile_torque_found_on_the_starting_model_retires_the_viscous_friction_it_stood_in_for(tmp_path, monkeypatch):
+    """The discovery demo's cam (a profile torque -30 sin(2 theta - 0.6), no viscous friction in the truth):
+    the diagnosis names viscous friction as the torque's stand-in; discovery must search the starting model
+    with the torque's two terms (a harmonic's cos and sin) and keep that base, not the one with viscous friction."""
+    import importlib.util
+    studies = Path(__file__).resolve().parents[2] / "studies"
+    monkeypatch.syspath_prepend(str(studies))
+    spec = importlib.util.spec_from_file_location("discovery_demo", studies / "discovery_demo.py")
+    demo = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(demo)
+    rig_path = tmp_path / "cam.rig.json"
+    demo.write_rig(dict(demo.CAM_RIG), rig_path)
+    case = demo.run_case(load_rig(rig_path), "profile", demo.CAM_DURATION, 11)
+    found = case["discovery"]
+    assert found.found and {t.name for t in found.terms} == {"sin_2theta", "cos_2theta"}
+    assert "viscous_friction" not in found.to_json()["base_effects"]
