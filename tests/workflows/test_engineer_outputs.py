@@ -150,3 +150,15 @@ def test_a_sequence_judges_its_closings_against_the_limits(tmp_path, capsys):
     co = json.loads(capsys.readouterr().out)["operations"][1]
     bounce = next(c for c in co["limits"] if c["limit"] == "bounce_duration")
     assert bounce["pass"] is False and bounce["values_si"][0] == co["bounce_duration_s"] > 1e-3
+
+
+def test_a_sequence_says_so_when_none_of_the_rigs_limits_is_one_it_judges(tmp_path, capsys):
+    """A rig whose only limit is the contact force at the end of the run: the sequence said nothing of
+    its limits (no line, no verdict), as if the rig had none."""
+    data = json.loads(CYCLE.read_text())
+    data["breaker"]["limits"] = {"contact_force_closed": {"min": 3, "unit": "kN"}}
+    rig = tmp_path / "force.rig.json"
+    rig.write_text(json.dumps(data))
+    assert main(["simulate", str(rig), "--sequence", "C", "--backend", "fast", "-q"]) == 0
+    out = capsys.readouterr().out
+    assert "  limits (breaker.limits): not judged in a sequence: contact force closed" in out

@@ -315,14 +315,15 @@ def sequence_lines(report: dict) -> list[str]:
 
 
 def limit_lines(e: dict) -> list[str]:
-    """An operation's closing against the limits: ``limits: closing speed 1-1.5 m/s pass; ...``."""
-    if not e.get("limits"):
+    """An operation's closing against the limits: ``limits: closing speed 1-1.5 m/s pass; ...``, and the
+    limits a sequence does not judge (said also when they are the rig's only ones)."""
+    left = [name.replace("_", " ") for name in e.get("limits_not_judged", [])]
+    if not e.get("limits") and not left:
         return []
     words = {True: "pass", False: "FAIL", None: "no value"}
-    left = [name.replace("_", " ") for name in e.get("limits_not_judged", [])]
-    return ["  limits (breaker.limits): " + "; ".join(f"{c['limit'].replace('_', ' ')} {c['text']} {words[c['pass']]}"
-                                                      for c in e["limits"])
-            + (f"; not judged in a sequence: {', '.join(left)}" if left else "")]
+    judged = [f"{c['limit'].replace('_', ' ')} {c['text']} {words[c['pass']]}" for c in e.get("limits", [])]
+    return ["  limits (breaker.limits): " + "; ".join(judged + ([f"not judged in a sequence: {', '.join(left)}"]
+                                                               if left else []))]
 
 
 def sequence_verdict(report: dict) -> list[str]:
