@@ -113,3 +113,12 @@ def test_a_text_row_inside_the_data_is_not_called_a_summary(tmp_path, capsys):
     lines = ["t,pendulum_angle"] + rows[:100] + ["Mean,0.0123"] + rows[100:]
     err = refusal(write(tmp_path, "mid", lines), capsys)
     assert "mid.csv: line 102: value 'Mean' is not a number" in err and "below the data" not in err
+
+
+def test_a_sample_interval_in_a_tds_scopes_capital_seconds_is_checked(tmp_path, capsys):
+    """An older Tektronix writes 'Horizontal Units,S': the check was skipped, so a time column in the
+    wrong unit read on unrefused."""
+    preamble = [line.replace("0.001", "0.0001").replace("Horizontal Units,s", "Horizontal Units,S")
+                for line in TEK_PREAMBLE]
+    err = refusal(write(tmp_path, "tds", preamble + ["TIME,pendulum_angle"] + pendulum_rows()), capsys)
+    assert "tds.csv: line 7: the preamble's sample interval 0.0001 s" in err

@@ -311,7 +311,7 @@ def _check_sample_interval(preamble: dict, t: np.ndarray, path: str) -> None:
     (``Sample Interval,1e-05``, in the preamble's ``Horizontal Units``, seconds if absent): a time
     column in another unit, or a preamble of another record."""
     stated = preamble.get("Sample Interval")
-    horizontal = preamble.get("Horizontal Units", (0, "s"))[1]
+    horizontal = preamble.get("Horizontal Units", (0, "s"))[1].strip().lower()  # a TDS's 'S' is seconds
     if stated is None or to_si(horizontal) != ("s", 1.0) or t.size < 2 or not NUMBER.fullmatch(stated[1]):
         return
     step, interval = float(np.median(np.diff(t))), float(stated[1])
