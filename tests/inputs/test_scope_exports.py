@@ -122,3 +122,12 @@ def test_a_sample_interval_in_a_tds_scopes_capital_seconds_is_checked(tmp_path, 
                 for line in TEK_PREAMBLE]
     err = refusal(write(tmp_path, "tds", preamble + ["TIME,pendulum_angle"] + pendulum_rows()), capsys)
     assert "tds.csv: line 7: the preamble's sample interval 0.0001 s" in err
+
+
+def test_an_index_column_before_the_time_is_refused_naming_it_not_an_older_scope(tmp_path, capsys):
+    """pandas' to_csv writes its row index first under an empty header cell: the refusal called it an
+    older Tektronix layout."""
+    rows = [f"{k},{row}" for k, row in enumerate(pendulum_rows())]
+    err = refusal(write(tmp_path, "frame", [",t,pendulum_angle"] + rows), capsys)
+    assert "frame.csv: line 1: the first column has no name and the time is column 2: an index column" in err
+    assert "Tektronix" not in err

@@ -275,6 +275,10 @@ def _preamble_line(cells: list, path: str, line: int, preamble: dict, comments: 
         raise InputError(path, f"line {line}", f"reads as a units row ({', '.join(cells)[:40]}) with no header above it{where}")
     if cells[0] == "":
         k = next((j for j, c in enumerate(cells, start=1) if c), len(cells))
+        if _names_time(cells[k - 1]):  # pandas' to_csv writes its row index first, its header cell empty
+            raise InputError(path, f"line {line}", f"the first column has no name and the time is column {k}: an "
+                             "index column before the time (pandas' to_csv without index=False)? Delete it: the "
+                             "first column must be the time")
         raise InputError(path, f"line {line}", f"the first column is empty and the values start in column {k}: an "
                          "instrument's layout with its settings in the first columns (an older Tektronix CSV)? Keep "
                          "the time and channel columns alone, headed t and the channel")
