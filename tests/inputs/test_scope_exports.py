@@ -131,3 +131,13 @@ def test_an_index_column_before_the_time_is_refused_naming_it_not_an_older_scope
     err = refusal(write(tmp_path, "frame", [",t,pendulum_angle"] + rows), capsys)
     assert "frame.csv: line 1: the first column has no name and the time is column 2: an index column" in err
     assert "Tektronix" not in err
+
+
+@pytest.mark.parametrize("tail, said", [("0.004,nan", "value is not finite"), ("0.00", "has 1 values")])
+def test_a_broken_last_sample_is_not_called_a_summary(tmp_path, capsys, tail, said):
+    """A NaN sample (a sensor's dropout) or a line cut short as the last row was called 'a summary line
+    below the data, not a sample'."""
+    rows = pendulum_rows()
+    lines = ["t,pendulum_angle"] + rows + [tail]
+    err = refusal(write(tmp_path, "last", lines), capsys)
+    assert f"last.csv: line {len(lines)}" in err and said in err and "summary" not in err

@@ -232,7 +232,7 @@ def _parse(path: str, known: Iterable[str] | None, units: dict[str, str] | None)
         try:
             rows.append(_data_row(cells, header, dialect, path, i))
         except InputError as e:
-            raise (_summary_below_the_data(e, lines[k + 1:], header, dialect, path) if rows else e) from None
+            raise (_summary_below_the_data(e, cells, lines[k + 1:], header, dialect, path) if rows else e) from None
         row_lines.append(i)
     if header is None and preamble:
         _preamble_line([next(iter(preamble))], path, min(line for line, _ in preamble.values()), {}, [], first=True)
@@ -292,10 +292,12 @@ def _preamble_line(cells: list, path: str, line: int, preamble: dict, comments: 
 SUMMARY_LINES = 10
 
 
-def _summary_below_the_data(error: InputError, rest: list, header: list, dialect: tuple, path: str) -> InputError:
-    """A data row's refusal, saying so when it and every line after it, a few at most, are text, not
-    samples (a spreadsheet's ``Mean,0.012`` or ``6001 samples`` under the data)."""
-    if sum(1 for _, s in rest if s and not s.startswith("#")) > SUMMARY_LINES:
+def _summary_below_the_data(error: InputError, cells: list, rest: list, header: list, dialect: tuple,
+                            path: str) -> InputError:
+    """A data row's refusal, saying so when it (``cells``) holds text and no line after it, a few at most,
+    is a sample (a spreadsheet's ``Mean,0.012`` or ``6001 samples`` under the data); a last row of
+    numbers (a NaN sample, a line cut short) is a broken sample, refused as such."""
+    if all(NUMBER.fullmatch(c) for c in cells if c) or sum(1 for _, s in rest if s and not s.startswith("#")) > SUMMARY_LINES:
         return error
     for i, s in rest:
         cells = _cells(s, *dialect) if s and not s.startswith("#") else []
