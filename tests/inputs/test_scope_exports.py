@@ -6,7 +6,9 @@ import numpy as np
 import pytest
 
 from vcbmodel.app.cli import main
+from vcbmodel.errors import InputError
 from vcbmodel.experiments.loading import load_pair
+from vcbmodel.records.measurement import load_measurement
 
 from conftest import ROOT
 
@@ -141,3 +143,12 @@ def test_a_broken_last_sample_is_not_called_a_summary(tmp_path, capsys, tail, sa
     lines = ["t,pendulum_angle"] + rows + [tail]
     err = refusal(write(tmp_path, "last", lines), capsys)
     assert f"last.csv: line {len(lines)}" in err and said in err and "summary" not in err
+
+
+def test_a_units_row_above_the_header_with_an_empty_cell_is_refused(tmp_path):
+    """'ms,,deg' (an empty cell for the contact channel, as a units row may have) above the header was
+    kept as a preamble comment and the time read in seconds: a record 1000 times too long."""
+    path = tmp_path / "above.csv"
+    path.write_text("ms,,deg\nt,pole_1_contact,pendulum_angle\n0,0,10\n1,0,11\n2,1,12\n3,1,13\n")
+    with pytest.raises(InputError, match=r"above.csv: line 1: reads as a units row \(ms, , deg\) with no header above it"):
+        load_measurement(path)

@@ -268,7 +268,8 @@ def _preamble_line(cells: list, path: str, line: int, preamble: dict, comments: 
         at = min((ln for ln, _ in preamble.values()), default=line)
         name = next(iter(preamble), cells[0])
         raise InputError(path, f"line {at}", f"the first column must be the time, 't' or 'time', got {name[:40]!r}")
-    if len(cells) > 1 and all(UNIT_CELL.fullmatch(c) and to_si(UNIT_CELL.fullmatch(c).group("unit")) for c in cells):
+    if len(cells) > 1 and cells[0] and all(c == "" or (UNIT_CELL.fullmatch(c) and to_si(UNIT_CELL.fullmatch(c).group("unit")))
+                                           for c in cells):  # an empty cell: a channel without a unit
         above = next(((key, ln) for key, (ln, _) in preamble.items()), None)
         where = (f"; the line above it, line {above[1]}, does not start with the time ('t' or 'time'), got {above[0][:40]!r}"
                  if above else ": a units row goes right under the header (or state each unit in it: t [ms])")
