@@ -152,3 +152,16 @@ def test_a_units_row_above_the_header_with_an_empty_cell_is_refused(tmp_path):
     path.write_text("ms,,deg\nt,pole_1_contact,pendulum_angle\n0,0,10\n1,0,11\n2,1,12\n3,1,13\n")
     with pytest.raises(InputError, match=r"above.csv: line 1: reads as a units row \(ms, , deg\) with no header above it"):
         load_measurement(path)
+
+
+@pytest.mark.parametrize("n", [100, 101, 2000])
+def test_a_sample_interval_is_checked_on_a_time_column_written_to_fewer_digits(tmp_path, n):
+    """2.5 us samples with the time in whole microseconds (steps of 2 and 3 us): the median step, 2 us
+    for an even count of samples, refused a record that has the stated interval."""
+    path = tmp_path / "fast.csv"
+    t = np.arange(n) * 2.5e-6
+    path.write_text("\n".join(["Sample Interval,2.5e-06", "TIME,ch1"] + [f"{x:.6f},{k}" for k, x in enumerate(t)]) + "\n")
+    assert load_measurement(path).t.size == n
+    path.write_text(path.read_text().replace("2.5e-06", "2e-06"))
+    with pytest.raises(InputError, match="sample interval 2e-06 s is not the data's time step"):
+        load_measurement(path)
