@@ -116,6 +116,9 @@ def test_a_limit_in_the_wrong_unit_is_refused_by_check(tmp_path, capsys):
     code, err = check({"contact_force_closed": {"min": 3, "unit": "N"}})
     assert code == 2 and "breaker.limits.contact_force_closed.min" in err
     assert check({"bounce_duration": {"max": 0, "unit": "ms"}, "closing_speed": {"min": 1, "max": 1.5, "unit": "m/s"}})[0] == 0
+    assert check({"kinetic_margin": {"min": 0.02, "unit": "kJ"}})[0] == 0  # a multiple of J (was: not a unit of it)
+    code, err = check({"kinetic_margin": {"min": 20, "unit": "N"}})
+    assert code == 2 and "(J, or a multiple such as kJ)" in err
 
 
 def test_check_lists_the_limits_simulate_will_judge(tmp_path, capsys):

@@ -87,7 +87,7 @@ def read_limits(rd: Reader, b: dict) -> tuple[Limit, ...]:
         known = to_si(unit)
         if known is None or known[0] != si_unit:
             rd.fail(p + "unit", f"{unit!r} is not a unit of {name} ({si_unit}, or a multiple such as "
-                    f"{ {'s': 'ms', 'm': 'mm', 'N': 'kN', 'm/s': 'mm/ms'}.get(si_unit, si_unit)})")
+                    f"{ {'s': 'ms', 'm': 'mm', 'N': 'kN', 'm/s': 'mm/ms', 'J': 'kJ'}.get(si_unit, si_unit)})")
         low, high = (rd.number(entry, key, p) * known[1] if key in entry else None for key in ("min", "max"))
         if low is None and high is None:
             rd.fail(p + "min", "give min, max or both")
