@@ -19,7 +19,6 @@ from __future__ import annotations
 
 import time
 from collections.abc import Sequence
-from concurrent.futures import ThreadPoolExecutor
 from dataclasses import dataclass, field
 
 from ...errors import SimulationError
@@ -32,9 +31,9 @@ from ..nuisance import record_setup
 from .force import ForceEstimate, missing_torque, unread
 from .judge import EXPLAINS, evidence, explains, scoring_noise
 from .library import columns, library_for, model_columns, reading, unit
-from .refit import MACHINERY, profile, refit, terms_of
+from .refit import MACHINERY, profile, refit, side_by_side, terms_of
 from .regression import Selection, select
-from .search import forward, side_by_side
+from .search import forward
 
 
 #: Profiles of a coefficient taken at most (each one whose parabola's lowest point lies away from the
@@ -287,8 +286,7 @@ def _without_each(dataset, after, support, sigma, pool, should_stop) -> list:
             return refit(dataset, after, rest, None, sigma=sigma, pool=pool, should_stop=should_stop)
         except (SimulationError, FitAborted):
             return None
-    with ThreadPoolExecutor(max_workers=side_by_side(pool, len(support))) as threads:
-        return list(threads.map(without, support))
+    return side_by_side(pool, without, support)
 
 
 def discover_among(rig, measurement, fits: Sequence[FitResult], **options) -> Discovery:
@@ -297,13 +295,12 @@ def discover_among(rig, measurement, fits: Sequence[FitResult], **options) -> Di
     its discovered torque, or without when none earned it) has the lowest BIC under one noise model.
     A registered effect the diagnosis added can be a stand-in for the torque it could not name
     (a Stribeck curve bent to follow air drag): with the torque found, the simpler base can win.
-    The searches on the bases are independent: they run side by side (:func:`.search.side_by_side`;
+    The searches on the bases are independent: they run side by side (:func:`.refit.side_by_side`;
     each still runs its own independent fits side by side), and the choice reads them in ``fits``' order."""
     if not covers(rig.experiment):
         return discover(rig, measurement, fits[0], **options)
     bases = [f for i, f in enumerate(fits) if all(f is not g for g in fits[:i])]
-    with ThreadPoolExecutor(max_workers=side_by_side(options.get("pool"), len(bases))) as threads:
-        results = list(threads.map(lambda f: discover(rig, measurement, f, **options), bases))
+    results = side_by_side(options.get("pool"), lambda f: discover(rig, measurement, f, **options), bases)
     if len(results) == 1:
         return results[0]
     sigma = options.get("sigma") or min(r.noise for r in results)

@@ -4,7 +4,7 @@ all vary together (coefficients with bounds and standard errors like any fit par
 from __future__ import annotations
 
 import math
-from collections.abc import Mapping
+from collections.abc import Callable, Mapping, Sequence
 from concurrent.futures import ThreadPoolExecutor
 from dataclasses import replace
 
@@ -92,6 +92,14 @@ def polish(dataset, fit: FitResult, *, sigma: float, pool=None, should_stop=None
     return _fit_from(dataset, fit, params, sigma, pool, should_stop)
 
 
+def side_by_side(pool, fit_one: Callable, items: Sequence) -> list:
+    """``fit_one`` of each of ``items``, independent fits run at once, one per simulation process of
+    ``pool`` (threads sharing it: one fit's fast simulations run in this process, the other's on the
+    workers; each ends where it would alone); the results in ``items``' order."""
+    with ThreadPoolExecutor(max_workers=max(1, min(getattr(pool, "processes", 1), len(items)))) as threads:
+        return list(threads.map(fit_one, items))
+
+
 def terms_of(fit: FitResult) -> dict[str, float]:
     """{term: coefficient} of a fit's discovered torque."""
     return {k[len(PREFIX):]: p.value for k, p in fit.parameters.items() if k.startswith(PREFIX)}
@@ -115,8 +123,7 @@ def profile(dataset, fit: FitResult, name: str, noise, *, sigma: float, pool=Non
         params = {k: replace(p, stderr=None) for k, p in fit.parameters.items()}
         params[key] = replace(params[key], value=value, vary=False)
         return _fit_from(dataset, fit, params, sigma, pool, should_stop)
-    with ThreadPoolExecutor(max_workers=max(1, min(getattr(pool, "processes", 1), 2))) as threads:  # independent fits
-        sides = list(threads.map(side, (c - h, c + h)))
+    sides = side_by_side(pool, side, (c - h, c + h))
     lo, mid, hi = sides[0].chi2_with(noise), fit.chi2_with(noise), sides[1].chi2_with(noise)
     curvature = (lo + hi - 2.0 * mid) / h**2
     if curvature <= 0:

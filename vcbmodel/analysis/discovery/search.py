@@ -31,13 +31,12 @@ reads physics where the record cannot decide.
 """
 from __future__ import annotations
 
-from concurrent.futures import ThreadPoolExecutor
 
 from ...errors import SimulationError
 from ...laws.discovered import TIERS, term
 from ..fit import FitAborted, FitResult
 from .judge import evidence, scoring_noise
-from .refit import polish, refit, terms_of
+from .refit import polish, refit, side_by_side, terms_of
 
 #: A term is refitted alone when its own share of the missing torque is at least this fraction of the
 #: best term's (a term explaining a fifth of what the best explains does not win on the record).
@@ -140,7 +139,7 @@ def forward(dataset, given: FitResult, registered: FitResult, sel, *, sigma: flo
 
 def _refits(dataset, given, start, sel, support, sigma, pool, should_stop) -> list:
     """[(form, fit of ``support`` + form)] for each of :func:`options`, in their order; a failed refit
-    is left out. The screens are independent fits, run side by side (:func:`side_by_side`)."""
+    is left out. The screens are independent fits, run side by side (:func:`.refit.side_by_side`)."""
     starts = [(form, *sel.support_fit(support + list(form))) for form in options(sel, support)
               if len(support) + len(form) <= MAX_TERMS]
 
@@ -151,8 +150,7 @@ def _refits(dataset, given, start, sel, support, sigma, pool, should_stop) -> li
                                should_stop=should_stop, also=start, screen=True)
         except (SimulationError, FitAborted):
             return None
-    with ThreadPoolExecutor(max_workers=side_by_side(pool, len(starts))) as threads:
-        return [r for r in threads.map(screened, starts) if r is not None]
+    return [r for r in side_by_side(pool, screened, starts) if r is not None]
 
 
 #: Screened forms within this many times the evidence margin of the best screened BIC are polished
@@ -174,15 +172,7 @@ def _polished(dataset, scored, fits, sigma, quantisation, margin, pool, should_s
             except (SimulationError, FitAborted):
                 pass
         return form, f
-    with ThreadPoolExecutor(max_workers=side_by_side(pool, len(scored))) as threads:  # independent fits
-        return list(threads.map(polished, scored))
-
-
-def side_by_side(pool, fits: int) -> int:
-    """Independent fits run at once: one per simulation process of ``pool`` (threads sharing it: one
-    fit's fast simulations run in this process, the other's on the workers); each ends where it would
-    alone."""
-    return max(1, min(getattr(pool, "processes", 1), fits))
+    return side_by_side(pool, polished, scored)  # independent fits
 
 
 #: Singles whose values restart the registered model (step 4).
@@ -199,8 +189,7 @@ def _rebased(dataset, given, registered, scored, sigma, pool, should_stop) -> Fi
             return None
     starts = [f for _, f in sorted(scored, key=lambda s: s[1].chi2)[:REBASE_FROM]]
     best = registered
-    with ThreadPoolExecutor(max_workers=side_by_side(pool, len(starts))) as threads:  # independent fits
-        for again in threads.map(rebased, starts):
-            if again is not None and again.chi2 < best.chi2:
-                best = again
+    for again in side_by_side(pool, rebased, starts):  # independent fits
+        if again is not None and again.chi2 < best.chi2:
+            best = again
     return best
