@@ -76,14 +76,12 @@ from ..model.effects import EFFECTS, parameter_specs
 from . import fit as fitting
 from .fit import FitAborted, FitResult, Parameter, make_parameters
 from .fit.profile import profile
-from .plausibility import findings_of, plausible_range
+from .plausibility import Z95, findings_of, plausible_range
 from .noise import rounding_bic
 
 #: Forms whose BIC is within this of the best are ones the record does not tell apart (Kass &
 #: Raftery 1995: a difference above 10 is very strong evidence; the diagnosis' own BIC margin).
 EVIDENCE_MARGIN = 10.0
-#: The 95 % interval's half-width in standard deviations (normal).
-Z95 = 1.959964
 #: Registered effects added to the best form where the record's experiment has them
 #: (``Experiment.form_alternatives``, joined by name: an effect not in the registry is skipped; a
 #: pendulum's: a swing's decay is shared between Coulomb friction, viscous friction and air drag).

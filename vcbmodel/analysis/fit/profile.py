@@ -32,13 +32,13 @@ import math
 from collections.abc import Callable
 from dataclasses import dataclass, field
 
+from ..plausibility import Z95
 from .result import FitResult
 
 #: Points tried on each side, in multiples of the stated 95 % half-width from the optimum (outward
 #: until one is rejected). For a quadratic cost the first is rejected (q = 1.5^2 1.96^2): one refit a side.
 STEPS = (1.5, 3.0, 6.0)
-#: The 95 % half-width in standard deviations (normal), and its square, a one-parameter chi^2's 95 % point.
-Z95 = 1.959964
+#: A one-parameter chi^2's 95 % point: the square of the 95 % half-width in standard deviations.
 LIMIT = Z95**2
 #: A profile is reported as wider than the stated interval when an end lies beyond it by more than
 #: this fraction of the stated half-width (a quarter: half a stated error).
