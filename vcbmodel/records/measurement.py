@@ -235,7 +235,7 @@ def _parse(path: str, known: Iterable[str] | None, units: dict[str, str] | None)
             raise (_summary_below_the_data(e, cells, lines[k + 1:], header, dialect, path) if rows else e) from None
         row_lines.append(i)
     if header is None and preamble:
-        _preamble_line([next(iter(preamble))], path, min(line for line, _ in preamble.values()), {}, [], first=True)
+        _time_not_first(path, preamble, 0, "")
     if header is None:
         raise InputError(path, "header", "missing (no line other than comments)")
     return comments, header, header_line, factors, rows, row_lines, preamble
@@ -260,14 +260,20 @@ def _names_time(cell: str) -> bool:
     return (m.group("name") if m else cell).lower() in TIME_NAMES
 
 
-def _preamble_line(cells: list, path: str, line: int, preamble: dict, comments: list, first: bool = False) -> None:
+def _time_not_first(path: str, preamble: dict, line: int, cell: str) -> None:
+    """Refuse the header whose first column is not the time: the preamble's first line when there is
+    one (no header followed it), else ``cell`` on ``line``."""
+    at = min((ln for ln, _ in preamble.values()), default=line)
+    name = next(iter(preamble), cell)
+    raise InputError(path, f"line {at}", f"the first column must be the time, 't' or 'time', got {name[:40]!r}")
+
+
+def _preamble_line(cells: list, path: str, line: int, preamble: dict, comments: list) -> None:
     """Keep a line above the header as an instrument's preamble (``Record Length,10000``), or refuse it
     as the header whose first column is not the time: a line that starts with a number (data before
-    any header), or the preamble's first line when no header follows (``first``)."""
-    if first or NUMBER.fullmatch(cells[0]):
-        at = min((ln for ln, _ in preamble.values()), default=line)
-        name = next(iter(preamble), cells[0])
-        raise InputError(path, f"line {at}", f"the first column must be the time, 't' or 'time', got {name[:40]!r}")
+    any header)."""
+    if NUMBER.fullmatch(cells[0]):
+        _time_not_first(path, preamble, line, cells[0])
     if len(cells) > 1 and cells[0] and all(c == "" or (UNIT_CELL.fullmatch(c) and to_si(UNIT_CELL.fullmatch(c).group("unit")))
                                            for c in cells):  # an empty cell: a channel without a unit
         above = next(((key, ln) for key, (ln, _) in preamble.items()), None)
