@@ -23,7 +23,7 @@ from ..model.values import rig_values
 from ..laws.breaker import segment_stiffness, torsional_frequencies
 from ..laws.cam_follower import pressure_angle_curve, rest_geometry
 from ..laws.coil import spring_check
-from ..laws.spring_strength import BODY_CHECKS, closing_pulls, compression_reading, extension_checks, wire_for_index
+from ..laws.spring_strength import closing_pulls, compression_reading, extension_checks, wire_for_index
 from ..laws.mechanics import cam_pin
 
 if TYPE_CHECKING:
@@ -250,7 +250,7 @@ def strength_lines(rig: Rig, c: dict) -> list[str]:
     high, low = closing_pulls(s, rig.cam)
     d, D = c["wire_diameter_m"], c["coil_diameter_m"]
     plugs = s.ends == "plugs"  # no bent hook: its stresses are not there to check
-    checks = [k for k in extension_checks(d, D, high, low) if not plugs or k.advisory or k.name in BODY_CHECKS]
+    checks = extension_checks(d, D, high, low, hooks=not plugs)
     failed = [k.name for k in checks if k.fails]
     strength = sum(not k.advisory for k in checks)
     ends = "screwed-in plug ends" if plugs else "standard hooks"

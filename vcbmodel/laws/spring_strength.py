@@ -124,13 +124,19 @@ class Check:
         return not self.passes and not self.advisory
 
 
+#: The checks of :func:`extension_checks` on the body alone: an extension spring whose ends are
+#: screwed-in plugs or swivel inserts (no bent hook) has no hook stresses.
+BODY_CHECKS = ("body torsion", "body fatigue")
+
+
 def extension_checks(wire: float, coil: float, high: float, low: float, operations: float = P.RATED_OPERATIONS,
-                     material: str = P.SPRING_WIRE) -> list[Check]:
+                     material: str = P.SPRING_WIRE, hooks: bool = True) -> list[Check]:
     """Every check of an extension spring (d ``wire``, D ``coil`` in m) that cycles between ``low`` and
     ``high`` pulls (N) ``operations`` times: static body, hook bending and hook torsion (Shigley Table
     10-7), their fatigue (Table 10-8 with Goodman) and whether the smallest pull keeps the coils apart
     (``low`` at least the lowest preferred initial tension, :func:`initial_tension_range`: advisory, a
-    maker's preference; an initial tension below it can be specified)."""
+    maker's preference; an initial tension below it can be specified). ``hooks`` False: ends with no bent
+    hook (screwed-in plugs), the body's checks (:data:`BODY_CHECKS`) and the advisory one."""
     s_ut = wire_strength(wire, material)
     s_su = P.SHEAR_ULTIMATE_FRACTION * s_ut
     a = P.EXTENSION_ALLOWABLE
@@ -142,17 +148,18 @@ def extension_checks(wire: float, coil: float, high: float, low: float, operatio
     table = "Shigley Table 10-7"
     life = f"Shigley Table 10-8 at {operations:.0f} cycles, Goodman"
     initial = initial_tension_range(wire, coil)[0]
-    return [Check("body torsion", body, a["body_torsion"] * s_ut, "Pa", f"{a['body_torsion']:.2f} S_ut, {table}"),
-            Check("hook bending (A)", bend, a["hook_bending"] * s_ut, "Pa", f"{a['hook_bending']:.2f} S_ut, {table}"),
-            Check(f"hook torsion (B, C2 = {P.HOOK_BEND_INDEX:g})", twist, a["hook_torsion"] * s_ut, "Pa",
-                  f"{a['hook_torsion']:.2f} S_ut, {table}"),
-            Check("body fatigue", goodman_factor(body, body_low, f_body * s_ut, s_su), 1.0, "-", life),
-            Check("hook bending fatigue", goodman_factor(bend, bend_low, f_bend * s_ut, s_ut), 1.0, "-", life),
-            Check("hook torsion fatigue", goodman_factor(twist, twist_low, f_twist * s_ut, s_su), 1.0, "-", life),
-            Check("lowest preferred initial tension vs the smallest pull", initial, low, "N",
-                  "Shigley eq. 10-39's preferred range, the easiest to hold in winding; below its initial tension "
-                  "the coils close and the spring goes slack, so one below the range must be specified on the drawing",
-                  advisory=True)]
+    checks = [Check("body torsion", body, a["body_torsion"] * s_ut, "Pa", f"{a['body_torsion']:.2f} S_ut, {table}"),
+              Check("hook bending (A)", bend, a["hook_bending"] * s_ut, "Pa", f"{a['hook_bending']:.2f} S_ut, {table}"),
+              Check(f"hook torsion (B, C2 = {P.HOOK_BEND_INDEX:g})", twist, a["hook_torsion"] * s_ut, "Pa",
+                    f"{a['hook_torsion']:.2f} S_ut, {table}"),
+              Check("body fatigue", goodman_factor(body, body_low, f_body * s_ut, s_su), 1.0, "-", life),
+              Check("hook bending fatigue", goodman_factor(bend, bend_low, f_bend * s_ut, s_ut), 1.0, "-", life),
+              Check("hook torsion fatigue", goodman_factor(twist, twist_low, f_twist * s_ut, s_su), 1.0, "-", life),
+              Check("lowest preferred initial tension vs the smallest pull", initial, low, "N",
+                    "Shigley eq. 10-39's preferred range, the easiest to hold in winding; below its initial tension "
+                    "the coils close and the spring goes slack, so one below the range must be specified on the drawing",
+                    advisory=True)]
+    return checks if hooks else [c for c in checks if c.advisory or c.name in BODY_CHECKS]
 
 
 def critical_deflection(free_length: float, coil: float, end: str = "fixed-fixed",
@@ -183,11 +190,6 @@ def compression_reading(wire: float, coil: float, active_coils: float, stiffness
     return out
 
 
-#: The checks of :func:`extension_checks` on the body alone: an extension spring whose ends are
-#: screwed-in plugs or swivel inserts (no bent hook) has no hook stresses.
-BODY_CHECKS = ("body torsion", "body fatigue")
-
-
 def wire_for_index(index: float, stiffness: float, high: float, low: float, operations: float = P.RATED_OPERATIONS,
                    material: str = P.SPRING_WIRE, hooks: bool = True) -> dict[str, float]:
     """The thinnest wire (m) at spring index ``index`` whose extension spring of rate ``stiffness``
@@ -196,8 +198,8 @@ def wire_for_index(index: float, stiffness: float, high: float, low: float, oper
     check's ratio falls as d grows); with its coil diameter (m), active coils
     (k0 = G d^4 / (8 D^3 n_a)) and active mass (kg)."""
     def worst(d):
-        checks = extension_checks(d, index * d, high, low, operations, material)[:6]
-        return max(c.ratio for c in checks if hooks or c.name in BODY_CHECKS)
+        checks = extension_checks(d, index * d, high, low, operations, material, hooks)
+        return max(c.ratio for c in checks if not c.advisory)
 
     lo, hi = 1e-4, 0.1
     if worst(hi) > 1.0:
