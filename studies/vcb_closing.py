@@ -4,10 +4,10 @@ The reference 12 kV / 40 kA breaker (vcbmodel/parameters.py) closes with five mo
 full model (shaft friction + lumped-2 spring, `exact` convention), without shaft friction,
 with a massless spring, with the ANCF spring, and with neither. The "measurement" is
 SYNTHETIC: the full model with an ANCF spring (16 elements; 8 with --quick) at the 12 kHz camera
-rate plus 0.05 mm noise. Also: the reference breaker before and after issue 19 (the resize: buildable
-springs, an energy budget a real mechanism could have, the `exact` chain), before and after issue 10
-(follower jump, on the breaker of that time),
-the cam-roller contact's law and damping choices, the independent solve
+rate plus 0.05 mm noise. Also: why the reference breaker is sized as it is (the paper's springs under
+the flywheel reading against the settled one: buildable springs, an energy budget a real mechanism could
+have, the `exact` chain), the opening spring and rise that keep the roller on the cam (a follower jump on
+the flywheel reading's springs and cam), the cam-roller contact's law and damping choices, the independent solve
 (vcbmodel/reference/breaker.py) against the Exudyn model, energy balance, step convergence,
 pressure angle, the main shaft's twist between the pole levers and the pole spread it makes (rigid shaft,
 reference shaft, driven at the middle pole, the first estimate's 40 mm).
@@ -94,8 +94,8 @@ CONTACT_FIELDS = ("cam_roller_law", "roller_width", "cam_roller_damping", "cam_r
 
 
 def former_breaker(preload=1200.0):
-    """The reference breaker before issue 10: the springs and cam of that time (those of
-    FORMER_REFERENCE_BREAKER), 40-220 deg rise, 1200 N opening spring, Hertz point contact with
+    """A breaker that jumps: the springs and cam of the flywheel reading (FORMER_REFERENCE_BREAKER),
+    40-220 deg rise, 1200 N opening spring, Hertz point contact with
     Lankarani-Nikravesh damping (latch at the pin, the default)."""
     d = copy.deepcopy(P.FORMER_REFERENCE_BREAKER)
     b = d["breaker"]
@@ -213,15 +213,15 @@ def stored(rig):
     return float(s.count * 0.5 * s.stiffness * stretch**2)
 
 
-def issue19_rows(rig, result, t_end):
-    """The reference breaker before issue 19 (FORMER_REFERENCE_BREAKER) and now: figures of merit,
-    energy budget, spring stress."""
+def sizing_rows(rig, result):
+    """The paper's springs under the flywheel reading (FORMER_REFERENCE_BREAKER) and the reference
+    breaker: figures of merit, energy budget, spring stress."""
     old_rig = rig_from_data(copy.deepcopy(P.FORMER_REFERENCE_BREAKER))
     old = breaker_budget(old_rig, simulate(old_rig, t_end=0.045))
     new = breaker_budget(rig, result)
     rows = []
-    for label, b in (("before issue 19 (2 x 6000 N, 0.34 kg springs, 0.05 kg m^2 cam, lumped-2 paper)", old),
-                     ("now (2 x 3000 N, 0.83 kg springs, 0.020 kg m^2 cam shaft, lumped-2 exact)", new)):
+    for label, b in ((f"flywheel reading ({breaker_label(old_rig)}, lumped-2 paper)", old),
+                     (f"reference ({breaker_label(rig)} shaft, lumped-2 exact)", new)):
         f = b["figures_of_merit"]
         rows.append([label, f"{1e3 * f['closing_time_s']:.2f}", f"{f['closing_speed_m_s']:.3f}",
                      f"{f['zone_speed_min_m_s']:.3f}-{f['zone_speed_max_m_s']:.3f}",
@@ -229,10 +229,17 @@ def issue19_rows(rig, result, t_end):
                      f"{100 * b['cam_share_at_touch']:.0f}", f"{b['charged_pull_per_spring_N']:.0f}",
                      f"{b['shear_stress_Pa'] / 1e9:.2f}",
                      f"{b['allowable_extension_Pa'] / 1e9:.2f} / {b['allowable_compression_Pa'] / 1e9:.2f}"])
-    return rows, {"before": old, "now": new}
+    return rows, {"flywheel_reading": old, "reference": new}
 
 
-ISSUE19_HEADERS = ["breaker", "closing time (ms)", "closing speed over the zone (m/s)", "slowest-fastest pole (m/s)",
+def breaker_label(rig):
+    """'2 x 3000 N, 0.83 kg springs, 0.020 kg m^2 cam': a breaker's springs and cam, from the rig."""
+    s = rig.closing_spring
+    return (f"{s.count} x {round(float(np.hypot(*rig_pull(rig))), -2):.0f} N, {s.mass:.2f} kg springs, "
+            f"{rig.cam.inertia_pivot:.3f} kg m^2 cam")
+
+
+SIZING_HEADERS = ["breaker", "closing time (ms)", "closing speed over the zone (m/s)", "slowest-fastest pole (m/s)",
                    "springs store (J)", "released to first touch (J)", "cam shaft holds at touch (J)",
                    "cam's share (%)", "pull per spring (N)", "wire shear stress (GPa)",
                    "allowable extension / compression (GPa)"]
@@ -377,6 +384,305 @@ POLE_SPREAD_HEADERS = ["main shaft", "touch times, poles 1/2/3 (ms)", "pole spre
                        "bounce per pole (ms)"]
 
 
+def md_models(rows, truth_elements):
+    return ["# The whole breaker's closing (paper section 4, Fig. 12)\n",
+            "Reference breaker: `vcbmodel/parameters.py` (REFERENCE_BREAKER). The measurement is SYNTHETIC "
+            f"(full model with a {truth_elements}-element ANCF spring, 12 kHz, noise 0.05 mm): a stand-in for the "
+            "paper's camera record, not a test.\n",
+            "## Figures of merit\n",
+            markdown_table(["model", *FOM_HEADERS, "rms vs measurement (mm)"], rows),
+            "\nClosing time: latch release to the last pole's touch. Closing speed: each pole's mean speed over the "
+            "analyser's zone (breaker.speed_zone, the last 4 mm before its touch), the poles' mean (each pole's, and its "
+            "speed at the touch instant, in the analyser's report at the end). Wipe: follower travel after the first "
+            "touch, to its final position; overtravel: its largest travel beyond "
+            "the final position (analysers' definitions; without an end stop in the rig nothing stops the cam, so it is "
+            "the cam's geometry). Roller off the cam: total time with no "
+            "cam-roller force; first lift-off - first touch: when the roller first leaves the cam, negative before the "
+            "contacts touch (a follower jump), '-' if it never leaves; least roller force before touch: the margin "
+            "against a jump.\n"]
+
+
+def md_energy_split(split_rows, stop_rows):
+    return ["## Where the closing springs' energy goes (`vcb_closing_energy_split.png`)\n",
+            markdown_table(["where", "at the first touch (J)", "at rest (J)"], split_rows),
+            "\nAt the first touch the cam shaft still holds most of what the springs gave up, as in a real spring "
+            "mechanism, whose closing springs are sized with a margin and whose cam hands its remaining energy to a "
+            "closing damper or stop at the end of the stroke. Here that is the end stop (a buffer at 250 deg, past "
+            "the rise's end) and the holding latch (248 deg) of `parameters.py`; 'at rest' is the same closing run "
+            f"on to {1e3 * P.BREAKER_REST_T_END:.0f} ms, with the cam at rest on the latch.\n",
+            "## The end stop and the holding latch\n",
+            markdown_table(["", "the reference breaker"], stop_rows),
+            "\nThe stop sits on the dwell, so the contacts keep their full stroke while the cam is stopped: the "
+            "follower's overtravel is the wipe the profile gives, and the poles' bounce comes from their own "
+            "dynamics; the cam's own overtravel into the buffer and its rebound onto the latch come from the stop's "
+            "stiffness and damping.\n"]
+
+
+def md_sizing(rig, rows, sizing):
+    """Why the reference breaker is sized as it is: the paper's springs under two readings."""
+    old, new = sizing["flywheel_reading"], sizing["reference"]
+    f = new["figures_of_merit"]
+    speed_times_time = f["closing_speed_m_s"] * f["closing_time_s"]
+    s = rig.closing_spring
+    return ["## Why the reference breaker is sized as it is: the paper's springs read two ways\n",
+            markdown_table(SIZING_HEADERS, rows),
+            f"\nRead as {old['spring_mass_kg']:.2f} kg and {round(old['charged_pull_per_spring_N'], -2):.0f} N each, "
+            f"the paper's springs store {old['stored_J']:.0f} J, which no steel coil of that mass carries "
+            f"(`spring_reading.md`: wire shear stress {old['shear_stress_Pa'] / 1e9:.2f} GPa against the "
+            f"{old['allowable_extension_Pa'] / 1e9:.2f} GPa allowed), on a {old['cam_inertia_kg_m2']:.3f} kg m^2 cam: a "
+            f"flywheel. The reference breaker takes the settled reading ({s.mass:.2f} kg, "
+            f"{round(new['charged_pull_per_spring_N'], -2):.0f} N each; the pair stores {new['stored_J']:.0f} J), its "
+            f"cam shaft sized for that energy ({new['cam_inertia_kg_m2']:.3f} kg m^2), the rise ending at "
+            f"{np.degrees(rig.breaker.profile.rise_end):.0f} deg so that the cam completes it, and the `exact` chain. "
+            "With these springs and this cam law the closing speed times the closing time is set by the shapes "
+            "(spring pull against angle, profile, gap), not by the inertia: a closing speed within the reference's "
+            f"window ({P.REFERENCE_LIMITS['closing_speed']['min']:g}-{P.REFERENCE_LIMITS['closing_speed']['max']:g} "
+            f"m/s, parameters.REFERENCE_LIMITS) over the zone ({f['closing_speed_m_s']:.2f} m/s) takes "
+            f"{1e3 * f['closing_time_s']:.0f} ms from the latch release, against the paper's 'about 30 ms' (which, at "
+            f"the same product, would need about {speed_times_time / 0.030:.1f} m/s).\n"]
+
+
+def md_main_shaft(spread_rows, spread, twist):
+    return ["## The main shaft's twist between the pole levers\n",
+            f"The reference breaker's main shaft (rig section `breaker.main_shaft`, `MAIN_SHAFT_SECTION` in "
+            f"`parameters.py`, sized there with this table): {1e3 * P.MAIN_SHAFT['diameter']:.0f} mm solid steel, pole "
+            f"levers {1e3 * P.MAIN_SHAFT['pole_pitch']:.0f} mm apart and {1e3 * P.MAIN_SHAFT['lever_arm']:.0f} mm long, "
+            "driven at the first pole's side. Each pole lever turns on its own, tied to its neighbours by the shaft's "
+            "torsional stiffness and damping; the drive pole's lever turns with the roller's follower. The closing to "
+            f"the cam's rest on the holding latch ({1e3 * P.BREAKER_REST_T_END:.0f} ms), full model, the same breaker "
+            "with the shaft rigid, driven at the middle pole, and as thin as first estimated (equal springs, cam, poles "
+            "and total inertia of the shaft assembly). Twist: the largest angle between any two pole levers, and the "
+            "travel it makes at the pole:\n",
+            markdown_table(POLE_SPREAD_HEADERS, spread_rows),
+            "\nPole gaps are 11 mm + 0 / +0.3 / -0.3 mm. " + pole_spread_sentence(spread) + "\n",
+            "A static check of the twist (`laws.mechanics.main_shaft_twist`: each segment carries the push-rod "
+            "torques of the poles beyond it, quasi-static, no lever inertia), loaded by the push-rod forces of the "
+            "elastic full model:\n",
+            markdown_table(["when", "push-rod forces there (N)", "twist (mrad)", "travel at the pole (mm)"],
+                           [[k, " / ".join(f"{v:.0f}" for v in w["rod_forces_N"]), f"{1e3 * w['largest_twist_rad']:.2f}",
+                             f"{1e3 * w['travel_at_pole_m']:.3f}"] for k, w in twist.items()]),
+            "\n" + static_check_sentence(twist, spread) + "\n"]
+
+
+def md_opening_spring_and_rise(rows, runs):
+    """A follower jump and what stops it, on the flywheel reading's springs and cam."""
+    (weak_label, weak), (strong_label, strong), (now_label, now) = runs.items()
+    fw, fs, fn = weak["figures_of_merit"], strong["figures_of_merit"], now["figures_of_merit"]
+    jumps = fw["roller_first_lift_off_s"] is not None and fw["roller_first_lift_off_s"] < 0
+    held = lambda f: f["roller_first_lift_off_s"] is None  # noqa: E731
+    return ["## Keeping the roller on the cam: the opening spring and the rise\n",
+            "On the springs and cam of the flywheel reading (the table above): the former rise over "
+            f"{weak['rise_span_deg']:.0f} deg of cam angle with two opening springs, and the rise and contact it was "
+            "given:\n",
+            markdown_table(["breaker", *FOM_HEADERS], rows),
+            f"\nWith the former rise the poles close at {fw['closing_speed_m_s']:.2f} m/s over the zone, above the "
+            "0.6-1.5 m/s of 12 kV vacuum breakers, and "
+            + (f"the roller leaves the cam {1e3 * -fw['roller_first_lift_off_s']:.2f} ms before the contacts touch: in "
+               "the rise's deceleration the 1200 N opening spring cannot hold the follower and the poles"
+               if jumps else "the roller stays on the cam")
+            + (" (at 2400 N it can). " if held(fs) else " (at 2400 N it still leaves). ")
+            + "With the closing springs and the cam unchanged, the touch speed is the cam's speed times the output "
+            f"point's travel per cam angle: spreading the rise over {now['rise_span_deg']:.0f} deg brings the closing "
+            f"speed to {fn['closing_speed_m_s']:.2f} m/s and the closing time to {1e3 * fn['closing_time_s']:.1f} ms"
+            + (f", and the 2000 N opening spring keeps the roller on the cam with "
+               f"{1e-3 * fn['min_cam_roller_force_before_touch_N']:.2f} kN to spare.\n" if held(fn)
+               else ", but the roller still leaves the cam.\n")]
+
+
+CONTACT_HEADERS = ["cam-roller law, damping", *FOM_HEADERS, "dashpot force max / min (kN)", "dissipated by the dashpot (J)"]
+
+
+def md_contact(choice_rows, former_rows):
+    return ["## The cam-roller contact: law and damping\n",
+            "A cylindrical roller on a cam is a line contact: Palmgren's steel law, force ~ delta^(10/9) with the "
+            "stiffness from the roller's 20 mm width (Johnson's cylinder formula is 8-13 % more compliant over "
+            "1-40 kN), instead of Hertz's point contact (delta^1.5). The contact is preloaded from the first instant "
+            "to the last, so it has no impact speed: Lankarani-Nikravesh damping then runs on its 0.05 m/s floor, an "
+            "arbitrary dashpot; Hunt-Crossley with a fixed factor alpha (0.08-0.32 s/m for steel) is meant for "
+            "persistent contacts. The reference breaker uses the line contact with Hunt-Crossley, alpha = 0.2 s/m.\n",
+            "Reference breaker:\n",
+            markdown_table(CONTACT_HEADERS, choice_rows),
+            "\nThe breaker with the former rise and 1200 N opening spring (the roller jumps and lands again; there "
+            "the damping law matters):\n",
+            markdown_table(CONTACT_HEADERS, former_rows)]
+
+
+def md_independent(agreement, t_end):
+    cost = agreement["first_order_penetration_cost"]
+    return ["\n## Independent evidence: the model against a solve written again from the equations\n",
+            "`vcbmodel/reference/breaker.py` shares no code with the model: geometry, contact and friction laws and "
+            "the equations of motion are written again; the roller's penetration is the exact minimum distance to the "
+            "cam's pitch curve (Newton), the friction's stuck state, regime changes and each contact's start are "
+            "events of an adaptive DOP853 solve (rtol 1e-10). Against the Exudyn model (full model, "
+            f"{t_end * 1e3:.0f} ms, RK4 at {P.BREAKER_STEP:g} s):\n",
+            markdown_table(["stick band", "touch times (ns)", "touch speeds (m/s)", "follower displacement (um)",
+                            "cam angle (mrad)", "pole 1 travel (um)", "cam-roller force (N)"],
+                           [[k, f"{1e9 * a['touch_time_difference_s']:.1f}", f"{a['touch_speed_difference_m_s']:.1e}",
+                             f"{1e6 * a['max_follower_displacement_difference']:.3f}",
+                             f"{1e3 * a['max_cam_angle_difference']:.4f}", f"{1e6 * a['max_pole_1_travel_difference']:.2f}",
+                             f"{a['max_cam_roller_force_difference']:.0f}"]
+                            for k, a in ((k, agreement[k]) for k in ("literal", "passive"))]),
+            "\nLargest differences over the closing. With the literal stick band the two agree to a few ns in the "
+            "touch times; what is left is the model's fixed step: the pole travels differ during the bounces because "
+            "the model takes each impact speed at the start of the step in which the contact begins (first order in "
+            "the step), and the touch speeds because the figures of merit interpolate the velocity over that step. "
+            "The default passive stuck state widens the stick band with the step (2 h mu_s r F_n / I, 0.018 rad/s at "
+            "1e-5 s), which delays the breakaway by microseconds. The model's first-order penetration (the pitch "
+            "curve's normal offset) against the exact distance costs "
+            f"{1e6 * cost['follower_displacement_m']:.3f} um of follower displacement, {1e9 * cost['penetration_m']:.2f} "
+            f"nm of penetration and {1e9 * cost['touch_time_s']:.1f} ns in the touch times.\n"]
+
+
+def md_conclusion(summary):
+    """The paper's conclusion in numbers, the energy balance, step convergence and pressure angle."""
+    c, conv = summary["paper_conclusion"], summary["step_convergence"]
+    ratio, fr, ms = c["friction_over_spring_motion"], c["without shaft friction"], c["massless spring"]
+    return ["## The paper's conclusion, in numbers\n",
+            f"Leaving out the shaft friction changes the follower displacement by "
+            f"{1e3 * fr['rms_change_of_displacement_m']:.2f} mm rms and the closing time by "
+            f"{1e3 * fr['closing_time_change_s']:+.2f} ms; making the spring massless changes them by "
+            f"{1e3 * ms['rms_change_of_displacement_m']:.2f} mm rms and {1e3 * ms['closing_time_change_s']:+.2f} ms. "
+            + (f"Friction matters {ratio:.1f}x more than spring motion (paper: 'much more').\n" if ratio >= 1 else
+               f"Spring motion matters {1 / ratio:.1f}x more than friction: on this breaker the paper's conclusion "
+               "does not hold.\n"),
+            "## Energy balance (J, at the end of the closing)\n",
+            markdown_table(["model", "largest spring energy released", "kinetic", "opening spring", "wipe springs and rods",
+                            "contacts", "dissipated", "largest residual", "residual (% of released)"],
+                           [[e["model"], f"{e['spring_energy_released_max_J']:.1f}", f"{e['kinetic']:.1f}",
+                             f"{e['opening_spring']:.2f}", f"{e['wipe_and_rods']:.2f}", f"{e['contacts']:.3f}",
+                             f"{e['dissipated']:.1f}", f"{e['residual_max_J']:.3g}",
+                             f"{e['residual_percent_of_released']:.4f}"] for e in summary["energy_balance"]]),
+            "\nEach column is the change since the latch release (the opening spring's preload energy at the release is "
+            "not counted, as in the energy split above). Residual = kinetic + potential + dissipated (shaft friction, "
+            "contact hysteresis, rod damping) - latch work - initial energy, at every step.\n",
+            "## Step convergence and cam profile\n",
+            f"Halving the step ({P.BREAKER_STEP:g} s) changes the follower displacement by at most "
+            f"{1e6 * conv['max_displacement_difference_m']:.2f} um and the closing time by "
+            f"{1e6 * conv['closing_time_difference_s']:.2f} us (the passive stick band's share: it widens with the step). "
+            f"Largest pressure angle: {summary['max_pressure_angle_closing_deg']:.1f} deg while the roller rises, "
+            f"{summary['max_pressure_angle_deg']:.1f} deg over a whole cam turn (the return; limit for roller followers "
+            "about 30 deg).\n"]
+
+
+def md_analyser(report):
+    return ["\n## The analyser's report of the full model (`vcb_closing_analyser.png`)\n",
+            "What `vcbmodel simulate` prints for the reference breaker: each pole against the rig's limits "
+            "(`breaker.limits`, from `parameters.py`).\n", "```\n" + report_text(report) + "\n```\n"]
+
+
+
+FULL = "full model (friction + lumped-2)"
+
+
+def closing_models(rig, meas, t_end):
+    """Each model of ``models`` closing the reference breaker: results, table rows, and per model
+    its effects, spring model, rms against the synthetic measurement (m) and figures of merit."""
+    y_meas = meas.channels["follower_displacement"]
+    results, rows, summary = {}, [], {}
+    for label, (effects, spring) in models(rig).items():
+        r = simulate(rig, effects, spring_model=spring, t_end=t_end)
+        results[label] = r
+        fom = figures_of_merit(r, rig)
+        rms = float(np.sqrt(np.mean((r.resample(meas.t).channels["follower_displacement"] - y_meas) ** 2)))
+        summary[label] = {"effects": list(effects), "spring_model": spring, "rms_vs_measurement_m": rms,
+                          "figures_of_merit": fom}
+        rows.append(fom_row(label, fom, (f"{1e3 * rms:.3f}",)))
+    return results, rows, summary
+
+
+def paper_conclusion(results, models_summary):
+    """The paper's conclusion in numbers: how far leaving out the shaft friction, or the spring's mass,
+    moves the full model's follower displacement (rms, m) and closing time (s)."""
+    full = results[FULL]
+    y_full = full.channels["follower_displacement"]
+    closing = {label: m["figures_of_merit"]["closing_time_s"] for label, m in models_summary.items()}
+
+    def change(label):
+        r = results[label]
+        d = np.interp(full.t, r.t, r.channels["follower_displacement"]) - y_full
+        return {"rms_change_of_displacement_m": float(np.sqrt(np.mean(d**2))),
+                "closing_time_change_s": closing[label] - closing[FULL]}
+
+    out = {"without shaft friction": change("without shaft friction"), "massless spring": change("massless spring")}
+    out["friction_over_spring_motion"] = (out["without shaft friction"]["rms_change_of_displacement_m"]
+                                          / out["massless spring"]["rms_change_of_displacement_m"])
+    return out
+
+
+def step_convergence(rig, full, full_fom, t_end):
+    """What halving the breaker's step (P.BREAKER_STEP) changes in the full model's closing."""
+    fine = simulate(rig, spring_model="lumped-2", t_end=t_end, step=P.BREAKER_STEP / 2)
+    y_full = full.channels["follower_displacement"]
+    return {"step_s": [P.BREAKER_STEP, P.BREAKER_STEP / 2],
+            "max_displacement_difference_m": float(np.max(np.abs(
+                np.interp(full.t, fine.t, fine.channels["follower_displacement"]) - y_full))),
+            "closing_time_difference_s": abs(figures_of_merit(fine, rig)["closing_time_s"] - full_fom["closing_time_s"])}
+
+
+def pressure_angles(rig):
+    """Cam angles (rad) over one turn from the start and the pressure angle there (deg)."""
+    laws = BreakerLaws.of_rig(rig, model_spec(rig))
+    thetas = np.linspace(rig.cam.initial_angle, rig.cam.initial_angle + 2 * np.pi, 721)
+    return thetas, np.degrees(pressure_angle_curve(rig.breaker, laws.geometry, thetas))
+
+
+def opening_spring_and_rise(t_end):
+    """The flywheel reading's breaker with the former rise and opening spring (1200 N, 2400 N) and
+    with the rise and contact it was given: figures of merit, table rows, rise spans (deg)."""
+    variants = {"former (40-220 deg rise, 1200 N opening spring, Hertz point, LN damping)": former_breaker(1200.0),
+                "former with a 2400 N opening spring": former_breaker(2400.0),
+                "12-285 deg rise, 2000 N opening spring, line contact, Hunt-Crossley":
+                    copy.deepcopy(P.FORMER_REFERENCE_BREAKER)}
+    rows, out = [], {}
+    for label, d in variants.items():
+        r = rig_from_data(d)
+        f = figures_of_merit(simulate(r, t_end=t_end), r)
+        profile = d["breaker"]["cam_profile"]
+        out[label] = {"figures_of_merit": f,
+                      "rise_span_deg": float(np.degrees(profile["rise_end"] - profile["rise_start"]))}
+        rows.append(fom_row(label, f))
+    return rows, out
+
+
+def closing_figures(rig, meas, results, full_fom, out):
+    """The Fig. 12 stand-in (every model against the synthetic measurement) and the full model's detail
+    (poles, forces, pressure angle)."""
+    y_meas = meas.channels["follower_displacement"]
+    fig, (ax1, ax2) = plt.subplots(2, 1, figsize=(8, 7), sharex=True, gridspec_kw={"height_ratios": [2, 1]})
+    ax1.plot(1e3 * meas.t, 1e3 * y_meas, ".", ms=2, color="0.55", label="SYNTHETIC measurement (camera stand-in)")
+    for label, r in results.items():
+        ax1.plot(1e3 * r.t, 1e3 * r.channels["follower_displacement"], lw=1.3, label=label)
+        ax2.plot(1e3 * meas.t, 1e3 * (r.resample(meas.t).channels["follower_displacement"] - y_meas), lw=0.9)
+    ax1.set_ylabel("follower displacement (mm)")
+    ax1.set_title("Closing of the reference breaker (paper Fig. 12 stand-in)")
+    ax1.legend(fontsize=8, loc="upper left")
+    ax2.set_xlabel("t after latch release (ms)")
+    ax2.set_ylabel("model - measurement (mm)")
+    save(fig, out / "vcb_closing_fig12.png")
+
+    thetas, pressure = pressure_angles(rig)
+    fig, axes = plt.subplots(2, 2, figsize=(10, 7))
+    ch, t = results[FULL].channels, 1e3 * results[FULL].t
+    touch = 1e3 * full_fom["first_touch_s"]
+    window = (t > touch - 1.5) & (t < touch + 5)
+    for i in range(rig.breaker.poles.count):
+        axes[0, 0].plot(t[window], 1e3 * ch[f"pole_{i + 1}_travel"][window], label=f"pole {i + 1}")
+        axes[0, 1].plot(t[window], 1e-3 * ch[f"pole_{i + 1}_contact_force"][window], label=f"pole {i + 1} contact")
+    axes[1, 0].plot(t, 1e-3 * ch["cam_roller_force"], label="cam-roller")
+    axes[1, 0].plot(t, 1e-3 * ch["pole_1_rod_force"], label="push rod, pole 1")
+    for ax, ylabel in ((axes[0, 0], "moving contact travel (mm)"), (axes[0, 1], "contact force (kN)"),
+                       (axes[1, 0], "force (kN)")):
+        ax.set_ylabel(ylabel)
+        ax.set_xlabel("t (ms)")
+        ax.legend(fontsize=8)
+    axes[0, 0].set_title("touch and bounce (gap 11 mm +- 0.3 mm)")
+    axes[1, 1].plot(np.degrees(thetas), pressure)
+    axes[1, 1].set_xlabel("cam angle (deg)")
+    axes[1, 1].set_ylabel("pressure angle (deg)")
+    axes[1, 1].set_title(f"cam profile: max {pressure.max():.1f} deg")
+    save(fig, out / "vcb_closing_detail.png")
+
+
 def main():
     args = parse_args(__doc__)
     out = Path(args.out)
@@ -390,261 +696,41 @@ def main():
     meas = synthetic_measurement(rig, rig.model.effects, {}, spring_model="ancf", seed=12, t_end=t_end,
                                  path=out / "synthetic" / "vcb_closing.csv", ancf_elements=truth_elements)
     write_measurement(meas, meas.path)
-    y_meas = meas.channels["follower_displacement"]
 
-    results, rows, summary = {}, [], {"synthetic_measurement": str(Path("synthetic") / "vcb_closing.csv"),
-                                      "truth": f"full model, ANCF spring with {truth_elements} elements, noise 0.05 mm",
-                                      "models": {}}
-    for label, (effects, spring) in models(rig).items():
-        r = simulate(rig, effects, spring_model=spring, t_end=t_end)
-        results[label] = r
-        fom = figures_of_merit(r, rig)
-        rms = float(np.sqrt(np.mean((r.resample(meas.t).channels["follower_displacement"] - y_meas) ** 2)))
-        summary["models"][label] = {"effects": list(effects), "spring_model": spring, "rms_vs_measurement_m": rms,
-                                    "figures_of_merit": fom}
-        rows.append(fom_row(label, fom, (f"{1e3 * rms:.3f}",)))
-
-    # the paper's conclusion: how much does each omission move the closing away from the full model?
-    full = results["full model (friction + lumped-2)"]
-    y_full = full.channels["follower_displacement"]
-
-    def change(label):
-        r = results[label]
-        d = np.interp(full.t, r.t, r.channels["follower_displacement"]) - y_full
-        return {"rms_change_of_displacement_m": float(np.sqrt(np.mean(d**2))),
-                "closing_time_change_s": summary["models"][label]["figures_of_merit"]["closing_time_s"]
-                - summary["models"]["full model (friction + lumped-2)"]["figures_of_merit"]["closing_time_s"]}
-
-    conclusion = {"without shaft friction": change("without shaft friction"), "massless spring": change("massless spring")}
-    ratio = (conclusion["without shaft friction"]["rms_change_of_displacement_m"]
-             / conclusion["massless spring"]["rms_change_of_displacement_m"])
-    conclusion["friction_over_spring_motion"] = ratio
-    summary["paper_conclusion"] = conclusion
-
-    energy = [energy_row(label, rig, results[label]) for label in
-              ("full model (friction + lumped-2)", "massless spring", "neither (massless, no friction)")]
-    summary["energy_balance"] = energy
-
-    fine = simulate(rig, spring_model="lumped-2", t_end=t_end, step=P.BREAKER_STEP / 2)
-    fom_fine = figures_of_merit(fine, rig)
-    conv = {"step_s": [P.BREAKER_STEP, P.BREAKER_STEP / 2],
-            "max_displacement_difference_m": float(np.max(np.abs(
-                np.interp(full.t, fine.t, fine.channels["follower_displacement"]) - y_full))),
-            "closing_time_difference_s": abs(fom_fine["closing_time_s"]
-                                             - summary["models"]["full model (friction + lumped-2)"]["figures_of_merit"]["closing_time_s"])}
-    summary["step_convergence"] = conv
-
-    laws = BreakerLaws.of_rig(rig, model_spec(rig))
-    thetas = np.linspace(rig.cam.initial_angle, rig.cam.initial_angle + 2 * np.pi, 721)
-    pressure = np.degrees(pressure_angle_curve(rig.breaker, laws.geometry, thetas))
-    summary["max_pressure_angle_deg"] = float(pressure.max())
-    summary["max_pressure_angle_closing_deg"] = float(pressure[thetas <= rig.breaker.profile.rise_end].max())
-
-    # before and after issue 19: the resize
-    full_fom = summary["models"]["full model (friction + lumped-2)"]["figures_of_merit"]
-    issue19, summary["issue_19"] = issue19_rows(rig, full, t_end)
-    twist = summary["main_shaft_twist"] = shaft_twist(rig, full, full_fom)
+    results, rows, models_summary = closing_models(rig, meas, t_end)
+    full = results[FULL]
+    full_fom = models_summary[FULL]["figures_of_merit"]
+    thetas, pressure = pressure_angles(rig)
+    summary = {"synthetic_measurement": str(Path("synthetic") / "vcb_closing.csv"),
+               "truth": f"full model, ANCF spring with {truth_elements} elements, noise 0.05 mm",
+               "models": models_summary, "paper_conclusion": paper_conclusion(results, models_summary),
+               "energy_balance": [energy_row(label, rig, results[label]) for label in
+                                  (FULL, "massless spring", "neither (massless, no friction)")],
+               "step_convergence": step_convergence(rig, full, full_fom, t_end),
+               "max_pressure_angle_deg": float(pressure.max()),
+               "max_pressure_angle_closing_deg": float(pressure[thetas <= rig.breaker.profile.rise_end].max())}
+    sizing, summary["sizing"] = sizing_rows(rig, full)
+    summary["main_shaft_twist"] = shaft_twist(rig, full, full_fom)
     spread_rows, summary["pole_spread_main_shaft"] = pole_spread_rows(rig_dict, P.BREAKER_REST_T_END)
-
-    # before and after issue 10 (on the breaker of that time): the former reference breaker jumped
-    history = {"former (40-220 deg rise, 1200 N opening spring, Hertz point, LN damping)": former_breaker(1200.0),
-               "former with a 2400 N opening spring": former_breaker(2400.0)}
-    history_rows, summary["former_breaker"] = [], {}
-    for label, d in history.items():
-        r_old = rig_from_data(d)
-        f_old = figures_of_merit(simulate(r_old, t_end=t_end), r_old)
-        summary["former_breaker"][label] = f_old
-        history_rows.append(fom_row(label, f_old))
-    history_rows.append(fom_row("after issue 10 (12-285 deg rise, 2000 N, line contact, Hunt-Crossley)",
-                                summary["issue_19"]["before"]["figures_of_merit"]))
-
-    # the cam-roller contact's law and damping, on the reference breaker and on the former one
+    rise_rows, summary["opening_spring_and_rise"] = opening_spring_and_rise(t_end)
     choice_rows, summary["contact_choices"] = contact_choices(P.REFERENCE_BREAKER, t_end)
     former_rows, summary["contact_choices_former_breaker"] = contact_choices(former_breaker(1200.0), t_end)
+    summary["independent_reference"] = independent_agreement(rig, t_end)
 
-    # the independent solve
-    agreement = summary["independent_reference"] = independent_agreement(rig, t_end)
-
-    # Fig. 12 stand-in
-    fig, (ax1, ax2) = plt.subplots(2, 1, figsize=(8, 7), sharex=True, gridspec_kw={"height_ratios": [2, 1]})
-    ax1.plot(1e3 * meas.t, 1e3 * y_meas, ".", ms=2, color="0.55", label="SYNTHETIC measurement (camera stand-in)")
-    for label, r in results.items():
-        ax1.plot(1e3 * r.t, 1e3 * r.channels["follower_displacement"], lw=1.3, label=label)
-        ax2.plot(1e3 * meas.t, 1e3 * (r.resample(meas.t).channels["follower_displacement"] - y_meas), lw=0.9)
-    ax1.set_ylabel("follower displacement (mm)")
-    ax1.set_title("Closing of the reference breaker (paper Fig. 12 stand-in)")
-    ax1.legend(fontsize=8, loc="upper left")
-    ax2.set_xlabel("t after latch release (ms)")
-    ax2.set_ylabel("model - measurement (mm)")
-    save(fig, out / "vcb_closing_fig12.png")
-
-    # detail of the full model: poles, forces, pressure angle
-    fig, axes = plt.subplots(2, 2, figsize=(10, 7))
-    ch, t = full.channels, 1e3 * full.t
-    touch = summary["models"]["full model (friction + lumped-2)"]["figures_of_merit"]["first_touch_s"] * 1e3
-    window = (t > touch - 1.5) & (t < touch + 5)
-    for i in range(rig.breaker.poles.count):
-        axes[0, 0].plot(t[window], 1e3 * ch[f"pole_{i + 1}_travel"][window], label=f"pole {i + 1}")
-        axes[0, 1].plot(t[window], 1e-3 * ch[f"pole_{i + 1}_contact_force"][window], label=f"pole {i + 1} contact")
-    axes[0, 0].set_ylabel("moving contact travel (mm)")
-    axes[0, 0].set_xlabel("t (ms)")
-    axes[0, 0].legend(fontsize=8)
-    axes[0, 0].set_title("touch and bounce (gap 11 mm +- 0.3 mm)")
-    axes[0, 1].set_ylabel("contact force (kN)")
-    axes[0, 1].set_xlabel("t (ms)")
-    axes[0, 1].legend(fontsize=8)
-    axes[1, 0].plot(t, 1e-3 * ch["cam_roller_force"], label="cam-roller")
-    axes[1, 0].plot(t, 1e-3 * ch["pole_1_rod_force"], label="push rod, pole 1")
-    axes[1, 0].set_ylabel("force (kN)")
-    axes[1, 0].set_xlabel("t (ms)")
-    axes[1, 0].legend(fontsize=8)
-    axes[1, 1].plot(np.degrees(thetas), pressure)
-    axes[1, 1].set_xlabel("cam angle (deg)")
-    axes[1, 1].set_ylabel("pressure angle (deg)")
-    axes[1, 1].set_title(f"cam profile: max {pressure.max():.1f} deg")
-    save(fig, out / "vcb_closing_detail.png")
-    # the full model's closing as a breaker analyser reports and draws it (vcbmodel simulate, --plot)
+    closing_figures(rig, meas, results, full_fom, out)
     report = closing_report(full, rig)
     save(closing_figure(full, rig, f"{rig.name}: full model (lumped-2)", report), out / "vcb_closing_analyser.png",
          tight=False)
-
     rest = simulate(rig, t_end=P.BREAKER_REST_T_END)
     split_rows = energy_split_figure(rig, full, rest, summary, out)
     stop_rows, summary["end_stop"] = end_stop_rows(rig, rest)
     write_json(out / "vcb_closing.json", summary)
-    md = ["# The whole breaker's closing (paper section 4, Fig. 12)\n",
-          "Reference breaker: `vcbmodel/parameters.py` (REFERENCE_BREAKER). The measurement is SYNTHETIC "
-          f"(full model with a {truth_elements}-element ANCF spring, 12 kHz, noise 0.05 mm): a stand-in for the paper's "
-          "camera record, not a test.\n",
-          "## Figures of merit\n",
-          markdown_table(["model", *FOM_HEADERS, "rms vs measurement (mm)"], rows),
-          "\nClosing time: latch release to the last pole's touch. Closing speed: each pole's mean speed over the "
-          "analyser's zone (breaker.speed_zone, the last 4 mm before its touch), the poles' mean (each pole's, and its "
-          "speed at the touch instant, in the analyser's report at the end). Wipe: follower travel after the first "
-          "touch, to its final position; overtravel: its largest travel beyond "
-          "the final position (analysers' definitions; without an end stop in the rig nothing stops the cam, so it is the "
-          "cam's geometry). Roller off the cam: total time with no "
-          "cam-roller force; first lift-off - first touch: when the roller first leaves the cam, negative before the "
-          "contacts touch (a follower jump), '-' if it never leaves; least roller force before touch: the margin "
-          "against a jump.\n",
-          "## Where the closing springs' energy goes (`vcb_closing_energy_split.png`)\n",
-          markdown_table(["where", "at the first touch (J)", "at rest (J)"], split_rows),
-          "\nAt the first touch the cam shaft still holds most of what the springs gave up, as in a real spring "
-          "mechanism, whose closing springs are sized with a margin and whose cam hands its remaining energy to a "
-          "closing damper or stop at the end of the stroke. Here that is the end stop (a buffer at 250 deg, past "
-          "the rise's end) and the holding latch (248 deg) of `parameters.py`; 'at rest' is the same closing run "
-          f"on to {1e3 * P.BREAKER_REST_T_END:.0f} ms, with the cam at rest on the latch.\n",
-          "## The end stop and the holding latch\n",
-          markdown_table(["", "the reference breaker"], stop_rows),
-          "\nThe stop sits on the dwell, so the contacts keep their full stroke while the cam is stopped: the "
-          "follower's overtravel is the wipe the profile gives, and the poles' bounce comes from their own "
-          "dynamics; the cam's own overtravel into the buffer and its rebound onto the latch come from the stop's "
-          "stiffness and damping.\n",
-          "## The reference breaker before and after issue 19 (the resize)\n",
-          markdown_table(ISSUE19_HEADERS, issue19),
-          "\nBefore issue 19 the reference breaker read the paper's springs as 0.34 kg and 6000 N each (no steel coil "
-          "carries that: `spring_reading.md`) on a 0.05 kg m^2 cam: a flywheel. Now the springs are the paper's "
-          "under the settled reading (0.83 kg, 3000 N each; the pair stores 361 J), the cam shaft is sized for that "
-          "energy, the rise ends at 240 deg so that the cam completes it, and the chain is `exact`. With these springs "
-          "and this cam law the closing speed times the closing time is set by the shapes (spring pull against angle, "
-          "profile, gap), not by the inertia: a closing speed within the reference's window "
-          f"({P.REFERENCE_LIMITS['closing_speed']['min']:g}-{P.REFERENCE_LIMITS['closing_speed']['max']:g} m/s, "
-          "parameters.REFERENCE_LIMITS) over the zone takes about 39 ms from "
-          "the latch release, against the paper's 'about 30 ms' (which would need about 1.6 m/s).\n",
-          "## The main shaft's twist between the pole levers\n",
-          f"The reference breaker's main shaft (rig section `breaker.main_shaft`, `MAIN_SHAFT_SECTION` in "
-          f"`parameters.py`, sized there with this table): {1e3 * P.MAIN_SHAFT['diameter']:.0f} mm solid steel, pole levers "
-          f"{1e3 * P.MAIN_SHAFT['pole_pitch']:.0f} mm apart and {1e3 * P.MAIN_SHAFT['lever_arm']:.0f} mm long, driven at "
-          "the first pole's side. Each pole lever turns on its own, tied to its neighbours by the shaft's torsional "
-          "stiffness and damping; the drive pole's lever turns with the roller's follower. The closing to the "
-          f"cam's rest on the holding latch ({1e3 * P.BREAKER_REST_T_END:.0f} ms), full model, the same breaker "
-          "with the shaft rigid, driven at the middle pole, and as thin as first estimated (equal springs, cam, poles and total "
-          "inertia of the shaft assembly). Twist: the largest angle between any two pole levers, and the travel it "
-          "makes at the pole:\n",
-          markdown_table(POLE_SPREAD_HEADERS, spread_rows),
-          "\nPole gaps are 11 mm + 0 / +0.3 / -0.3 mm. "
-          + pole_spread_sentence(summary["pole_spread_main_shaft"]) + "\n",
-          "A static check of the twist (`laws.mechanics.main_shaft_twist`: each segment carries the push-rod "
-          "torques of the poles beyond it, quasi-static, no lever inertia), loaded by the push-rod forces of the "
-          "elastic full model:\n",
-          markdown_table(["when", "push-rod forces there (N)", "twist (mrad)", "travel at the pole (mm)"],
-                         [[k, " / ".join(f"{v:.0f}" for v in w["rod_forces_N"]), f"{1e3 * w['largest_twist_rad']:.2f}",
-                           f"{1e3 * w['travel_at_pole_m']:.3f}"] for k, w in twist.items()]),
-          "\n" + static_check_sentence(twist, summary["pole_spread_main_shaft"]) + "\n",
-          "## The reference breaker before and after issue 10 (on the breaker of that time)\n",
-          markdown_table(["breaker", *FOM_HEADERS], history_rows),
-          "\nOn the breaker of that time (the springs and cam before issue 19), the former reference breaker "
-          "touched at 2.0 m/s, above the 0.6-1.5 m/s of 12 kV vacuum breakers, and its "
-          "roller left the cam before the contacts touched: in the rise's deceleration the 1200 N opening spring could "
-          "not hold the follower and the poles (at 2400 N it could). With the closing springs and the cam unchanged, "
-          "the touch speed is the cam's speed (about 215 rad/s at 150 deg, 30 ms after release) times the output "
-          "point's travel per cam angle; the rise now spreads over 273 deg of cam angle, which brings the touch to "
-          "1.27 m/s and the closing to 32.5 ms. The 2000 N opening spring kept the roller on the cam with 1.5 kN "
-          "to spare.\n",
-          "## The cam-roller contact: law and damping\n",
-          "A cylindrical roller on a cam is a line contact: Palmgren's steel law, force ~ delta^(10/9) with the "
-          "stiffness from the roller's 20 mm width (Johnson's cylinder formula is 8-13 % more compliant over "
-          "1-40 kN), instead of Hertz's point contact (delta^1.5). The contact is preloaded from the first instant "
-          "to the last, so it has no impact speed: Lankarani-Nikravesh damping then runs on its 0.05 m/s floor, an "
-          "arbitrary dashpot; Hunt-Crossley with a fixed factor alpha (0.08-0.32 s/m for steel) is meant for "
-          "persistent contacts. The reference breaker uses the line contact with Hunt-Crossley, alpha = 0.2 s/m.\n",
-          "Reference breaker:\n",
-          markdown_table(["cam-roller law, damping", *FOM_HEADERS, "dashpot force max / min (kN)",
-                          "dissipated by the dashpot (J)"], choice_rows),
-          "\nFormer breaker (the roller jumps and lands again; there the damping law matters):\n",
-          markdown_table(["cam-roller law, damping", *FOM_HEADERS, "dashpot force max / min (kN)",
-                          "dissipated by the dashpot (J)"], former_rows),
-          "\n## Independent evidence: the model against a solve written again from the equations\n",
-          "`vcbmodel/reference/breaker.py` shares no code with the model: geometry, contact and friction laws and "
-          "the equations of motion are written again; the roller's penetration is the exact minimum distance to the "
-          "cam's pitch curve (Newton), the friction's stuck state, regime changes and each contact's start are "
-          "events of an adaptive DOP853 solve (rtol 1e-10). Against the Exudyn model (full model, "
-          f"{t_end * 1e3:.0f} ms, RK4 at {P.BREAKER_STEP:g} s):\n",
-          markdown_table(["stick band", "touch times (ns)", "touch speeds (m/s)", "follower displacement (um)",
-                          "cam angle (mrad)", "pole 1 travel (um)", "cam-roller force (N)"],
-                         [[k, f"{1e9 * a['touch_time_difference_s']:.1f}", f"{a['touch_speed_difference_m_s']:.1e}",
-                           f"{1e6 * a['max_follower_displacement_difference']:.3f}",
-                           f"{1e3 * a['max_cam_angle_difference']:.4f}", f"{1e6 * a['max_pole_1_travel_difference']:.2f}",
-                           f"{a['max_cam_roller_force_difference']:.0f}"]
-                          for k, a in ((k, agreement[k]) for k in ("literal", "passive"))]),
-          "\nLargest differences over the closing. With the literal stick band the two agree to a few ns in the "
-          "touch times; what is left is the model's fixed step: the pole travels differ during the bounces because "
-          "the model takes each impact speed at the start of the step in which the contact begins (first order in "
-          "the step), and the touch speeds because the figures of merit interpolate the velocity over that step. "
-          "The default passive stuck state widens the stick band with the step (2 h mu_s r F_n / I, 0.018 rad/s at "
-          "1e-5 s), which delays the breakaway by microseconds. The model's first-order penetration (the pitch "
-          "curve's normal offset) against the exact distance costs "
-          f"{1e6 * agreement['first_order_penetration_cost']['follower_displacement_m']:.3f} um of follower "
-          f"displacement, {1e9 * agreement['first_order_penetration_cost']['penetration_m']:.2f} nm of penetration and "
-          f"{1e9 * agreement['first_order_penetration_cost']['touch_time_s']:.1f} ns in the touch times.\n",
-          "## The paper's conclusion, in numbers\n",
-          f"Leaving out the shaft friction changes the follower displacement by "
-          f"{1e3 * conclusion['without shaft friction']['rms_change_of_displacement_m']:.2f} mm rms and the closing time by "
-          f"{1e3 * conclusion['without shaft friction']['closing_time_change_s']:+.2f} ms; making the spring massless changes "
-          f"them by {1e3 * conclusion['massless spring']['rms_change_of_displacement_m']:.2f} mm rms and "
-          f"{1e3 * conclusion['massless spring']['closing_time_change_s']:+.2f} ms. "
-          + (f"Friction matters {ratio:.1f}x more than spring motion (paper: 'much more').\n" if ratio >= 1 else
-             f"Spring motion matters {1 / ratio:.1f}x more than friction: on this breaker the paper's conclusion "
-             "does not hold.\n"),
-          "## Energy balance (J, at the end of the closing)\n",
-          markdown_table(["model", "largest spring energy released", "kinetic", "opening spring", "wipe springs and rods",
-                          "contacts", "dissipated", "largest residual", "residual (% of released)"],
-                         [[e["model"], f"{e['spring_energy_released_max_J']:.1f}", f"{e['kinetic']:.1f}",
-                           f"{e['opening_spring']:.2f}", f"{e['wipe_and_rods']:.2f}", f"{e['contacts']:.3f}",
-                           f"{e['dissipated']:.1f}", f"{e['residual_max_J']:.3g}",
-                           f"{e['residual_percent_of_released']:.4f}"] for e in energy]),
-          "\nEach column is the change since the latch release (the opening spring's preload energy at the release is "
-          "not counted, as in the energy split above). Residual = kinetic + potential + dissipated (shaft friction, contact "
-          "hysteresis, rod damping) - latch work - initial energy, at every step.\n",
-          "## Step convergence and cam profile\n",
-          f"Halving the step ({P.BREAKER_STEP:g} s) changes the follower displacement by at most "
-          f"{1e6 * conv['max_displacement_difference_m']:.2f} um and the closing time by "
-          f"{1e6 * conv['closing_time_difference_s']:.2f} us (the passive stick band's share: it widens with the step). "
-          f"Largest pressure angle: {summary['max_pressure_angle_closing_deg']:.1f} deg while the roller rises, "
-          f"{pressure.max():.1f} deg over a whole cam turn (the return; limit for roller followers about 30 deg).\n"]
-    md += ["\n## The analyser's report of the full model (`vcb_closing_analyser.png`)\n",
-           "What `vcbmodel simulate` prints for the reference breaker: each pole against the rig's limits "
-           "(`breaker.limits`, from `parameters.py`).\n", "```\n" + report_text(report) + "\n```\n"]
+    md = (md_models(rows, truth_elements) + md_energy_split(split_rows, stop_rows)
+          + md_sizing(rig, sizing, summary["sizing"])
+          + md_main_shaft(spread_rows, summary["pole_spread_main_shaft"], summary["main_shaft_twist"])
+          + md_opening_spring_and_rise(rise_rows, summary["opening_spring_and_rise"])
+          + md_contact(choice_rows, former_rows) + md_independent(summary["independent_reference"], t_end)
+          + md_conclusion(summary) + md_analyser(report))
     (out / "vcb_closing.md").write_text("\n".join(md))
     print("\n".join(md))
 
