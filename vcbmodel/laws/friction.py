@@ -249,52 +249,71 @@ def shaft_friction(w: Scalar, applied_torque: Scalar, R0x: Scalar, R0y: Scalar, 
     if not isinstance(law, FrictionLaw):  # a friction form: its law at this instant
         law = law.at(w, t, ops)
     r = law.radius
-    s = ops.sign(w)
     absw = ops.abs(w)
-    ws = law.stribeck_velocity
     Fn_rest = ops.sqrt(R0x * R0x + R0y * R0y)  # the reaction with the shaft at rest (theta'' = 0)
     band_width = law.stick_velocity
     if law.sticking != "literal" and law.step > 0.0:  # catch a reversal within one step (docstring)
         caught = 2.0 * law.step * law.mu_s * r * Fn_rest / inertia
         band_width = ops.where(caught > band_width, caught, band_width)
     in_band = absw <= band_width
-    in_strib = absw < ws
-    # Each slip branch is T_f = c F_n + d; pick (c, d) first so F_n is solved once.
-    # Branches whose parameters are zero are left out here, in Python, so the compiled
-    # expression stays small (the law is unchanged: they would contribute nothing).
-    sTc = ops.sign(applied_torque)
-    outside = law.mu_k * s
-    if ws > 0.0:
-        mu_stribeck = law.mu_s - (law.mu_s - law.mu_k) * absw / ws
-        outside = ops.where(in_strib, mu_stribeck * s, outside)
-    if law.sticking == "literal":
-        band = law.mu_s * sTc
-    else:  # oppose the motion; from rest, break away in the direction of T_c
-        band = law.mu_s * ops.where(absw > REST_SPEED, s, sTc)
-    c = r * ops.where(in_band, band, outside)
-    if law.viscous == 0.0:
-        d = 0.0
-    elif ws > 0.0:
-        d = ops.where(in_band, 0.0, ops.where(in_strib, 0.0, law.viscous * (w - ws * s)))
-    else:
-        d = ops.where(in_band, 0.0, law.viscous * w)
+    c, d = slip_branch(law, w, absw, applied_torque, in_band, ops)
     Fn_slip = consistent_reaction(R0x, R0y, R1x, R1y, applied_torque, inertia, c, d, ops)
     # stick band: can static friction hold T_c with the shaft at rest (theta'' = 0, F_n = |R0|)?
     holds = in_band * (ops.abs(applied_torque) <= law.mu_s * r * Fn_rest)
     if law.sticking == "literal":
         Tf = ops.where(holds, applied_torque, c * Fn_slip + d)
         return Tf, ops.where(holds, Fn_rest, Fn_slip)
-    # passive stuck state: the torque that stops the shaft (theta'' = -w/tau), within the static
-    # capacity at that acceleration, and never along the motion
+    stuck, Fn_stop = passive_stuck_torque(w, absw, applied_torque, (R0x, R0y, R1x, R1y), inertia, law, ops)
+    Tf = ops.where(holds, stuck, c * Fn_slip + d)
+    return Tf, ops.where(holds, Fn_stop, Fn_slip)
+
+
+def slip_branch(law: FrictionLaw, w: Scalar, absw: Scalar, applied_torque: Scalar, in_band: Scalar,
+                ops: Ops = NumericOps) -> tuple[Scalar, Scalar]:
+    """The friction torque's branch as ``T_f = c F_n + d`` (eq. 12's friction term): ``c`` (m), the
+    radius times the friction coefficient in force (Coulomb mu_k, the Stribeck branch below w_s, mu_s
+    in the band), and ``d`` (N m), the viscous torque (``law.viscous`` in N m s/rad), so that F_n can
+    be solved once (:func:`consistent_reaction`). ``w`` in rad/s and ``absw`` its magnitude (passed in,
+    so that a symbolic expression holds it once), ``applied_torque`` T_c in N m; ``in_band``: whether
+    |w| is within the stick band.
+
+    Branches whose parameters are zero are left out here, in Python, so the compiled expression stays
+    small (the law is unchanged: they would contribute nothing)."""
+    s, ws = ops.sign(w), law.stribeck_velocity
+    in_strib = absw < ws
+    outside = law.mu_k * s
+    if ws > 0.0:
+        mu_stribeck = law.mu_s - (law.mu_s - law.mu_k) * absw / ws
+        outside = ops.where(in_strib, mu_stribeck * s, outside)
+    if law.sticking == "literal":
+        band = law.mu_s * ops.sign(applied_torque)
+    else:  # oppose the motion; from rest, break away in the direction of T_c
+        band = law.mu_s * ops.where(absw > REST_SPEED, s, ops.sign(applied_torque))
+    c = law.radius * ops.where(in_band, band, outside)
+    if law.viscous == 0.0:
+        d = 0.0
+    elif ws > 0.0:
+        d = ops.where(in_band, 0.0, ops.where(in_strib, 0.0, law.viscous * (w - ws * s)))
+    else:
+        d = ops.where(in_band, 0.0, law.viscous * w)
+    return c, d
+
+
+def passive_stuck_torque(w: Scalar, absw: Scalar, applied_torque: Scalar, reaction: tuple[Scalar, Scalar, Scalar, Scalar],
+                         inertia: Scalar, law: FrictionLaw, ops: Ops = NumericOps) -> tuple[Scalar, Scalar]:
+    """The passive stuck state's friction torque (N m) and shaft reaction (N): the torque that stops the
+    shaft within ``law.stick_time`` (theta'' = -w/tau), within the static capacity mu_s r F_n at that
+    acceleration (eq. 5-6's reaction, ``reaction`` = (R0x, R0y, R1x, R1y)), and never along the motion.
+    Units as :func:`shaft_friction`; ``absw`` = |w|."""
+    R0x, R0y, R1x, R1y = reaction
     tau = law.stick_time
     restoring = applied_torque + inertia * w / tau
     Rx, Ry = R0x - R1x * w / tau, R0y - R1y * w / tau
     Fn_stop = ops.sqrt(Rx * Rx + Ry * Ry)
-    capacity = law.mu_s * r * Fn_stop
+    capacity = law.mu_s * law.radius * Fn_stop
     stuck = ops.where(ops.abs(restoring) <= capacity, restoring, capacity * ops.sign(restoring))
     stuck = ops.where((restoring * w < 0.0) * (absw > REST_SPEED), 0.0, stuck)
-    Tf = ops.where(holds, stuck, c * Fn_slip + d)
-    return Tf, ops.where(holds, Fn_stop, Fn_slip)
+    return stuck, Fn_stop
 
 
 def band_width(law: FrictionLaw, Fn_rest: float, inertia: float) -> float:
