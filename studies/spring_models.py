@@ -34,6 +34,7 @@ from vcbmodel.records.measurement import Measurement, write_measurement
 FRICTION = ("coulomb_friction", "stribeck")
 EFFECTS = FRICTION + ("spring_mass",)
 CONVENTIONS = ("exact", "paper", "uniform")
+TABLE_NS = (1, 2, 3, 5, 10, 20)  # the numbers of lumped masses the pages' tables show
 SHAPE_TIMES = (0.011, 0.0165, 0.029)  # s, the paper's Fig. 10 frames
 NOISE_SEED = 3
 #: rad, Hz: the synthetic record's camera (the cam-drop experiment's sensor: noise sigma and rate)
@@ -99,7 +100,7 @@ def chain_rows(k0, m0, L, data):
     """The lumped chains' and the ANCF spring's rows of the modes table (their figures go to ``data``)."""
     rows = []
     for conv in CONVENTIONS:
-        for n in (1, 2, 3, 5, 10, 20):
+        for n in TABLE_NS:
             c = lumped_chain(n, k0, m0, L, conv)
             f = c.natural_frequencies()[:3] / (2 * math.pi)
             key = f"lumped-{n} ({conv})"
@@ -137,7 +138,7 @@ def modes_note(data, k0, m0):
     models, g0 = data["models"], data["coil_geometry"][f"{m0:g} kg"]
     paper = [models[f"lumped-{n} (paper)"] for n in (2, 20)]
     exact_third = all(abs(models[f"lumped-{n} (exact)"]["quasi_static_pin_mass_over_m0"] - 1 / 3) < 1e-9
-                      for n in (1, 2, 3, 5, 10, 20))
+                      for n in TABLE_NS)
     f_eq8, f_lat = models["lumped-1 (paper)"]["frequencies_hz"][0], data["lateral_string_hz_at_6000N"][0]
     stress_ratio = g0["shear_stress_at_6000N_Pa"] / g0["allowable_extension_body_Pa"]
     return (
@@ -243,7 +244,7 @@ def convergence_case(ax_conv, rig, truth, t, ns, label, mass, case):
     rows = []
     for conv in CONVENTIONS:
         ax_conv.loglog(ns, 1e3 * np.array(errs[conv]), "o-", ms=3, label=f"{conv} (order {case['convergence']['observed_order'][conv]:.2f})")
-        rows.append([label, conv] + [f"{1e3 * errs[conv][ns.index(n)]:.2f}" if n in ns else "" for n in (1, 2, 3, 5, 10, 20)]
+        rows.append([label, conv] + [f"{1e3 * errs[conv][ns.index(n)]:.2f}" if n in ns else "" for n in TABLE_NS]
                     + [f"{case['convergence']['observed_order'][conv]:.2f}"])
     ax_conv.axhline(1e3 * case["truth_uncertainty"]["total_rad"], color="k", ls=":", lw=1, label="truth's own uncertainty")
     ax_conv.axhline(1e3 * NOISE_RAD, color="0.5", ls="--", lw=1, label=f"camera noise ({1e3 * NOISE_RAD:g} mrad)")
@@ -270,7 +271,7 @@ def fidelity_page(out, fidelity, rows, conv_rows):
         "## Errors of the spring models (mrad rms)\n\n"
         + markdown_table(["case", "spring model (convention)", "vs truth", "vs noisy measurement"], rows)
         + "\n## Convergence with the number of masses (mrad rms vs truth; order = slope of log error vs log n, n >= 3)\n\n"
-        + markdown_table(["case", "convention", "n = 1", "2", "3", "5", "10", "20", "observed order"], conv_rows))
+        + markdown_table(["case", "convention", f"n = {TABLE_NS[0]}", *map(str, TABLE_NS[1:]), "observed order"], conv_rows))
 
 
 def main():
