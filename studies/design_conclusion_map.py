@@ -26,14 +26,18 @@ from vcbmodel.experiments.loading import rig_from_data
 
 MASS = (0.2, 1.5)  # kg, each closing spring
 MU_K = (0.05, 0.2)
+#: Closings per point of the map (vcbmodel.analysis.design.conclusion_effects: full, no friction, massless spring).
+CLOSINGS_PER_POINT = 3
+_MU_K_REF = P.REFERENCE_BREAKER["friction"]["mu_k"]
 #: Where each axis's range comes from (written into the outputs).
-SOURCES = {"closing_spring.mass": "0.2-1.5 kg: brackets the paper's chain parameter m0 = 0.3364 kg (eq. 8), the "
-                                  "settled active mass 0.83 kg (pi^2/4 m0) and the text's 'each spring about 1 kg'; a "
+SOURCES = {"closing_spring.mass": f"{MASS[0]:g}-{MASS[1]:g} kg: brackets the paper's chain parameter m0 = "
+                                  f"{P.REFERENCE_CAM['closing_spring']['mass']:g} kg (eq. 8), the settled active mass "
+                                  f"{P.PAPER_SPRING_MASS:.2f} kg (pi^2/4 m0) and the text's 'each spring about 1 kg'; a "
                                   "spring of the reference's rate that passes the extension-spring checks weighs 1.9 kg "
                                   "(plug ends, parameters.py), beyond the map",
-           "friction.mu_k": "0.05-0.2: the example pendulum records' 0.09-0.16 (about +-25 % around the reference's "
-                            "0.13) widened to a well-greased and a dry journal; mu_s follows mu_k where it would fall "
-                            "below it; the viscous term stays off (the reference breaker has none)"}
+           "friction.mu_k": f"{MU_K[0]:g}-{MU_K[1]:g}: the example pendulum records' 0.09-0.16 (about +-25 % around the "
+                            f"reference's {_MU_K_REF:g}) widened to a well-greased and a dry journal; mu_s follows mu_k "
+                            "where it would fall below it; the viscous term stays off (the reference breaker has none)"}
 GRID_FULL, GRID_QUICK = (8, 7), (3, 3)  # (masses, mu_k values)
 RATIOS = [("ratio_rms", "follower displacement (rms change)"), ("ratio_closing_time", "closing time (|change|)")]
 
@@ -64,16 +68,12 @@ def boundary(masses, mus, ratio):
     return out
 
 
-def main():
-    args = parse_args(__doc__)
-    out = Path(args.out)
-    data = base_rig()
-    rig = rig_from_data(data, "REFERENCE_BREAKER (lumped-2, exact)")
-    nm, nk = GRID_QUICK if args.quick else GRID_FULL
+def ratio_grids(data, rig, nm, nk):
+    """The map through the sweep: (spring masses, mu_k values, {column: grid (mass x mu_k)}, the table)."""
     table = design([f"closing_spring.mass={MASS[0]}:{MASS[1]}:{nm}", f"friction.mu_k={MU_K[0]}:{MU_K[1]}:{nk}"])
     table["friction.mu_s"] = np.maximum(rig.friction.get("mu_s", 0.0), table["friction.mu_k"])
     df = sweep(data, runs=table, evaluate=conclusion_effects, columns=CONCLUSION_COLUMNS,
-               label=f"conclusion map ({nm} x {nk} points, 3 closings each)")
+               label=f"conclusion map ({nm} x {nk} points, {CLOSINGS_PER_POINT} closings each)")
     masses = np.unique(table["closing_spring.mass"])
     mus = np.unique(table["friction.mu_k"])
 
@@ -83,9 +83,11 @@ def main():
             g[np.searchsorted(masses, r["closing_spring.mass"]), np.searchsorted(mus, r["friction.mu_k"])] = r[col]
         return g
 
-    grids = {col: grid(col) for col in CONCLUSION_COLUMNS}
-    ref = {"spring_mass_kg": rig.closing_spring.mass, "mu_k": rig.friction["mu_k"]}
+    return masses, mus, {col: grid(col) for col in CONCLUSION_COLUMNS}, df
 
+
+def figure(path, masses, mus, grids, ref):
+    """design_conclusion_map.png: each ratio over (spring mass, mu_k), the line where it is 1."""
     fig, axes = plt.subplots(1, 2, figsize=(13, 5.2))
     M, K = np.meshgrid(masses, mus, indexing="ij")
     for ax, (col, name) in zip(axes, RATIOS):
@@ -104,11 +106,47 @@ def main():
         ax.set_ylabel("shaft friction mu_k")
         ax.set_title(f"{name}: red = friction matters more", fontsize=10)
         ax.legend(fontsize=8, loc="upper right")
-    save(fig, out / "design_conclusion_map.png")
+    save(fig, path)
 
+
+def ratio_section(name, g, b, frac):
+    """One ratio's section of the page: where friction matters more, and the line where the ratio is 1."""
+    return [f"## {name}\n\nFriction matters more (ratio > 1) on {100 * frac:.0f} % of the map.\n",
+            markdown_table(["mu_k", "spring mass where ratio = 1 (kg)", "ratio at the lightest spring",
+                            "ratio at the heaviest spring"],
+                           [[f"{x['mu_k']:.3f}",
+                             f"{x['spring_mass_at_ratio_1_kg']:.2f}" if x["spring_mass_at_ratio_1_kg"] is not None
+                             else ("none: friction matters more everywhere" if x["friction_matters_more_everywhere"]
+                                   else "none: spring motion matters more everywhere"
+                                   if x["spring_matters_more_everywhere"] else "none"),
+                             f"{g[0, j]:.2f}", f"{g[-1, j]:.2f}"] for j, x in enumerate(b)])]
+
+
+def where_it_holds(grids):
+    """Where the conclusion holds, in words: 'left of the black line (lighter springs, more friction)' only
+    where every computed ratio falls with the spring's mass and rises with mu_k."""
+    def monotone(g, axis, sign):
+        d = sign * np.diff(g, axis=axis)
+        return bool(np.all(d[np.isfinite(d)] > 0))
+
+    if all(monotone(grids[col], 0, -1) and monotone(grids[col], 1, 1) for col, _ in RATIOS):
+        return "left of the black line (lighter springs, more friction; red in the figure)"
+    return "red in the figure (the ratio does not fall with the spring's mass and rise with mu_k everywhere)"
+
+
+def main():
+    args = parse_args(__doc__)
+    out = Path(args.out)
+    data = base_rig()
+    rig = rig_from_data(data, "REFERENCE_BREAKER (lumped-2, exact)")
+    nm, nk = GRID_QUICK if args.quick else GRID_FULL
+    masses, mus, grids, df = ratio_grids(data, rig, nm, nk)
+    ref = {"spring_mass_kg": rig.closing_spring.mass, "mu_k": rig.friction["mu_k"]}
+    figure(out / "design_conclusion_map.png", masses, mus, grids, ref)
     summary = {"model": {"effects": list(rig.model.effects), "spring_model": rig.model.spring_model.label},
                "grid": {"spring_mass_kg": masses.tolist(), "mu_k": mus.tolist()},
-               "grid_sources": SOURCES, "reference": ref, "runs": int(len(df)), "closings": 3 * int(len(df)),
+               "grid_sources": SOURCES, "reference": ref, "runs": int(len(df)),
+               "closings": CLOSINGS_PER_POINT * int(len(df)),
                "failed": int((df.status != "ok").sum()), "quick": bool(args.quick),
                "definition": "ratio = (change when the shaft friction is dropped) / (change when the spring is made "
                              "massless), each against the full model (friction + lumped-2 exact)",
@@ -123,17 +161,9 @@ def main():
         frac = float(np.mean(g[np.isfinite(g)] > 1)) if np.isfinite(g).any() else float("nan")
         b = boundary(masses, mus, g)
         summary["holds"][col] = {"fraction_of_map_where_friction_matters_more": frac, "boundary": b}
-        md.append(f"## {name}\n\nFriction matters more (ratio > 1) on {100 * frac:.0f} % of the map.\n")
-        md.append(markdown_table(["mu_k", "spring mass where ratio = 1 (kg)", "ratio at the lightest spring",
-                                  "ratio at the heaviest spring"],
-                                 [[f"{x['mu_k']:.3f}",
-                                   f"{x['spring_mass_at_ratio_1_kg']:.2f}" if x["spring_mass_at_ratio_1_kg"] is not None
-                                   else ("none: friction matters more everywhere" if x["friction_matters_more_everywhere"]
-                                         else "none: spring motion matters more everywhere"
-                                         if x["spring_matters_more_everywhere"] else "none"),
-                                   f"{g[0, j]:.2f}", f"{g[-1, j]:.2f}"] for j, x in enumerate(b)]))
+        md += ratio_section(name, g, b, frac)
     md.append("\nRows are mu_k; the paper's conclusion ('friction matters more than spring motion') holds where the "
-              "ratio is above 1: left of the black line (lighter springs, more friction; red in the figure). "
+              f"ratio is above 1: {where_it_holds(grids)}. "
               "Full maps: `design_conclusion_map.json`, figure `design_conclusion_map.png`.\n")
     write_json(out / "design_conclusion_map.json", json_ready(summary))
     (out / "design_conclusion_map.md").write_text("\n".join(md))

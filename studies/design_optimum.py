@@ -42,6 +42,9 @@ LIMITS = {"pole_spread_s": 1e-3 * P.REFERENCE_LIMITS["pole_spread"]["max"]}  # s
 BOUNCE_LIMIT = 1e-3 * P.REFERENCE_LIMITS["bounce_duration"]["max"]  # s, assumed; reported, not a constraint
 RESTITUTIONS_FULL, RESTITUTIONS_QUICK = (0.5, 0.8, 0.9), (0.8,)
 MIN_PULL_FRACTION = 0.1  # the springs' smallest pull during the run / preload: an assumed margin
+#: %: an equal-speed gain under this is not claimed as a design result: it is of the order of what the
+#: assumed limits (the slack-spring margin, the window) and the secant's tolerance on the preload move
+EQUAL_SPEED_RESOLUTION_PERCENT = 2.0
 K_RANGE = (0.6, 1.4)  # x the reference stiffness
 F_RANGE = (0.5, 1.3)  # x the reference preload
 GRID_FULL, GRID_QUICK = (7, 9), (3, 4)
@@ -83,6 +86,20 @@ def violation(r):
     lo, hi = ZONE_WINDOW
     v += max(0.0, (lo - r["zone_speed_min_m_s"]) / lo) + max(0.0, (r["zone_speed_max_m_s"] - hi) / hi)
     return v + max(0.0, (MIN_PULL_FRACTION * r["preload_N"] - r["min_spring_force_N"]) / r["preload_N"])
+
+
+def broken_limits(r):
+    """The limits a closing breaks, in words (empty: within them all, or not known)."""
+    if "error" in r or r.get(SPEED) is None or r.get("zone_speed_min_m_s") is None:
+        return ["no closing"]
+    out = [f"{c} over {1e3 * lim:g} ms" for c, lim in LIMITS.items() if r.get(c) is not None and r[c] > lim]
+    if r["zone_speed_min_m_s"] < ZONE_WINDOW[0] or r["zone_speed_max_m_s"] > ZONE_WINDOW[1]:
+        out.append("a pole's zone speed outside the window")
+    if r.get("min_spring_force_N") is not None and r["min_spring_force_N"] < MIN_PULL_FRACTION * r["preload_N"]:
+        out.append(f"its springs' pull below {100 * MIN_PULL_FRACTION:.0f} % of the preload (slack) during the run")
+    if r.get("latched") is not None and not r["latched"]:
+        out.append("its cam short of the latch")
+    return out
 
 
 def margin_text(r):
@@ -142,6 +159,7 @@ def equal_speed(opt, at_target, reference):
     v_ref = reference.get(SPEED) or float("nan")
     out = {"stored_gain_percent": 100 * (1 - opt["stored_energy_J"] / at_target["stored_energy_J"]),
            "reference_at_target_within_limits": at_target["violation"] == 0,
+           "reference_at_target_breaks": broken_limits(at_target),
            "gain_at_own_speed_percent": 100 * (1 - opt["stored_energy_J"] / reference["stored_energy_J"]),
            "speed_squared_share_percent": 100 * (1 - (TARGET_ZONE_SPEED / v_ref) ** 2)}
     if opt.get("released_to_touch_J") and at_target.get("released_to_touch_J"):
@@ -174,11 +192,12 @@ def comparison_text(c, evaluated=()):
         text += f" and {c['released_gain_percent']:+.1f} % in the energy released up to the first touch"
     text += "."
     if not c["reference_at_target_within_limits"]:
-        text += (" The reference stiffness at that speed is outside the limits (its springs go slack before the "
-                 "end of the run), so the optimum is the lowest-energy design that stays within them, not a saving "
-                 "over an equal design.")
-    if abs(c["stored_gain_percent"]) < 2:
-        text += " At equal speed the gain is about 1 %: within the assumed margins, not a design result."
+        text += (" The reference stiffness at that speed is outside the limits ("
+                 + (", ".join(c["reference_at_target_breaks"]) or "a limit") + "), so the optimum is the lowest-energy "
+                 "design that stays within them, not a saving over an equal design.")
+    if abs(c["stored_gain_percent"]) < EQUAL_SPEED_RESOLUTION_PERCENT:
+        text += (f" At equal speed the gain is {abs(c['stored_gain_percent']):.1f} %, under "
+                 f"{EQUAL_SPEED_RESOLUTION_PERCENT:g} %: within the assumed margins, not a design result.")
     return text + "\n"
 
 
@@ -282,21 +301,19 @@ def robustness_report(rob):
     return "\n".join(md)
 
 
-def main():
-    args = parse_args(__doc__)
-    out = Path(args.out)
-    data = copy.deepcopy(P.REFERENCE_BREAKER)
-    model = Model(data)
-    rig = model.rig
-    s = rig.closing_spring
-    k0, f00, e0 = s.stiffness, preload(rig), stored_energy(rig)
+def tolerances(quick):
+    """(xtol (N), iterations) of the secant search for the preload on the target speed."""
+    return (20.0, 3) if quick else (2.0, 12)
 
-    # 1. the map (sweep, all cores)
-    nk, nf = GRID_QUICK if args.quick else GRID_FULL
+
+def design_map(model, k0, f00, quick):
+    """The (k, F0) grid through the sweep (all cores): (ks, fs, the sweep's table, {column: grid} with
+    the feasibility); the grid's closings join the optimiser's memory."""
+    nk, nf = GRID_QUICK if quick else GRID_FULL
     ks = k0 * np.linspace(*K_RANGE, nk)
     fs = f00 * np.linspace(*F_RANGE, nf)
     runs = [model.overrides(k, f) for k in ks for f in fs]
-    df = sweep(data, runs=runs, evaluate=closing_design, columns=DESIGN_COLUMNS, t_end=T_END,
+    df = sweep(model.data, runs=runs, evaluate=closing_design, columns=DESIGN_COLUMNS, t_end=T_END,
                label=f"design map ({nk} x {nf})")
     shape = (nk, nf)
     grid = {c: df[c].to_numpy(float).reshape(shape) for c in (SPEED, "stored_energy_J", "min_spring_force_N",
@@ -309,32 +326,42 @@ def main():
         if r["status"] == "ok":
             model.cache[(round(float(ks[i]), 6), round(float(fs[j]), 6))] = {
                 c: (None if not np.isfinite(r[c]) else float(r[c])) for c in DESIGN_COLUMNS}
+    return ks, fs, df, grid
 
-    # trade-off from the map: for each k the F0 on the target speed (interpolated along F0)
-    def f_on_target(i):
-        v = grid[SPEED][i]
-        good = np.isfinite(v)
-        if good.sum() < 2 or not (np.nanmin(v) <= TARGET_ZONE_SPEED <= np.nanmax(v)):
-            return None
-        order = np.argsort(v[good])
-        return float(np.interp(TARGET_ZONE_SPEED, v[good][order], fs[good][order]))
 
-    # the springs' shortening from the charged state to their shortest over a run: pull = F0 - k * this
+def f_on_target(grid, fs, i):
+    """The preload on the target speed at the map's i-th stiffness (interpolated along F0), or None."""
+    v = grid[SPEED][i]
+    good = np.isfinite(v)
+    if good.sum() < 2 or not (np.nanmin(v) <= TARGET_ZONE_SPEED <= np.nanmax(v)):
+        return None
+    order = np.argsort(v[good])
+    return float(np.interp(TARGET_ZONE_SPEED, v[good][order], fs[good][order]))
+
+
+def trade_off(df, grid, ks, fs, count):
+    """The trade-off from the map: for each k the F0 on the target speed, its stored energy (``count``
+    springs) and the springs' smallest pull (F0 - k x the springs' median shortening over a run)."""
     ok = df[df.status == "ok"]
     shortening = float(np.median((ok["preload_N"] - ok["min_spring_force_N"]) / ok["closing_spring.stiffness"])) \
         if len(ok) else float("nan")
     map_curve = []
     for i, k in enumerate(ks):
-        f = f_on_target(i)
+        f = f_on_target(grid, fs, i)
         pull = None if f is None else f - k * shortening
         map_curve.append({"stiffness_N_m": float(k), "preload_N": f,
-                          "stored_energy_J": None if f is None else s.count * f * f / (2 * k),
+                          "stored_energy_J": None if f is None else count * f * f / (2 * k),
                           "smallest_pull_N": pull,
                           "spring_stays_taut": None if f is None else bool(pull >= MIN_PULL_FRACTION * f)})
+    return map_curve
 
-    # 2. the optimum on the model (scipy.optimize)
-    xtol = 20.0 if args.quick else 2.0  # N
-    inner_iter = 3 if args.quick else 12
+
+def optimise(model, map_curve, k0, f00, e0, quick):
+    """The optimum on the model (scipy.optimize): a bounded Brent search over k, the preload on the
+    target speed by secant at each k, violations penalised. (the optimum or None, every evaluated
+    design, scipy's result)."""
+    xtol, inner_iter = tolerances(quick)
+    count = model.rig.closing_spring.count
     guesses = [(c["stiffness_N_m"], c["preload_N"]) for c in map_curve if c["preload_N"] is not None]
     evaluated = []
 
@@ -345,33 +372,39 @@ def main():
             evaluated.append({"stiffness_N_m": k, "preload_N": None, "stored_energy_J": None, "violation": 1.0})
             return 10 * e0
         r = model(k, f)
-        e = s.count * f * f / (2 * k)
+        e = count * f * f / (2 * k)
         v = violation(r)
         evaluated.append({"stiffness_N_m": float(k), "preload_N": f, "stored_energy_J": e, "violation": v,
                           SPEED: speed(r), **{name: r.get(name) for name in LIMITS}})
         return e * (1 + 10 * v)
 
     res = minimize_scalar(objective, bounds=(K_RANGE[0] * k0, K_RANGE[1] * k0), method="bounded",
-                          options={"xatol": (0.05 if args.quick else 0.005) * k0, "maxiter": 3 if args.quick else 20})
+                          options={"xatol": (0.05 if quick else 0.005) * k0, "maxiter": 3 if quick else 20})
     best = min((e for e in evaluated if e["preload_N"] is not None and e["violation"] == 0),
                key=lambda e: e["stored_energy_J"], default=None)
     opt = None
     if best is not None:
         r = model(best["stiffness_N_m"], best["preload_N"])
         opt = {**{c: r.get(c) for c in DESIGN_COLUMNS}, **best,
-               "free_length_m": free_length_for(rig, best["preload_N"], best["stiffness_N_m"]),
+               "free_length_m": free_length_for(model.rig, best["preload_N"], best["stiffness_N_m"]),
                "energy_saved_vs_reference_percent": 100 * (1 - best["stored_energy_J"] / e0)}
-    reference = model(k0, f00)
-    # like with like: the reference stiffness brought to the target zone speed by its preload alone
-    f_ref = preload_for_target(model, k0, f00 * (TARGET_ZONE_SPEED / max(speed(reference), 1e-9)), xtol, inner_iter)
-    at_target = None
-    if f_ref is not None:
-        r = model(k0, f_ref)
-        at_target = {**{c: r.get(c) for c in DESIGN_COLUMNS}, "stiffness_N_m": k0, "preload_N": f_ref,
-                     "stored_energy_J": s.count * f_ref * f_ref / (2 * k0), "violation": violation(r)}
+    return opt, evaluated, res
 
-    # figure
-    fig, (ax1, ax2) = plt.subplots(1, 2, figsize=(13, 5.4))
+
+def reference_at_target(model, reference, k0, f00, quick):
+    """Like with like: the reference stiffness brought to the target zone speed by its preload alone,
+    or None."""
+    xtol, inner_iter = tolerances(quick)
+    f_ref = preload_for_target(model, k0, f00 * (TARGET_ZONE_SPEED / max(speed(reference), 1e-9)), xtol, inner_iter)
+    if f_ref is None:
+        return None
+    r = model(k0, f_ref)
+    return {**{c: r.get(c) for c in DESIGN_COLUMNS}, "stiffness_N_m": k0, "preload_N": f_ref,
+            "stored_energy_J": model.rig.closing_spring.count * f_ref * f_ref / (2 * k0), "violation": violation(r)}
+
+
+def plot_map(ax1, fig, ks, fs, grid, opt, k0, f00):
+    """The left panel: the zone speed over (k, F0), the target line, the stored energy, the points."""
     K, F = np.meshgrid(ks / 1e3, fs / 1e3, indexing="ij")
     v = grid[SPEED]
     if np.isfinite(v).sum() >= 4:
@@ -391,6 +424,10 @@ def main():
     ax1.set_ylabel("preload F0 (kN, each)")
     ax1.set_title(f"zone speed; white line: target {TARGET_ZONE_SPEED} m/s; dashed: stored energy", fontsize=9)
     ax1.legend(fontsize=7, loc="upper left")
+
+
+def plot_trade_off(ax2, map_curve, evaluated, opt, e0, reference):
+    """The right panel: the stored energy on the target-speed line against the stiffness."""
     mc = [c for c in map_curve if c["preload_N"] is not None]
     ax2.plot([c["stiffness_N_m"] / 1e3 for c in mc], [c["stored_energy_J"] for c in mc], "-", color="0.5")
     ax2.plot([c["stiffness_N_m"] / 1e3 for c in mc if c["spring_stays_taut"]],
@@ -411,8 +448,75 @@ def main():
     ax2.set_ylabel("stored energy, all closing springs (J)")
     ax2.set_title(f"trade-off: energy needed for {TARGET_ZONE_SPEED} m/s against stiffness", fontsize=9)
     ax2.legend(fontsize=7)
-    save(fig, out / "design_optimum.png")
 
+
+def figure(path, ks, fs, grid, map_curve, evaluated, opt, reference, k0, f00, e0):
+    """design_optimum.png: the map and the trade-off."""
+    fig, (ax1, ax2) = plt.subplots(1, 2, figsize=(13, 5.4))
+    plot_map(ax1, fig, ks, fs, grid, opt, k0, f00)
+    plot_trade_off(ax2, map_curve, evaluated, opt, e0, reference)
+    save(fig, path)
+
+
+def design_row(name, d):
+    """One design's row of the page's first table."""
+    return [name, f"{d['stiffness_N_m'] / 1e3:.2f}", f"{d['preload_N']:.0f}", f"{d['stored_energy_J']:.0f}",
+            f"{d['released_to_touch_J']:.0f}" if d.get("released_to_touch_J") is not None else "-",
+            f"{d[SPEED]:.3f} ({d['zone_speed_min_m_s']:.3f}-{d['zone_speed_max_m_s']:.3f})"
+            if d.get(SPEED) is not None and d.get("zone_speed_min_m_s") is not None else "-",
+            f"{1e3 * d['closing_time_s']:.2f}" if d.get("closing_time_s") is not None else "-",
+            f"{1e3 * d['pole_spread_s']:.3f}" if d.get("pole_spread_s") is not None else "-",
+            f"{1e3 * d['bounce_duration_s']:.2f}" if d.get("bounce_duration_s") is not None else "-",
+            f"{d['min_spring_force_N']:.0f}" if d.get("min_spring_force_N") is not None else "-",
+            margin_text(d)]
+
+
+def page(summary, evaluated, map_curve, rig, k0, quick):
+    """design_optimum.md."""
+    designs = (("reference springs (their own zone speed)", summary["reference"]),
+               ("reference stiffness, preload for the target speed", summary["reference_at_target_speed"]),
+               ("optimum", summary["optimum"]))
+    md = ["# The least stored energy for a target zone speed\n",
+          f"Target zone speed {TARGET_ZONE_SPEED} m/s (the poles' mean closing speed over the analyser's zone; the "
+          f"middle of the assumed {ZONE_WINDOW[0]:g}-{ZONE_WINDOW[1]:g} m/s window); limits (assumed): every pole's zone "
+          f"speed within the window, pole spread <= {1e3 * LIMITS['pole_spread_s']:g} ms, the springs keep at least "
+          f"{100 * MIN_PULL_FRACTION:.0f} % of their preload during the run, the cam reaches its holding latch (a "
+          "kinetic margin after the touch above 0). The bounce is not a constraint: the "
+          "contacts' restitution and the gap pattern decide it (below). Variables: each closing spring's stiffness and "
+          "preload (free length = charged length - preload / stiffness)."
+          + (" **Quick mode: coarse map, loose tolerances.**" if quick else "") + "\n",
+          markdown_table(["design", "stiffness (kN/m)", "preload (N)", "stored energy (J)", "released to touch (J)",
+                          "zone speed, mean (slowest-fastest pole) (m/s)", "closing time (ms)", "pole spread (ms)",
+                          "bounce (ms)", "smallest pull (N)", "kinetic margin after touch (J)"],
+                         [design_row(name, d) for name, d in designs if d]),
+          "\n" + comparison_text(summary["equal_speed_comparison"], evaluated),
+          "\n## Trade-off (`design_optimum.png`)\n",
+          "Stored energy on the target-speed line against stiffness (from the map; right panel):\n",
+          markdown_table(["stiffness (kN/m)", "preload on target (N)", "stored energy (J)", "smallest pull (N)"],
+                         [[f"{c['stiffness_N_m'] / 1e3:.2f}", "-" if c["preload_N"] is None else f"{c['preload_N']:.0f}",
+                           "-" if c["stored_energy_J"] is None else f"{c['stored_energy_J']:.0f}",
+                           "-" if c["smallest_pull_N"] is None else f"{c['smallest_pull_N']:.0f}"
+                           + ("" if c["spring_stays_taut"] in (None, True) else " (slack)")] for c in map_curve]),
+          "\n" + reading(map_curve, summary["optimum"], rig, k0)
+          + (" Quick mode: the search stops after a few steps, so this optimum is rough.\n" if quick else ""),
+          robustness_report(summary["robustness"])]
+    return "\n".join(md)
+
+
+def main():
+    args = parse_args(__doc__)
+    out = Path(args.out)
+    data = copy.deepcopy(P.REFERENCE_BREAKER)
+    model = Model(data)
+    rig = model.rig
+    k0, f00, e0 = rig.closing_spring.stiffness, preload(rig), stored_energy(rig)
+    ks, fs, df, grid = design_map(model, k0, f00, args.quick)
+    map_curve = trade_off(df, grid, ks, fs, rig.closing_spring.count)
+    opt, evaluated, res = optimise(model, map_curve, k0, f00, e0, args.quick)
+    reference = model(k0, f00)
+    at_target = reference_at_target(model, reference, k0, f00, args.quick)
+    figure(out / "design_optimum.png", ks, fs, grid, map_curve, evaluated, opt, reference, k0, f00, e0)
+    xtol, inner_iter = tolerances(args.quick)
     summary = {"target_zone_speed_m_s": TARGET_ZONE_SPEED, "limits": {**LIMITS, "min_pull_fraction": MIN_PULL_FRACTION},
                "assumptions": f"target = middle of the assumed {ZONE_WINDOW[0]:g}-{ZONE_WINDOW[1]:g} m/s window; limits as in design_tolerance.py; "
                               "the springs must keep MIN_PULL_FRACTION of their preload during the run",
@@ -431,44 +535,9 @@ def main():
                "optimum": opt, "binding": binding(opt, k0), "quick": bool(args.quick),
                "robustness": robustness(data, opt, at_target, args.quick, xtol, inner_iter)}
     write_json(out / "design_optimum.json", json_ready(summary))
-
-    md = ["# The least stored energy for a target zone speed\n",
-          f"Target zone speed {TARGET_ZONE_SPEED} m/s (the poles' mean closing speed over the analyser's zone; the "
-          f"middle of the assumed {ZONE_WINDOW[0]:g}-{ZONE_WINDOW[1]:g} m/s window); limits (assumed): every pole's zone "
-          f"speed within the window, pole spread <= {1e3 * LIMITS['pole_spread_s']:g} ms, the springs keep at least "
-          f"{100 * MIN_PULL_FRACTION:.0f} % of their preload during the run, the cam reaches its holding latch (a "
-          "kinetic margin after the touch above 0). The bounce is not a constraint: the "
-          "contacts' restitution and the gap pattern decide it (below). Variables: each closing spring's stiffness and "
-          "preload (free length = charged length - preload / stiffness)."
-          + (" **Quick mode: coarse map, loose tolerances.**" if args.quick else "") + "\n",
-          markdown_table(["design", "stiffness (kN/m)", "preload (N)", "stored energy (J)", "released to touch (J)",
-                          "zone speed, mean (slowest-fastest pole) (m/s)", "closing time (ms)", "pole spread (ms)",
-                          "bounce (ms)", "smallest pull (N)", "kinetic margin after touch (J)"],
-                         [[name, f"{d['stiffness_N_m'] / 1e3:.2f}", f"{d['preload_N']:.0f}", f"{d['stored_energy_J']:.0f}",
-                           f"{d['released_to_touch_J']:.0f}" if d.get("released_to_touch_J") is not None else "-",
-                           f"{d[SPEED]:.3f} ({d['zone_speed_min_m_s']:.3f}-{d['zone_speed_max_m_s']:.3f})"
-                           if d.get(SPEED) is not None and d.get("zone_speed_min_m_s") is not None else "-",
-                           f"{1e3 * d['closing_time_s']:.2f}" if d.get("closing_time_s") is not None else "-",
-                           f"{1e3 * d['pole_spread_s']:.3f}" if d.get("pole_spread_s") is not None else "-",
-                           f"{1e3 * d['bounce_duration_s']:.2f}" if d.get("bounce_duration_s") is not None else "-",
-                           f"{d['min_spring_force_N']:.0f}" if d.get("min_spring_force_N") is not None else "-",
-                           margin_text(d)]
-                          for name, d in (("reference springs (their own zone speed)", summary["reference"]),
-                                          ("reference stiffness, preload for the target speed", at_target),
-                                          ("optimum", opt)) if d]),
-          "\n" + comparison_text(summary["equal_speed_comparison"], evaluated),
-          "\n## Trade-off (`design_optimum.png`)\n",
-          "Stored energy on the target-speed line against stiffness (from the map; right panel):\n",
-          markdown_table(["stiffness (kN/m)", "preload on target (N)", "stored energy (J)", "smallest pull (N)"],
-                         [[f"{c['stiffness_N_m'] / 1e3:.2f}", "-" if c["preload_N"] is None else f"{c['preload_N']:.0f}",
-                           "-" if c["stored_energy_J"] is None else f"{c['stored_energy_J']:.0f}",
-                           "-" if c["smallest_pull_N"] is None else f"{c['smallest_pull_N']:.0f}"
-                           + ("" if c["spring_stays_taut"] in (None, True) else " (slack)")] for c in map_curve]),
-          "\n" + reading(map_curve, opt, rig, k0)
-          + (" Quick mode: the search stops after a few steps, so this optimum is rough.\n" if args.quick else ""),
-          robustness_report(summary["robustness"])]
-    (out / "design_optimum.md").write_text("\n".join(md))
-    print("\n".join(md))
+    md = page(summary, evaluated, map_curve, rig, k0, args.quick)
+    (out / "design_optimum.md").write_text(md)
+    print(md)
 
 
 if __name__ == "__main__":

@@ -47,8 +47,10 @@ N_FULL, N_QUICK = 128, 2
 #: The shaft check: diameters (m) and restitutions; quick: fewer of each and two gap patterns.
 SHAFT_FULL = ((0.04, 0.05, 0.06, 0.07, 0.08), (0.5, 0.8, 0.9))
 SHAFT_QUICK = ((0.04, 0.06), (0.8,))
-#: The bounce limit the shaft was sized against (s; studies/design_tolerance.py's, assumed).
-BOUNCE_LIMIT = 2e-3
+#: The bounce limit the shaft was sized against (s): the reference breaker's, assumed (parameters.REFERENCE_LIMITS).
+BOUNCE_LIMIT = 1e-3 * P.REFERENCE_LIMITS["bounce_duration"]["max"]
+#: The Sobol indices' bootstrap: resamples and confidence level (SALib.analyze.sobol's).
+RESAMPLES, CONF_LEVEL = 200, 0.95
 
 
 def with_margin_of_failures(df):
@@ -84,7 +86,8 @@ def sobol(df, problem, n):
             out[col] = {"error": "no run gave this output"}
             continue
         y = np.where(bad, np.nanmean(y), y)  # failed runs (if any) at the mean: stated in the outputs
-        si = sobol_analyze.analyze(problem, y, calc_second_order=False, seed=SEED, num_resamples=200)
+        si = sobol_analyze.analyze(problem, y, calc_second_order=False, seed=SEED, num_resamples=RESAMPLES,
+                                   conf_level=CONF_LEVEL)
         out[col] = {"mean": float(np.mean(y)), "sd": float(np.std(y)), "failed_runs_set_to_mean": int(bad.sum()),
                     "indices": [{"factor": name, "S1": float(si["S1"][j]), "S1_conf": float(si["S1_conf"][j]),
                                  "ST": float(si["ST"][j]), "ST_conf": float(si["ST_conf"][j])}
@@ -126,7 +129,7 @@ def plot_sobol(result, factors, path, n, runs):
         ax.set_yticks(y, [labels[i["factor"]] for i in idx], fontsize=8)
         ax.invert_yaxis()
         ax.axvline(0, color="k", lw=0.6)
-        ax.set_xlabel("Sobol index (share of the variance), 95 % bootstrap interval")
+        ax.set_xlabel(f"Sobol index (share of the variance), {100 * CONF_LEVEL:g} % bootstrap interval")
         ax.set_title(f"{name}: sd {scale * result[col]['sd']:.3g} {unit}", fontsize=9)
     axes.flat[0].legend(fontsize=8, loc="lower right")
     fig.suptitle(f"Global sensitivity (Saltelli/Sobol, N = {n}, {runs} closings, uniform over the ranges)", fontsize=10)
@@ -157,6 +160,7 @@ def shaft_check(quick, columns):
     what it says of the sizing: whether the bounce falls with the diameter for every pattern, and the
     diameters that keep it within BOUNCE_LIMIT for every pattern at each restitution."""
     diameters, restitutions = SHAFT_QUICK if quick else SHAFT_FULL
+    ref = P.MAIN_SHAFT_SECTION
     patterns = list(P.GAP_PATTERNS)[:2] if quick else list(P.GAP_PATTERNS)
     df = sweep(P.REFERENCE_BREAKER, runs=shaft_runs(diameters, restitutions, patterns), evaluate=closing_poles,
                columns=columns, label="main shaft across gap patterns")
@@ -179,7 +183,8 @@ def shaft_check(quick, columns):
         verdict[str(e)] = {"worst_over_patterns_s": worst, "falls_with_diameter": monotone,
                            "within_limit_for_every_pattern": [d for d in diameters if worst[d] <= BOUNCE_LIMIT]}
     return {"diameters_m": list(diameters), "restitutions": list(restitutions), "patterns": {p: P.GAP_PATTERNS[p] for p in patterns},
-            "damping": "2 % of critical at every diameter (the reference's 6.1 N m s/rad x (d / 60 mm)^2)",
+            "damping": (f"the reference's share of critical at every diameter ({ref['damping']:g} N m s/rad x "
+                        f"(d / {1e3 * ref['diameter']:g} mm)^2, parameters.MAIN_SHAFT_SECTION)"),
             "limit_s": BOUNCE_LIMIT, "runs": rows, "verdict": verdict}
 
 
@@ -208,15 +213,8 @@ def shaft_report(shaft):
     return md
 
 
-def main():
-    args = parse_args(__doc__)
-    out = Path(args.out)
-    data = with_viscous_shaft(P.REFERENCE_BREAKER)
-    rig = rig_from_data(data, "REFERENCE_BREAKER")
-    factors = breaker_factors(rig)
-    k = len(factors)
-    columns = pole_columns(rig.breaker.poles.count)
-
+def one_at_a_time(data, rig, factors, columns):
+    """The tornado: the nominal closing and each factor at its low and high value (sweep)."""
     nominal = [f.nominal for f in factors]
     oat = [nominal]
     for i, f in enumerate(factors):
@@ -226,58 +224,38 @@ def main():
             oat.append(row)
     df_oat = sweep(data, runs=runs_of(factors, oat, rig), evaluate=closing_poles, columns=columns, t_end=T_END,
                    label="tornado (one factor at a time)")
-    tor = tornado(df_oat, factors)
+    return tornado(df_oat, factors), df_oat
 
-    n = N_QUICK if args.quick else N_FULL
-    problem = {"num_vars": k, "names": [f.key for f in factors], "bounds": [[f.low, f.high] for f in factors]}
+
+def all_at_once(data, rig, factors, columns, n):
+    """The Sobol indices from N = ``n`` Saltelli samples (sweep): (indices, the sweep's table, the samples)."""
+    problem = {"num_vars": len(factors), "names": [f.key for f in factors], "bounds": [[f.low, f.high] for f in factors]}
     x = sobol_sample.sample(problem, n, calc_second_order=False, seed=SEED)
     df_sobol = sweep(data, runs=runs_of(factors, x, rig), evaluate=closing_poles, columns=columns, t_end=T_END,
                      label=f"Sobol (N = {n})")
-    sob = sobol(df_sobol, problem, n)
+    return sobol(df_sobol, problem, n), df_sobol, x
 
-    shaft = shaft_check(args.quick, columns)
-    plot_tornado(tor, factors, out / "design_sensitivity_tornado.png")
-    plot_sobol(sob, factors, out / "design_sensitivity_sobol.png", n, len(x))
 
-    summary = {
-        "breaker": "vcbmodel.parameters.REFERENCE_BREAKER (viscous shaft friction listed, varied over the bearing "
-                   "estimate)",
-        "model": {"effects": list(rig.model.effects), "spring_model": rig.model.spring_model.label},
-        "preload_realised_by": "closing_spring.free_length at fixed closing_spring.stiffness",
-        "factors": [{"key": f.key, "label": f.label, "unit": f.unit, "nominal": f.nominal, "low": f.low, "high": f.high,
-                     "source": f.basis} for f in factors],
-        "shaft_across_gap_patterns": shaft,
-        "tornado": tor,
-        "sobol": {"method": "Saltelli sampling (SALib.sample.sobol, scrambled Sobol sequence) and SALib.analyze.sobol: "
-                            "first-order and total indices, 95 % bootstrap intervals (200 resamples); factors uniform "
-                            "over their ranges, independent",
-                  "N": n, "runs": int(len(x)), "failed_runs": int((df_sobol.status != "ok").sum()), "seed": SEED,
-                  "outputs": sob},
-        "quick": bool(args.quick),
-        "sweep_wall_s": {"tornado": df_oat.attrs["wall_s"], "sobol": df_sobol.attrs["wall_s"]},
-    }
-    write_json(out / "design_sensitivity.json", json_ready(summary))
-
-    md = ["# Design sensitivity of the closing (reference breaker)\n",
-          f"Model: `REFERENCE_BREAKER` ({', '.join(rig.model.effects)}; spring {rig.model.spring_model.label}); its "
-          "viscous shaft friction is varied over the bearing estimate and the contact restitution over its published "
-          "range. The paper gives no tolerances: each range below names its source; the closing-spring preload is "
-          "varied through the springs' free length at fixed stiffness. The tornado's centre is each range's middle."
-          + (" **Quick mode: too few runs for the indices to mean anything.**" if args.quick else "") + "\n",
-          markdown_table(["factor", "centre", "range", "unit", "source"],
-                         [[f.label, f"{f.nominal:.4g}", f"{f.low:.4g} .. {f.high:.4g}", f.unit, f.basis] for f in factors]),
-          "\n## One factor at a time (tornado, `design_sensitivity_tornado.png`)\n"]
+def tornado_report(tor):
+    """The one-factor-at-a-time section of design_sensitivity.md."""
+    md = ["\n## One factor at a time (tornado, `design_sensitivity_tornado.png`)\n"]
     for col, name, unit, scale in OUTPUTS:
         t = tor[col]
         md.append(f"**{name}** (nominal {fmt(t['nominal'], scale)} {unit}): change at low / high value\n")
         md.append(markdown_table(["factor", f"low ({unit})", f"high ({unit})"],
                                  [[b["label"], fmt(b["change_low"], scale), fmt(b["change_high"], scale)] for b in t["bars"]]))
-    md.append(f"\n## Variance-based (Sobol) indices (`design_sensitivity_sobol.png`)\n\n"
-              f"{summary['sobol']['method']}. N = {n}: {len(x)} closings, {summary['sobol']['failed_runs']} failed. "
-              "S1: the share of the output's variance a factor causes alone; ST: with its interactions. Intervals "
-              "that include 0 mean 'not distinguishable from no effect at this N'. The kinetic margin of a build "
-              f"whose cam turns back short of its latch is taken as 0 ({sob['builds_not_latched']} of the "
-              f"{len(x)} builds); a run that ended before its latch would be set to the mean and counted.\n")
+    return md
+
+
+def sobol_report(sob, summary, factors):
+    """The Sobol section of design_sensitivity.md."""
+    n, runs = summary["sobol"]["N"], summary["sobol"]["runs"]
+    md = [f"\n## Variance-based (Sobol) indices (`design_sensitivity_sobol.png`)\n\n"
+          f"{summary['sobol']['method']}. N = {n}: {runs} closings, {summary['sobol']['failed_runs']} failed. "
+          "S1: the share of the output's variance a factor causes alone; ST: with its interactions. Intervals "
+          "that include 0 mean 'not distinguishable from no effect at this N'. The kinetic margin of a build "
+          f"whose cam turns back short of its latch is taken as 0 ({sob['builds_not_latched']} of the "
+          f"{runs} builds); a run that ended before its latch would be set to the mean and counted.\n"]
     for col, name, unit, scale in OUTPUTS:
         s = sob[col]
         if "indices" not in s:
@@ -290,9 +268,59 @@ def main():
                                  [[next(f.label for f in factors if f.key == i["factor"]),
                                    f"{i['S1']:.3f} +- {i['S1_conf']:.3f}", f"{i['ST']:.3f} +- {i['ST_conf']:.3f}"]
                                   for i in ranked]))
-    md += shaft_report(shaft)
-    (out / "design_sensitivity.md").write_text("\n".join(md))
-    print("\n".join(md))
+    return md
+
+
+def page(summary, rig, factors, quick):
+    """design_sensitivity.md."""
+    md = ["# Design sensitivity of the closing (reference breaker)\n",
+          f"Model: `REFERENCE_BREAKER` ({', '.join(rig.model.effects)}; spring {rig.model.spring_model.label}); its "
+          "viscous shaft friction is varied over the bearing estimate and the contact restitution over its published "
+          "range. The paper gives no tolerances: each range below names its source; the closing-spring preload is "
+          "varied through the springs' free length at fixed stiffness. The tornado's centre is each range's middle."
+          + (" **Quick mode: too few runs for the indices to mean anything.**" if quick else "") + "\n",
+          markdown_table(["factor", "centre", "range", "unit", "source"],
+                         [[f.label, f"{f.nominal:.4g}", f"{f.low:.4g} .. {f.high:.4g}", f.unit, f.basis] for f in factors])]
+    md += tornado_report(summary["tornado"])
+    md += sobol_report(summary["sobol"]["outputs"], summary, factors)
+    md += shaft_report(summary["shaft_across_gap_patterns"])
+    return "\n".join(md)
+
+
+def main():
+    args = parse_args(__doc__)
+    out = Path(args.out)
+    data = with_viscous_shaft(P.REFERENCE_BREAKER)
+    rig = rig_from_data(data, "REFERENCE_BREAKER")
+    factors = breaker_factors(rig)
+    columns = pole_columns(rig.breaker.poles.count)
+    tor, df_oat = one_at_a_time(data, rig, factors, columns)
+    n = N_QUICK if args.quick else N_FULL
+    sob, df_sobol, x = all_at_once(data, rig, factors, columns, n)
+    shaft = shaft_check(args.quick, columns)
+    plot_tornado(tor, factors, out / "design_sensitivity_tornado.png")
+    plot_sobol(sob, factors, out / "design_sensitivity_sobol.png", n, len(x))
+    summary = {
+        "breaker": "vcbmodel.parameters.REFERENCE_BREAKER (viscous shaft friction listed, varied over the bearing "
+                   "estimate)",
+        "model": {"effects": list(rig.model.effects), "spring_model": rig.model.spring_model.label},
+        "preload_realised_by": "closing_spring.free_length at fixed closing_spring.stiffness",
+        "factors": [{"key": f.key, "label": f.label, "unit": f.unit, "nominal": f.nominal, "low": f.low, "high": f.high,
+                     "source": f.basis} for f in factors],
+        "shaft_across_gap_patterns": shaft,
+        "tornado": tor,
+        "sobol": {"method": "Saltelli sampling (SALib.sample.sobol, scrambled Sobol sequence) and SALib.analyze.sobol: "
+                            f"first-order and total indices, {100 * CONF_LEVEL:g} % bootstrap intervals ({RESAMPLES} "
+                            "resamples); factors uniform over their ranges, independent",
+                  "N": n, "runs": int(len(x)), "failed_runs": int((df_sobol.status != "ok").sum()), "seed": SEED,
+                  "outputs": sob},
+        "quick": bool(args.quick),
+        "sweep_wall_s": {"tornado": df_oat.attrs["wall_s"], "sobol": df_sobol.attrs["wall_s"]},
+    }
+    write_json(out / "design_sensitivity.json", json_ready(summary))
+    md = page(summary, rig, factors, args.quick)
+    (out / "design_sensitivity.md").write_text(md)
+    print(md)
 
 
 if __name__ == "__main__":

@@ -45,8 +45,8 @@ STIFFNESS_TOLERANCE = 0.05
 _SPEED, _SPREAD, _BOUNCE = (P.REFERENCE_LIMITS[k] for k in ("closing_speed", "pole_spread", "bounce_duration"))
 LIMITS = {
     "zone_speed": (_SPEED["min"], _SPEED["max"], 1.0, "m/s",
-                   f"every pole's closing speed over the analyser's zone (breaker.speed_zone: the last 4 mm before its "
-                   f"touch) within {_SPEED['min']:g}-{_SPEED['max']:g} m/s: the reference breaker's limit "
+                   f"every pole's closing speed over the analyser's zone (breaker.speed_zone: the last "
+                   f"{1e3 * P.SPEED_ZONE[0]:g} mm before its touch) within {_SPEED['min']:g}-{_SPEED['max']:g} m/s: the reference breaker's limit "
                    f"(parameters.REFERENCE_LIMITS: {_SPEED['source']}); IEC 62271-100 prescribes no contact speed, the "
                    "manufacturer states it and checks it with travel curves over such a zone"),
     "pole_spread_s": (None, 1e-3 * _SPREAD["max"], 1e3, "ms",
@@ -55,13 +55,16 @@ LIMITS = {
                       "(5 ms at 50 Hz) unless otherwise specified: the tighter, assumed limit is used"),
     "bounce_duration_s": (None, 1e-3 * _BOUNCE["max"], 1e3, "ms",
                           f"every pole's closing bounce <= {_BOUNCE['max']:g} ms: {_BOUNCE['source']}. The duration is "
-                          "quantised by the bounce count (each bounce lasts about 0.8-1.2 ms here), so a 2 ms limit cuts "
-                          "the two-bounce cluster: the count is reported beside it"),
+                          "quantised by the bounce count (the durations of each count are in the bounce section), so a "
+                          "limit can cut through the poles of one count: the count is reported beside it"),
     "latches": (0.0, None, 1.0, "J",
                 "the cam reaches its holding latch after the touch: a kinetic margin (its least kinetic energy from the "
                 "first touch to the latch) above 0. A cam that stops short runs back and the contacts reopen: the "
                 "closing fails (a run that ended before the cam reached its latch or turned back is counted here too)"),
 }
+#: A worst pole's bounce count reported as "many" (the count's own cluster, beyond the limit's)
+MANY_BOUNCES = 3
+_REF = P.REFERENCE_BREAKER
 #: Histograms: (column, label, scale, unit)
 PANELS = [("closing_time_s", "closing time", 1e3, "ms"), ("zone_speed_min_m_s", "slowest pole's zone speed", 1.0, "m/s"),
           ("zone_speed_max_m_s", "fastest pole's zone speed", 1.0, "m/s"), ("pole_spread_s", "pole spread", 1e3, "ms"),
@@ -147,10 +150,20 @@ def bounce_distributions(ok, count):
     for c in np.unique(n[np.isfinite(n)]):
         v = d[n == c]
         by_count[int(c)] = {"poles": int(v.size), "min": float(v.min()), "median": float(np.median(v)), "max": float(v.max())}
-    three = int(np.sum(worst >= 3))
+    three = int(np.sum(worst >= MANY_BOUNCES))
     return {"worst_pole_count": counts, "duration_by_count": by_count,
             "three_or_more": {"out": three, "of": int(worst.size), "fraction": three / max(worst.size, 1),
                               "fraction_95ci": wilson(three, int(worst.size))}}
+
+
+def cluster_text(by_count):
+    """Where the bounce limit falls among the counts' durations (the bounce section's first line)."""
+    limit = 1e-3 * _BOUNCE["max"]
+    spans = ", ".join(f"{1e3 * v['min']:.2f}-{1e3 * v['max']:.2f} ms with {c}" for c, v in by_count.items())
+    cut = [str(c) for c, v in by_count.items() if v["min"] <= limit < v["max"]]
+    return (f"A pole's bounce lasts {spans} bounce(s); the {_BOUNCE['max']:g} ms limit "
+            + (f"cuts through the poles with {' and '.join(cut)} bounce(s)." if cut else
+               "falls between the counts.") + "\n")
 
 
 def bounce_by_restitution(ok, count):
@@ -370,18 +383,21 @@ def report(summary, rig, factors, specs, sources, n, quick, paths):
           "\n" + markdown_table(["a pole's bounces", "poles", "duration min / median / max (ms)"],
                                 [[c, v["poles"], f"{1e3 * v['min']:.2f} / {1e3 * v['median']:.2f} / {1e3 * v['max']:.2f}"]
                                  for c, v in summary["bounce"]["duration_by_count"].items()]),
-          f"\nA count limit does not cut a cluster: closings whose worst pole bounces 3 times or more: "
+          "\n" + cluster_text(summary["bounce"]["duration_by_count"]),
+          f"A count limit does not cut a cluster: closings whose worst pole bounces {MANY_BOUNCES} times or more: "
           f"{pct(summary['bounce']['three_or_more'])}.\n",
           "\nClosings with a pole over the bounce limit, by restitution (the contacts' restitution decides it):\n",
-          markdown_table(["restitution", "closings", "over 2 ms (95 % interval)"],
+          markdown_table(["restitution", "closings", f"over {_BOUNCE['max']:g} ms (95 % interval)"],
                          [[f"{r['restitution'][0]:.2f}-{r['restitution'][1]:.2f}", r["closings"],
                            f"{r['over']} ({100 * r['fraction_95ci'][0]:.0f}-{100 * r['fraction_95ci'][1]:.0f} %)"]
                           for r in summary["bounce"]["over_limit_by_restitution"]]),
           "\n## The mean against the nominal closing\n",
           "The draws' mean is not the nominal breaker: the viscous friction and the restitution are drawn over ranges, "
-          "not around the reference's values (0 and 0.8), and the gap offsets around equal gaps, not the reference's "
-          "+0/+0.3/-0.3 mm. Each input's share of the shift is its slope (a linear fit over the draws) times its mean "
-          "draw's distance from the nominal; the rest is the response's curvature:\n"]
+          f"not around the reference's values ({_REF['friction'].get('viscous', 0.0):g} and "
+          f"{_REF['breaker']['contact']['restitution']:g}), and the gap offsets around equal gaps, not the reference's "
+          + "/".join(f"{1e3 * g:+g}" for g in _REF["breaker"]["poles"]["gap_offsets"])
+          + " mm. Each input's share of the shift is its slope (a linear fit over the draws) "
+          "times its mean draw's distance from the nominal; the rest is the response's curvature:\n"]
     for col, scale, unit in SHIFTED:
         s = summary["mean_against_nominal"][col]
         top = sorted(s["shares_by_input"].items(), key=lambda kv: -abs(kv[1]))[:3]

@@ -1,4 +1,4 @@
-"""How the diagnosis fares on realistic records (issues 11 and 20): by complication and by friction truth.
+"""How the diagnosis fares on realistic records: by complication and by friction truth.
 
 Records come from :mod:`vcbmodel.analysis.realistic`: a truth structurally different from every
 candidate (friction from the independent event-driven reference, the spring as a converged chain
@@ -71,6 +71,7 @@ import numpy as np
 from _common import markdown_table, parse_args, write_json
 
 from vcbmodel.analysis.diagnose import DEFAULT_OPTIONS, diagnose
+from vcbmodel.analysis.plausibility import Z95
 from vcbmodel.analysis.realistic import (FRICTION_TRUTH_CHOICES, GROUPS, OPTIONAL_EXTRA, TORQUE_TRUTHS, draw_cases,
                                          hidden_answer, realistic_record)
 from vcbmodel.app.plots import plt, save
@@ -96,7 +97,7 @@ SHARED = {"hybrid": ("mu_s", "stribeck_velocity", "restitution", "bellows_force"
 #: Out-of-family runs per pendulum truth with an effect the law lacks (air drag, a drifting level).
 TORQUE_PLAN = {"clean": 2, "correlated": 1, "all_potentiometer": 1, "lab": 1}
 TORQUE_SEED = 71
-#: An explained in-family value should lie within this many stated errors of the truth (issue text).
+#: An explained in-family value should lie within this many stated errors of the truth (the study's acceptance criterion, assumed).
 EXPLAINED_Z = 3.0
 #: Effects whose parameters a truth has (in the family): parameter -> effect.
 EFFECT_OF = {"mu_k": "coulomb_friction", "mu_s": "stribeck", "stribeck_velocity": "stribeck",
@@ -138,7 +139,7 @@ def comparisons(j, truth):
             continue
         z = (j["fitted"][name] - tv) / se
         out.append({"parameter": name, "truth": tv, "fitted": j["fitted"][name], "stderr": se, "z": z,
-                    "covered": bool(abs(z) <= 1.96)})
+                    "covered": bool(abs(z) <= Z95)})
     return out
 
 
@@ -291,7 +292,7 @@ def figure(records, path):
     a2.axhline(1.0, color="k", lw=0.8, ls="--")
     a2.set_yscale("log")
     a2.set_ylabel("rms / true noise\n(line: before -> dot: after)")
-    a3.axhline(1.96, color="k", lw=0.8, ls="--")
+    a3.axhline(Z95, color="k", lw=0.8, ls="--")
     a3.set_yscale("log")
     a3.set_ylabel("|fitted - truth| / stderr\n(o: mu_k, .: others)")
     for a in (a1, a2, a3):
@@ -408,14 +409,14 @@ def write_markdown(out, records, summary):
         "`explained: false`, or leaves nothing above the noise and the rest is named exactly); the verdict is "
         "right when `explained` is true for a truth in the family and, for "
         f"one outside it, says whether the final rms exceeds {RESIDUAL_ABOVE_NOISE:g}x the true noise. Coverage: "
-        "how often fitted +- 1.96 stderr (the final fit's) holds the truth, over the parameters whose meaning "
+        f"how often fitted +- {Z95:.2f} stderr (the final fit's) holds the truth, over the parameters whose meaning "
         "the truth shares (study docstring); z = (fitted - truth) / stderr. Times: wall seconds of each "
-        f"diagnosis, {summary['record_workers']} records diagnosed at once on 2 cores (median "
+        f"diagnosis, {summary['record_workers']} records diagnosed at once on {summary['cores']} cores (median "
         f"{summary['seconds_median']:.1f} s, max {summary['seconds_max']:.0f} s; processor seconds of the diagnosis and its "
         f"simulation workers: median {summary['cpu_seconds_median']:.1f} s, total {summary['cpu_seconds_total']:.0f} s; "
         "one diagnosis alone: `benchmark.md`).\n\n"
         "## Coverage: the selected fit alone and the model forms\n\n"
-        "The selected fit's 95 % interval (fitted +- 1.96 stderr) against the model forms' (`model_forms` in the "
+        f"The selected fit's 95 % interval (fitted +- {Z95:.2f} stderr) against the model forms' (`model_forms` in the "
         "diagnosis JSON: BIC-weighted forms, the interval holding each form within the evidence margin), each "
         "against the truth in its meaning (study docstring); and how many values of an `explained` verdict lie "
         f"more than {EXPLAINED_Z:g} of their stated errors from the truth.\n\n"
@@ -485,7 +486,8 @@ def main():
                "coverage": {"compared": len(cs), "covered": sum(c["covered"] for c in cs)},
                "residual_above_noise": RESIDUAL_ABOVE_NOISE,
                "seconds_median": float(np.median(times)), "seconds_max": float(max(times)),
-               "record_workers": RECORD_WORKERS, "cpu_seconds_median": float(np.median([r["cpu_seconds"] for r in records])),
+               "record_workers": RECORD_WORKERS, "cores": multiprocessing.cpu_count(),
+               "cpu_seconds_median": float(np.median([r["cpu_seconds"] for r in records])),
                "cpu_seconds_total": float(sum(r["cpu_seconds"] for r in records)),
                "budget_reached": sum(r["budget_reached"] for r in records),
                "by_friction_truth": {k: summarise([r for r in records if r["friction_truth"] == k])

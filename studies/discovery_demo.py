@@ -5,7 +5,7 @@ viscous friction with their values unknown).
 Record 1: the truth adds the paddle's air drag, -c w|w| with c = 0.5 rho Cd A R^3 = 3.8e-4 N m s^2/rad^2
 (rho 1.2 kg/m^3, Cd 1.17: vcbmodel.parameters). Released at 0.8 rad (4 rad/s) the registered friction
 absorbs this drag within the noise; at 1.5 rad the swing reaches 7 rad/s, where the drag is 38 % of the
-Coulomb torque. The registry now has air drag (``aerodynamic_drag``): the diagnosis names it; discovery
+Coulomb torque. The registry has air drag (``aerodynamic_drag``): the diagnosis names it; discovery
 runs on the rig's starting model (without it) and must find the same torque as w|w|, whatever the
 diagnosis names. Record 2: the
 truth adds a torque in the library's blind spot, a 1.9 Hz forcing (a vibrating floor) at no multiple
@@ -53,16 +53,18 @@ from vcbmodel.reference.cam_torque_truth import cam_drop_with_torque  # noqa: E4
 from vcbmodel.reference.torque_truth import pendulum_with_torque  # noqa: E402
 
 PENDULUM = {"mass": 5.0, "inertia": 0.5, "com_distance": 0.3, "initial_angle": 1.5, "initial_velocity": 0.0}
-RIG = {"format": "vcb-rig/1", "name": "discovery demo: light pendulum with a 0.02 m^2 paddle at 0.3 m, 1.5 rad release",
+PADDLE = (0.02, 0.3)  # m^2, m: a flat paddle's area and the radius of its centre
+RIG = {"format": "vcb-rig/1", "name": f"discovery demo: light pendulum with a {PADDLE[0]:g} m^2 paddle at {PADDLE[1]:g} m, "
+                                     f"{PENDULUM['initial_angle']:g} rad release",
        "experiment": "pendulum",
        "gravity": 9.81, "shaft": {"radius": 0.02}, "pendulum": PENDULUM, "friction": {},
        "model": {"effects": ["coulomb_friction", "viscous_friction"], "spring_model": "massless"}}
 FRICTION = {"mu_k": 0.05, "viscous": 0.01}  # truth: mu_k -, Cv N m s/rad
-PADDLE = (0.02, 0.3)  # m^2, m: a flat paddle's area and the radius of its centre
 DRAG = paddle_drag_coefficient(*PADDLE)  # truth: 3.8e-4 N m s^2/rad^2; at the swing's 7 rad/s, 19 mN m
 DRAG_DURATION = 5.0  # s: over 5 s this truth and the model agree within 2 urad at equal values (16 urad rms over 8 s)
 FORCING = (0.1, 1.9)  # truth: N m, Hz
 SIGMA = 0.5e-3  # rad
+RATE = 1000.0  # Hz: the pendulum records' sample rate
 
 
 CAM = {"mass": 6.0, "inertia_com": 0.05, "com_distance": 0.02, "com_angle": 0.5, "pivot": [0.4445, 0.0],
@@ -137,7 +139,7 @@ def record(kind, duration, seed):
         def extra(t, th, w):
             return FORCING[0] * math.sin(2 * math.pi * FORCING[1] * t)
         truth = {"extra": f"forcing {FORCING[0]} N m at {FORCING[1]} Hz (outside the library)"}
-    t = np.arange(int(round(duration * 1000)) + 1) / 1000.0
+    t = np.arange(int(round(duration * RATE)) + 1) / RATE
     theta = pendulum_with_torque(PENDULUM, RIG["gravity"], RIG["shaft"]["radius"], FRICTION, extra, t)
     y = theta + np.random.default_rng(seed).normal(0.0, SIGMA, t.size)
     meas = Measurement(f"discovery_{kind}.csv", t, {"pendulum_angle": y},
@@ -151,7 +153,7 @@ def run_case(rig, kind, duration, seed):
     t0 = time.monotonic()
     d = diagnose(rig, meas, verbose=False)  # its discover step runs when the registered model leaves a gap
     disc = d.discovery
-    if kind == "drag":  # the registry has air drag now: discovery on the rig's starting model, without it
+    if kind == "drag":  # the registry has air drag: discovery on the rig's starting model, without it
         disc = discover(rig, meas, d.baseline_own_alignment, bic_margin=BIC_MARGIN, min_gain=MIN_VARIANCE_GAIN)
     elif disc is None:  # the diagnosis did not search (its verdict, or its time budget): search here, and say so
         print(f"{kind}: the diagnosis did not search ({d.discovered.get('reason')}); discovery run after it")
@@ -324,10 +326,15 @@ def gap_table(cases, summaries):
 
 def cam_markdown(cases, summaries):
     md = ["# Discovery on cam drops (SYNTHETIC records)\n",
-          "The demo cam (6 kg, massless closing springs 2 x 24.2 kN/m) released at 10 degrees, Coulomb friction "
+          f"The demo cam ({CAM['mass']:g} kg, closing springs {SPRING['count']} x {SPRING['stiffness'] / 1e3:.1f} kN/m, "
+          f"massless in the truth and the rig's model except on the damped-spring record: there {SPRING['mass']:g} kg "
+          f"each, a {TRUTH_SEGMENTS}-segment continuum in the truth, {SPRING_RIG['model']['spring_model']} "
+          f"({SPRING_RIG['model']['lumped_convention']}) in the model) released at "
+          f"{math.degrees(CAM['initial_angle']):.0f} degrees, Coulomb friction "
           f"mu_k {CAM_FRICTION['mu_k']} unknown to the rig, {1e3 * CAM_SIGMA:g} mrad camera noise at "
           f"{CAM_RATE / 1e3:g} kHz for {1e3 * CAM_DURATION:g} ms. Truths integrated independently "
-          "(`vcbmodel/reference/cam_torque_truth.py`). The in-family record is searched although the diagnosis "
+          "(`vcbmodel/reference/cam_torque_truth.py`; the damped springs: `vcbmodel/reference/cam_spring_truth.py`). "
+          "The in-family record is searched although the diagnosis "
           "explains it (a false discovery would show there).\n"]
     md.append(gap_table(cases, summaries))
     for case, s in zip(cases, summaries):
@@ -354,8 +361,9 @@ def registered_lines(s):
 
 def markdown(cases, summaries):
     md = ["# Discovery of what no registry has (SYNTHETIC records)\n",
-          f"A light pendulum (5 kg, 0.5 kg m^2, 0.3 m) with a flat paddle of {PADDLE[0]:g} m^2 at {PADDLE[1]:g} m (air drag "
-          f"0.5 rho Cd A R^3 = {DRAG:.3g} N m s^2/rad^2), released at {PENDULUM['initial_angle']:g} rad, 0.5 mrad noise at 1 kHz "
+          f"A light pendulum ({PENDULUM['mass']:g} kg, {PENDULUM['inertia']:g} kg m^2, {PENDULUM['com_distance']:g} m) "
+          f"with a flat paddle of {PADDLE[0]:g} m^2 at {PADDLE[1]:g} m (air drag 0.5 rho Cd A R^3 = {DRAG:.3g} "
+          f"N m s^2/rad^2), released at {PENDULUM['initial_angle']:g} rad, {1e3 * SIGMA:g} mrad noise at {RATE / 1e3:g} kHz "
           f"(drag record {DRAG_DURATION:g} s); the rig's model is Coulomb + viscous friction with unknown values. The "
           "registry has air drag (`aerodynamic_drag`); on the drag record discovery runs on the rig's starting model, "
           "without it. Truths integrated independently "

@@ -14,6 +14,7 @@ Writes results/discrepancy_demo_cam.png, discrepancy_demo_pendulum.png, discrepa
 and results/synthetic/held_out_{10,15}deg.{csv,rig.json}.
 """
 import copy
+import math
 from pathlib import Path
 
 import numpy as np
@@ -30,7 +31,7 @@ from vcbmodel.reference.truths import friction_truth_angle
 
 def cam_case(out):
     rig_dict = copy.deepcopy(P.REFERENCE_CAM)
-    rig_dict["name"] = "demo: cam drop, 1 kg spring, massless starting model"
+    rig_dict["name"] = f"demo: cam drop, {P.HEAVY_SPRING_MASS:g} kg spring, massless starting model"
     rig_dict["closing_spring"]["mass"] = P.HEAVY_SPRING_MASS
     truth_friction = {"mu_k": 0.13, "stick_velocity": 1e-3}
     rig_dict["friction"] = dict(truth_friction)
@@ -103,12 +104,14 @@ def held_out_case(out: Path) -> tuple[dict, str]:
                                  "fitted": both["fitted"], "stderr": both["stderr"],
                                  "held_out_rms_before": row["rms_before"], "held_out_rms_after": row["rms"],
                                  "held_out_noise": row["noise"]}, "diagnosis": both}
+    (_, short_rig, short_s, _), (_, long_rig, long_s, _) = HELD_OUT_RECORDS
+    deg_short, deg_long = (math.degrees(r["pendulum"]["initial_angle"]) for r in (short_rig, long_rig))
     md = (f"## A rig with two records: the held-out record exposes an \"explained\" fit\n\n"
           f"Truth (independent Tustin solve, mu_s = mu_k): mu_k {HELD_OUT_TRUTH['mu_k']}, viscous "
-          f"{HELD_OUT_TRUTH['viscous']} N m s/rad. The 10 deg record (1.2 s) alone, Coulomb-only model: named "
+          f"{HELD_OUT_TRUTH['viscous']} N m s/rad. The {deg_short:.0f} deg record ({short_s:g} s) alone, Coulomb-only model: named "
           f"{alone['missing_effects'] or 'nothing'}, explained {alone['explained']}, mu_k {mu_k:.5f} +- {se:.2g} "
           f"({summary['alone']['mu_k_errors_from_truth']:.0f} stated errors from the truth).\n\n"
-          f"With the 15 deg record (6 s) held out: named {both['missing_effects']}, explained {both['explained']}; "
+          f"With the {deg_long:.0f} deg record ({long_s:g} s) held out: named {both['missing_effects']}, explained {both['explained']}; "
           f"fitted {both['fitted']}; the held-out record's prediction {1e3 * row['rms_before']:.3f} -> "
           f"{1e3 * row['rms']:.3f} mrad (noise {1e3 * row['noise']:.3f} mrad).\n\n{both['evidence']}\n")
     return summary, md

@@ -6,6 +6,7 @@ potentiometer noise (0.5 mrad at 1 kHz). Both laws of the paper are fitted to bo
 once: case 1 hybrid, case 2 stick-slip only. Writes results/friction_identification.{png,json,md}
 and the synthetic measurement files under results/synthetic/.
 """
+import math
 import time
 from pathlib import Path
 
@@ -13,12 +14,17 @@ from _common import markdown_table, parse_args, write_json
 
 from vcbmodel import parameters as P
 from vcbmodel.analysis.identify import identify
+from vcbmodel.experiments import experiment_of
 from vcbmodel.app.plots import plt, save
 from vcbmodel.experiments.loading import load_rig
 from vcbmodel.analysis.synthetic import synthetic_measurement, write_rig
 from vcbmodel.records.measurement import write_measurement
 
 TRUTH_EFFECTS = ("coulomb_friction", "stribeck", "viscous_friction")
+#: The paper's largest error of each law's fit, % of the first peak (Ahn & Kim 2002, Fig. 5: case 1, case 2)
+PAPER_MAX_ERROR_PERCENT = {"hybrid": 8, "stick-slip": 13}
+#: rad: the synthetic records' potentiometer noise (the pendulum experiment's sensor)
+NOISE_RAD = experiment_of("pendulum").noise_sigma
 
 
 def main():
@@ -59,20 +65,21 @@ def main():
     save(fig, out / "friction_identification.png")
 
     rows, table = [], {"truth": dict(P.REFERENCE_PENDULUM_TRUTH), "synthetic": True,
-                       "paper_max_error_percent": {"hybrid": 8, "stick-slip": 13}, "fits": {}}
+                       "paper_max_error_percent": PAPER_MAX_ERROR_PERCENT, "fits": {}}
     for law, f in fits.items():
         j = f.to_json()
         j["seconds"] = round(timing[law], 1)
         table["fits"][law] = j
         rows.append([law, f"{j['mu_k']:.4f}", f"{j['mu_s']:.4f}", f"{j['stick_velocity']:.2e}",
                      f"{j['stribeck_velocity']:.3f}", f"{j['viscous']:.3f}", f"{j['zeta']:.4f}",
-                     f"{1e3 * j['rms']:.2f}", f"{j['max_error_percent']:.1f}", {"hybrid": 8, "stick-slip": 13}[law]])
+                     f"{1e3 * j['rms']:.2f}", f"{j['max_error_percent']:.1f}", PAPER_MAX_ERROR_PERCENT[law]])
     truth = P.REFERENCE_PENDULUM_TRUTH
     rows.append(["truth (synthetic data)", truth["mu_k"], truth["mu_s"], truth["stick_velocity"],
-                 truth["stribeck_velocity"], truth["viscous"], "", "0.50 (noise)", "", ""])
+                 truth["stribeck_velocity"], truth["viscous"], "", f"{1e3 * NOISE_RAD:.2f} (noise)", "", ""])
     write_json(out / "friction_identification.json", table)
-    md = ("# Friction identification (paper Fig. 5), synthetic pendulum tests 10 deg + 15 deg\n\n"
-          "Both laws fitted to both tests at once. Measurements are synthetic (truth + 0.5 mrad noise).\n\n"
+    degrees = " + ".join(f"{math.degrees(rig.pendulum.initial_angle):.0f} deg" for rig, _ in pairs)
+    md = (f"# Friction identification (paper Fig. 5), synthetic pendulum tests {degrees}\n\n"
+          f"Both laws fitted to both tests at once. Measurements are synthetic (truth + {1e3 * NOISE_RAD:g} mrad noise).\n\n"
           + markdown_table(["law", "mu_k", "mu_s", "w0 (rad/s)", "ws (rad/s)", "Cv (N m s/rad)", "zeta",
                             "rms (mrad)", "max error (% of first peak)", "paper (%)"], rows))
     (out / "friction_identification.md").write_text(md)

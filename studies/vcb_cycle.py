@@ -101,7 +101,8 @@ def main():
     write_json(out / "vcb_cycle.json", {"sequence": reports, "making_limits": limits})
     text = [f"# The reference breaker's operating cycle: {SEQUENCE}", "",
             "Rig: `synthetic/vcb_cycle.rig.json` (parameters.REFERENCE_CYCLE_BREAKER: the reference breaker with its "
-            "trip latch, opening dashpot, releases and the rated making current, 100 kA). SIMULATED, not measured.", ""]
+            f"trip latch, opening dashpot, releases and the rated making current, {limits['rated_peak_A'] / 1e3:g} kA "
+            "peak). SIMULATED, not measured.", ""]
     for backend, report in reports.items():
         text += [f"## {backend}", "", markdown_table(HEADERS, rows(report))]
         text += [f"- {n}" for n in report["notes"]] + [""]

@@ -1,0 +1,88 @@
+"""The studies' pages say what their run computed: the prose's numbers are the computed values, and a
+claim that depends on them is printed only where they support it."""
+import importlib.util
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+STUDIES = Path(__file__).resolve().parents[2] / "studies"
+
+
+@pytest.fixture
+def study(monkeypatch):
+    monkeypatch.syspath_prepend(str(STUDIES))  # the studies import their _common
+
+    def load(name):
+        spec = importlib.util.spec_from_file_location(name, STUDIES / f"{name}.py")
+        module = importlib.util.module_from_spec(spec)
+        spec.loader.exec_module(module)
+        return module
+
+    return load
+
+
+def test_the_optimum_page_prints_the_equal_speed_gain_it_computed(study):
+    s = study("design_optimum")
+    c = {"gain_at_own_speed_percent": 8.0, "speed_squared_share_percent": 5.7, "stored_gain_percent": 1.8,
+         "reference_at_target_within_limits": False, "reference_at_target_breaks": ["pole_spread_s over 2 ms"]}
+    text = s.comparison_text(c)
+    assert "the gain is 1.8 %" in text and "about 1 %" not in text
+    assert "outside the limits (pole_spread_s over 2 ms)" in text and "slack" not in text
+    assert "within the assumed margins" not in s.comparison_text(dict(c, stored_gain_percent=7.0))
+
+
+def test_the_optimum_names_the_limits_a_design_breaks(study):
+    s = study("design_optimum")
+    ok = {"closing_speed_m_s": 1.25, "zone_speed_min_m_s": 1.24, "zone_speed_max_m_s": 1.26, "pole_spread_s": 5e-4,
+          "preload_N": 3000.0, "min_spring_force_N": 500.0, "latched": True}
+    assert s.broken_limits(ok) == []
+    broke = s.broken_limits(dict(ok, min_spring_force_N=100.0, zone_speed_max_m_s=1.6))
+    assert len(broke) == 2 and any("slack" in b for b in broke) and any("zone speed" in b for b in broke)
+
+
+def test_the_spring_reading_page_quotes_its_own_table(study):
+    s = study("spring_reading")
+    rows = [s.reading(*r) for r in s.READINGS]
+    text = s.conclusion(rows)
+    each = [r["shear_stress_Pa"] / 1e9 for r in rows if r["force_per_spring_N"] == s.CHARGED]
+    assert f"{min(each):.2f}-{max(each):.2f} GPa" in text and "1.8-3.3" not in text
+    assert f"{rows[3]['pair_energy_6000_to_1000_N_J']:.0f} J" in text
+    assert text.startswith("Only m0 as eq. 8's chain parameter")
+    # a reading whose frequency also met f0 would take the claim away
+    rows[0] = dict(rows[0], fixed_fixed_frequency_hz=s.F0_PAPER)
+    assert not s.conclusion(rows).startswith("Only")
+
+
+def test_the_conclusion_map_names_the_side_only_where_the_ratios_order_it(study):
+    s = study("design_conclusion_map")
+    ordered = np.array([[2.0, 3.0], [0.5, 0.8]])  # rows: spring mass, columns: mu_k
+    grids = {col: ordered for col, _ in s.RATIOS}
+    assert s.where_it_holds(grids).startswith("left of the black line")
+    grids[s.RATIOS[0][0]] = np.array([[2.0, 3.0], [2.5, 0.8]])  # heavier spring, larger ratio at low mu_k
+    assert not s.where_it_holds(grids).startswith("left")
+
+
+def test_the_tolerance_page_says_where_the_bounce_limit_falls_among_the_counts(study):
+    s = study("design_tolerance")
+    limit = 1e-3 * s._BOUNCE["max"]
+    text = s.cluster_text({1: {"min": 0.4 * limit, "max": 0.6 * limit}, 2: {"min": 0.8 * limit, "max": 1.2 * limit}})
+    assert f"{1e3 * 0.8 * limit:.2f}-{1e3 * 1.2 * limit:.2f} ms with 2" in text and "with 2 bounce(s)." in text
+    assert "between the counts" in s.cluster_text({1: {"min": 0.4 * limit, "max": 0.6 * limit}})
+
+
+def test_the_spring_modes_note_quotes_the_stress_ratio_it_computed(study):
+    s = study("spring_models")
+    from vcbmodel import parameters as P
+    sp = P.REFERENCE_CAM["closing_spring"]
+    data = {"continuum_axial_hz": [134.2], "lateral_string_hz_at_6000N": [90.3], "models": {}}
+    for n in s.TABLE_NS:
+        data["models"][f"lumped-{n} (exact)"] = {"quasi_static_pin_mass_over_m0": 1 / 3}
+        data["models"][f"lumped-{n} (paper)"] = {"total_mass_over_m0": 1.0 + n / 10, "quasi_static_pin_mass_over_m0": 0.3,
+                                                 "frequencies_hz": [85.4]}
+    data["coil_geometry"] = {f"{sp['mass']:g} kg": {"wire_diameter_m": 5e-3, "coil_diameter_m": 2e-2, "active_coils": 30.0,
+                                                   "shear_stress_at_6000N_Pa": 3.0e9, "allowable_extension_body_Pa": 0.75e9}}
+    note = s.modes_note(data, sp["stiffness"], sp["mass"])
+    assert "4.0x the 0.45 S_ut" in note and "3.00 m0 at n = 20" in note and "no steel spring" in note
+    data["coil_geometry"][f"{sp['mass']:g} kg"]["shear_stress_at_6000N_Pa"] = 0.5e9
+    assert "no steel spring" not in s.modes_note(data, sp["stiffness"], sp["mass"])
