@@ -554,6 +554,15 @@ CAM_FALL_BACK_FRACTION = 0.05
 #: then leaves the latching unjudged (a longer --t-end), never wrongly passed. ASSUMED from these
 #: estimates.
 CAM_TURN_BACK_ANGLE = 0.1 * 3.141592653589793 / 180.0
+#: How long (s) the cam's angle must stay within CAM_TURN_BACK_ANGLE of where it is at the end of a run,
+#: short of its latch after the first touch, for the cam to count as at rest there (``latched`` False:
+#: THE CLOSING FAILS, as for a turn-back): held by friction, or in balance between the springs and the
+#: contacts. A cam still on its way moves far more: 0.1 deg in 5 ms is a mean 0.35 rad/s, about 1 mJ of
+#: kinetic energy on the reference cam's 0.0215 kg m^2 against its 78 J margin, and an unbalanced torque
+#: of 3 N m (a tenth of the recharging springs' tens of N m) moves it 0.1 deg from rest within 5 ms. A
+#: run that ends sooner after the cam stops leaves the latching unjudged (a longer --t-end). ASSUMED from
+#: these estimates.
+CAM_REST_TIME = 5e-3
 #: Shaft speed at the end of a run, as a fraction of the run's peak, above which a closing's summary
 #: says the run ended with the cam still turning (not at rest: a longer ``--t-end`` shows the rest).
 MOVING_AT_END_FRACTION = 0.01
