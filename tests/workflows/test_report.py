@@ -205,3 +205,34 @@ def test_the_verdict_says_when_the_cam_does_not_latch_whatever_the_limits_say(tm
     assert verdicts["t.rig", "0.1"].endswith("all pass")  # it latched: nothing to add
     no_touch = summaries.latching_verdict({"latched": None, "kinetic_at_touch_J": None, "end_s": 0.02})
     assert no_touch is None  # no pole touched: the notes say the run is not a complete closing
+
+
+def single_pole(limits):
+    data, _ = breaker(limits)
+    data["breaker"]["poles"].update(count=1, gap_offsets=[0.0])
+    data["breaker"].pop("main_shaft")
+    return data
+
+
+def test_a_single_pole_has_no_pole_spread_to_print_or_limit(tmp_path, capsys):
+    """One pole: the report said 'pole spread 0.000 ms' (and 'no limit given' beside it); it says the
+    figure does not apply, in text and JSON, and a pole-spread limit is refused (check and simulate:
+    status 2, naming the field), the other limits kept."""
+    limits = {"pole_spread": {"max": 2, "unit": "ms"}, "closing_speed": {"min": 1.0, "max": 1.5, "unit": "m/s"}}
+    refused = write_rig(tmp_path, single_pole(limits), "spread")
+    for command in (["check", str(refused)], ["simulate", str(refused), "-o", str(tmp_path / "x.csv")]):
+        assert main(command) == 2
+        out, err = capsys.readouterr()
+        assert out == "" and err.strip() == (f"vcbmodel: bad input: {refused}: breaker.limits.pole_spread: a single-pole "
+                                             "breaker (breaker.poles.count 1) has no pole spread: delete this limit")
+    assert not (tmp_path / "x.csv").exists()
+    del limits["pole_spread"]
+    rig = load_rig(write_rig(tmp_path, single_pole(limits), "one"))
+    report = summaries.closing_report(simulate(rig, backend="fast"), rig)
+    line = next(x for x in report_text(report).splitlines() if x.strip().startswith("pole spread"))
+    assert line.split() == ["pole", "spread", "does", "not", "apply:", "one", "pole"]  # no number, no limit cell
+    row = next(r for r in report_json(report)["summary"] if r.get("figure") == "pole_spread_s")
+    assert row["value"] is None and row["does_not_apply"] == "one pole" and "limit" not in row
+    assert "1 of 1 judged: all pass" in report.verdict()
+    three = load_rig(write_rig(tmp_path, breaker(limits)[0], "three"))  # three poles: the figure as it was
+    assert all(not r.absent for r in summaries.closing_report(simulate(three, backend="fast"), three).rows)

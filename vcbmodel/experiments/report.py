@@ -29,6 +29,9 @@ class Row:
     values: list
     unit: str | None
     show: str | None = None
+    #: why the figure does not apply to this breaker (``one pole`` for a single pole's spread): shown
+    #: in place of its value, never judged against a limit; "" for a figure that applies
+    absent: str = ""
 
     @property
     def figure(self) -> str:
@@ -39,6 +42,8 @@ class Row:
 
     def cells(self) -> tuple[str, list[str], list]:
         """(shown unit, each value as printed, each value in the shown unit)."""
+        if self.absent:
+            return "", [f"does not apply: {self.absent}"], [None]
         if self.show is not None and to_si(self.show) is not None:
             factor = to_si(self.show)[1]
             out = [None if _missing(v) else float(v) / factor for v in self.values]
@@ -97,7 +102,7 @@ class Report:
     def check(self, row: Row) -> Check | None:
         """The row against the rig's limit on its figure (None: no limit on it, or one that judges
         the poles' rows instead: :meth:`judged_per_pole`)."""
-        if self.judged_per_pole(row):
+        if self.judged_per_pole(row) or row.absent:
             return None
         for limit in self.limits or ():
             if limit.figure == row.figure:
@@ -114,7 +119,7 @@ class Report:
         if c is not None:
             return c.limit.text(), c.result
         return ((NO_LIMIT, "") if self.limits is not None and row.figure in LIMITED_FIGURES
-                and not self.judged_per_pole(row) else ("", ""))
+                and not self.judged_per_pole(row) and not row.absent else ("", ""))
 
     def verdict(self, brief: bool = False) -> str:
         """One line: how many limits hold, which fail (``brief``: each failing figure and its poles,
@@ -187,11 +192,13 @@ def _row_json(report: Report, row: Row, pole: int | None = None) -> dict:
     out = {"what": row.what, "value": value, "unit": unit}
     if row.key:
         out["figure"] = row.key
+    if row.absent:
+        out["does_not_apply"] = row.absent
     c = report.check(row)
     if c is not None:
         holds = c.holds[pole if pole is not None else 0]
         out.update({"limit": c.limit.text(), "pass": holds})
-    elif report.limits is not None and row.figure in LIMITED_FIGURES and not report.judged_per_pole(row):
+    elif report.limits is not None and row.figure in LIMITED_FIGURES and not report.judged_per_pole(row) and not row.absent:
         out["limit"] = None
     return out
 

@@ -253,7 +253,9 @@ def closing_report(result: SimulationResult, rig: Rig) -> Report:
     then the whole breaker's (:func:`breaker_figures`, then any other figure of the evaluation whose
     name ends in its unit), the end stop's and the main shaft's, and the notes."""
     fom = result_figures(result, rig)
-    rows = [Row(key, what, [value], unit) for key, what, value, unit in breaker_figures(fom, rig)]
+    single = rig.breaker.poles.count == 1  # one pole has no spread: said, not printed as 0.000 ms
+    rows = [Row(key, what, [value], unit, absent="one pole" if single and key == "pole_spread_s" else "")
+            for key, what, value, unit in breaker_figures(fom, rig)]
     shown = {key for key, *_ in breaker_figures(fom, rig)} | NOT_BREAKER_ROWS
     if fom.get("opening") is None:  # the run does not trip
         shown |= OPENING_ONLY_ROWS

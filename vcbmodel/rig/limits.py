@@ -66,8 +66,9 @@ class Limit:
         return f"<= {hi}{unit}" if hi is not None else f">= {lo}{unit}"
 
 
-def read_limits(rd: Reader, b: dict) -> tuple[Limit, ...]:
-    """``breaker.limits`` (optional): {figure: {min, max, unit, source}}; () when absent."""
+def read_limits(rd: Reader, b: dict, poles: int) -> tuple[Limit, ...]:
+    """``breaker.limits`` (optional): {figure: {min, max, unit, source}}; () when absent. ``poles``:
+    the breaker's pole count (a single pole has no pole spread to limit)."""
     if "limits" not in b:
         return ()
     section = rd.optional_section(b, "limits", "breaker.", tuple(LIMITED_FIGURES))
@@ -77,6 +78,8 @@ def read_limits(rd: Reader, b: dict) -> tuple[Limit, ...]:
             continue
         p = f"breaker.limits.{name}."
         entry = rd.optional_section(section, name, "breaker.limits.", LIMIT_KEYS)
+        if name == "pole_spread" and poles == 1:
+            rd.fail(p[:-1], "a single-pole breaker (breaker.poles.count 1) has no pole spread: delete this limit")
         if name == "closing_time_from_coil" and "closing_release" not in b:
             rd.fail(p[:-1], "needs breaker.closing_release, the coil this closing time is counted from "
                     "(without it, closing_time bounds the time from the latch release)")
