@@ -13,6 +13,7 @@ from ..laws.breaker import pole_gaps
 from ..laws.cam_follower import follower_displacement
 from ..records.analyser import simulated_channels, travel_figures
 from ..records.signals import decay_shape, swing_peaks
+from ..rig.limits import OPENING_LIMITS
 from ..rig.units import unit_of_name
 from .base import experiment_of, measured_only
 from .closing_evaluation import main_shaft_twist
@@ -136,6 +137,10 @@ def closing_notes(fom: dict, rig: Rig) -> list[tuple]:
                      "margin is used up (the closing fails)")
     if fom["latched"] is None and fom["kinetic_at_touch_J"] is not None:
         notes.append(f"the run ends at {end_ms:.4g} ms before the cam reaches its latch: no kinetic margin yet (a longer --t-end)")
+    opening = [lim.figure.replace("_", " ") for lim in rig.breaker.limits if lim.figure in OPENING_LIMITS]
+    if opening and fom.get("opening") is None:
+        notes.append(f"the limits on the opening ({', '.join(opening)}) are judged by simulate --sequence, on each "
+                     "O and CO: a closing does not open")
     if rig.breaker.end_stop is not None and fom["end_stop_met"] is False:
         notes.append(f"the run ends at {end_ms:.4g} ms before the cam meets its end stop (a longer --t-end shows it)")
     if fom["moving_at_end"]:
@@ -244,8 +249,8 @@ NOT_BREAKER_ROWS = {"closing_speed_m_s", "zone_speed_min_m_s", "zone_speed_max_m
                     "final_travel_m", "end_s", "contacts_reopen_s", "cam_falls_back_s", "lift_lost_m",
                     "shaft_velocity_end_rad_s", "cam_angle_end_deg", "roller_first_lift_off_s", "max_pressure_angle_deg"}
 #: Whole-run figures of an opening, shown only for a run that trips (an O, a CO: its ``opening`` figures
-#: are there); a plain closing has no close-open time to show, not an empty one.
-OPENING_ONLY_ROWS = {"close_open_time_s"}
+#: are there); a plain closing has no close-open time or opening time from the coil to show, not an empty one.
+OPENING_ONLY_ROWS = {"close_open_time_s", "opening_time_from_coil_s"}
 
 
 def closing_report(result: SimulationResult, rig: Rig) -> Report:
