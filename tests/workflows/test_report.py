@@ -194,11 +194,16 @@ def test_the_verdict_says_when_the_cam_does_not_latch_whatever_the_limits_say(tm
     hooked["closing_spring"].update(wire_diameter=0.0114, coil_diameter=0.0684, active_coils=21.6, ends="hooks")
     heavy = tmp_path / "hooked.rig.json"
     heavy.write_text(json.dumps(hooked))
+    capsys.readouterr()
     verdicts = {}
-    for rig, t_end in ((heavy, "0.055"), (heavy, "0.1"), (template, "0.1")):
+    for rig, t_end, status in ((heavy, "0.055", 0), (heavy, "0.1", 1), (template, "0.1", 0)):
         assert main(["simulate", str(rig), "--backend", "fast", "--t-end", t_end, "-o",
-                     str(tmp_path / f"{rig.stem}{t_end}.csv"), "--json", "-q"]) == 0
-        verdicts[rig.stem, t_end] = json.loads(capsys.readouterr().out)["verdict"]
+                     str(tmp_path / f"{rig.stem}{t_end}.csv"), "--json", "-q"]) == status  # 1: the closing fails
+        out, err = capsys.readouterr()
+        verdicts[rig.stem, t_end] = json.loads(out)["verdict"]
+        # turned back short of its latch, the closing fails (its contacts reopen: pole 2's force fails too)
+        assert err.strip() == ("vcbmodel: the breaker fails: contact force closed on pole 2; CLOSING FAILS (latch not "
+                               "reached) (report and outputs written)" if status else "")
     assert "all pass; latching not judged: the run ends at 55 ms before the cam reaches its latch" in \
         verdicts["hooked.rig", "0.055"]
     assert "THE CLOSING FAILS: the cam stops 10.4 deg short of its latch" in verdicts["hooked.rig", "0.1"]

@@ -88,8 +88,9 @@ class Report:
     poles: int = 0
     notes: list = field(default_factory=list)
     limits: tuple | None = None
-    #: what the limits cannot say about a closing, said in the verdict: ``(text, brief text)`` for a cam
-    #: that stops short of its latch (the closing fails) or a run that ends before it reaches it; None
+    #: what the limits cannot say about a closing, said in the verdict: ``(text, brief text, fails)`` for
+    #: a cam that stops short of its latch (the closing fails: True) or a run that ends before it
+    #: reaches it (False); None
     latching: tuple | None = None
 
     def judged_per_pole(self, row: Row) -> bool:
@@ -120,6 +121,17 @@ class Report:
             return c.limit.text(), c.result
         return ((NO_LIMIT, "") if self.limits is not None and row.figure in LIMITED_FIGURES
                 and not self.judged_per_pole(row) and not row.absent else ("", ""))
+
+    def failures(self) -> list[str]:
+        """What fails the run's acceptance, briefly (each failing figure and its poles; ``CLOSING FAILS
+        (latch not reached)`` for a cam short of its latch); a limit with no value, or latching not
+        judged, fails nothing."""
+        failed = [self._failure(row, c, True) for row, c in self.checks() if c.result.startswith("FAIL")]
+        return failed + ([self.latching[1]] if self.latching and self.latching[2] else [])
+
+    def fails(self) -> bool:
+        """Whether anything fails the run's acceptance (:meth:`failures`)."""
+        return bool(self.failures())
 
     def verdict(self, brief: bool = False) -> str:
         """One line: how many limits hold, which fail (``brief``: each failing figure and its poles,
@@ -208,7 +220,8 @@ def _row_json(report: Report, row: Row, pole: int | None = None) -> dict:
 def report_json(report: Report) -> dict:
     """The report as JSON: ``poles`` (per pole: {figure: {what, value, unit, limit, pass}}), ``summary``
     (the whole-run figures as [{what, value, unit, ...}]), ``notes``, ``limits`` (each with its values
-    in SI, the unit it is stated in, source, result) and ``verdict``; values in the units shown."""
+    in SI, the unit it is stated in, source, result), ``verdict`` and ``fails`` (:meth:`Report.fails`); values
+    in the units shown."""
     out = {"summary": [_row_json(report, r) for r in report.rows], "notes": list(report.notes)}
     if report.pole_rows:
         out["poles"] = [{"pole": i + 1, **{r.figure or r.what: _row_json(report, r, i) for r in report.pole_rows}}
@@ -220,4 +233,5 @@ def report_json(report: Report) -> dict:
                           "text": lim.text(), "source": lim.source, "result": results.get(lim.figure, "not in the report")}
                          for lim in report.limits]
         out["verdict"] = report.verdict()
+        out["fails"] = report.fails()
     return out

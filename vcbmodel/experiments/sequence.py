@@ -351,9 +351,20 @@ def limit_lines(e: dict) -> list[str]:
 def sequence_verdict(report: dict) -> list[str]:
     """One line: the operations' limits all pass, or which operation fails which (none without limits
     judged)."""
-    judged = [(e, c) for e in report["operations"] for c in e.get("limits", [])]
-    if not judged:
+    if not any(e.get("limits") for e in report["operations"]):
         return []
-    failed = [f"{e['op']} at {e['command_s']:g} s: {c['limit'].replace('_', ' ')} (limit {c['text']})"
-              for e, c in judged if c["pass"] is False]
+    failed = _limit_failures(report)
     return ["limits (breaker.limits), the operations: " + (f"FAIL: {'; '.join(failed)}" if failed else "all pass")]
+
+
+def _limit_failures(report: dict) -> list[str]:
+    """Each limit an operation fails: ``CO at 0.3 s: bounce duration (limit <= 1 ms)``."""
+    return [f"{e['op']} at {e['command_s']:g} s: {c['limit'].replace('_', ' ')} (limit {c['text']})"
+            for e in report["operations"] for c in e.get("limits", []) if c["pass"] is False]
+
+
+def sequence_failures(report: dict) -> list[str]:
+    """What fails in a sequence: each limit an operation fails and each closing whose cam stops short of
+    its holding latch (the closing fails whatever the limits say); [] when nothing fails."""
+    return _limit_failures(report) + [f"{e['op']} at {e['command_s']:g} s: the closing fails (the cam stops short of "
+                                      "its latch)" for e in report["operations"] if e.get("latched") is False]

@@ -273,14 +273,14 @@ def closing_report(result: SimulationResult, rig: Rig) -> Report:
                   [text for _, text, _ in closing_notes(fom, rig)], rig.breaker.limits, latching_verdict(fom))
 
 
-def latching_verdict(fom: dict) -> tuple[str, str] | None:
-    """(text, brief text) for the verdict on the limits: a cam that stops short of its latch fails the
-    closing whatever the limits say; a run that ends before the cam reaches its latch leaves that
-    unjudged (None: it latched, or no pole touched)."""
+def latching_verdict(fom: dict) -> tuple[str, str, bool] | None:
+    """(text, brief text, whether the closing fails) for the verdict on the limits: a cam that stops
+    short of its latch fails the closing whatever the limits say; a run that ends before the cam
+    reaches its latch leaves that unjudged (None: it latched, or no pole touched)."""
     if fom["latched"] is False:
         return (f"THE CLOSING FAILS: the cam stops {fom['latch_short_deg']:.3g} deg short of its latch",
-                "CLOSING FAILS (latch not reached)")
+                "CLOSING FAILS (latch not reached)", True)
     if fom["latched"] is None and fom["kinetic_at_touch_J"] is not None:
         return (f"latching not judged: the run ends at {1e3 * fom['end_s']:.4g} ms before the cam reaches its latch "
-                "(a longer --t-end)", "latching not judged")
+                "(a longer --t-end)", "latching not judged", False)
     return None
