@@ -237,8 +237,9 @@ def run_sequence(rig: Rig, text: str, backend: str = "exudyn", results: list | N
         if results is not None:
             results.append(result)
         summary = operation_summary(entry)
-        if rig.breaker.limits:
-            summary["limits"] = operation_limits(rig.breaker.limits, entry)
+        judged = operation_limits(rig.breaker.limits, entry)
+        if judged or (step.op != "O" and rig.breaker.limits):  # an O without opening limits: none, as before
+            summary["limits"] = judged
         if step.op != "O" and rig.breaker.limits:
             summary["limits_not_judged"] = [lim.figure for lim in rig.breaker.limits if lim.figure not in SEQUENCE_LIMITED]
         entries.append(summary)
