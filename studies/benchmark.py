@@ -665,7 +665,8 @@ def scaling_table(scaling):
     idle = scaling.get("idle_cluster_processor_share") or {}
     if idle:
         text += ("\nA cluster not being timed is frozen (SIGSTOP): idle, each took this share of one core (its scheduler "
-                 "and workers, nannies not counted): " + ", ".join(f"{w} workers {100 * v:.1f} %" for w, v in idle.items()) + ".\n")
+                 "and workers, nannies not counted): " + ", ".join(f"{w} worker{'' if int(w) == 1 else 's'} {100 * v:.1f} %"
+                                                    for w, v in idle.items()) + ".\n")
     if check:
         text += (f"\nWorker check at a Dask sweep's start (every worker: vcbmodel version, Exudyn, a C compiler): "
                  f"{check['first_s']:.2f} s on fresh workers, {check['again_s']:.3f} s after.\n")

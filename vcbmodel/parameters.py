@@ -385,13 +385,16 @@ REFERENCE_LIMITS = {
 #: 0.5-3 m/s and open at 1-6 m/s; bounce and pole spread are judged in ms (IEC 62271-100's 5 ms);
 #: wipe and travels are millimetres (a 2-5 mm wipe on a 6-25 mm gap); contact forces are 1-10 kN per
 #: pole (interrupters of 16-63 kA), cam-roller forces up to tens of kN; a cam's kinetic margin is
-#: tens to hundreds of J (the reference keeps 78 J of 282 J).
+#: tens to hundreds of J (the reference keeps 78 J of 282 J). Openings: IEC's opening time, from the
+#: opening coil, is 20-60 ms on vacuum breakers (the reference 19.8 ms), from the pawl letting go a few
+#: ms (the reference 3.1 ms): 0.1 ms to 1 s covers both.
 LIMIT_PLAUSIBLE = {
     "closing_time": (1e-3, 1.0), "closing_time_from_coil": (1e-3, 1.0), "pole_spread": (1e-5, 0.1),
     "bounce_duration": (1e-5, 0.1), "travel_settled": (1e-3, 1.0),
     "closing_speed": (0.05, 20.0), "touch_speed": (0.05, 20.0),
     "wipe": (1e-5, 0.05), "overtravel": (1e-5, 0.05), "rebound": (1e-5, 0.05),
     "contact_force_closed": (10.0, 1e5), "peak_cam_roller_force": (10.0, 1e6), "kinetic_margin": (1e-3, 1e5),
+    "opening_time": (1e-4, 1.0), "opening_time_from_coil": (1e-3, 1.0), "opening_speed": (0.05, 20.0),
 }
 REFERENCE_BREAKER_SECTION = {
     "cam_profile": {"base_radius": 0.045, "lift": 0.0094, "rise_start": 0.20944, "rise_end": 4.18879,
@@ -554,6 +557,15 @@ CAM_FALL_BACK_FRACTION = 0.05
 #: then leaves the latching unjudged (a longer --t-end), never wrongly passed. ASSUMED from these
 #: estimates.
 CAM_TURN_BACK_ANGLE = 0.1 * 3.141592653589793 / 180.0
+#: How long (s) the cam's angle must stay within CAM_TURN_BACK_ANGLE of where it is at the end of a run,
+#: short of its latch after the first touch, for the cam to count as at rest there (``latched`` False:
+#: THE CLOSING FAILS, as for a turn-back): held by friction, or in balance between the springs and the
+#: contacts. A cam still on its way moves far more: 0.1 deg in 5 ms is a mean 0.35 rad/s, about 1 mJ of
+#: kinetic energy on the reference cam's 0.0215 kg m^2 against its 78 J margin, and an unbalanced torque
+#: of 3 N m (a tenth of the recharging springs' tens of N m) moves it 0.1 deg from rest within 5 ms. A
+#: run that ends sooner after the cam stops leaves the latching unjudged (a longer --t-end). ASSUMED from
+#: these estimates.
+CAM_REST_TIME = 5e-3
 #: Shaft speed at the end of a run, as a fraction of the run's peak, above which a closing's summary
 #: says the run ended with the cam still turning (not at rest: a longer ``--t-end`` shows the rest).
 MOVING_AT_END_FRACTION = 0.01

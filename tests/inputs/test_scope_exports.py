@@ -165,3 +165,27 @@ def test_a_sample_interval_is_checked_on_a_time_column_written_to_fewer_digits(t
     path.write_text(path.read_text().replace("2.5e-06", "2e-06"))
     with pytest.raises(InputError, match="sample interval 2e-06 s is not the data's time step"):
         load_measurement(path)
+
+
+@pytest.mark.parametrize("pad", [",", ",,", ",,,,"])
+def test_a_header_padded_with_empty_cells_reads_as_the_plain_record(tmp_path, capsys, pad):
+    """Excel pads every row to the sheet's widest (``t,pendulum_angle,,``): the empty columns are no
+    second record; the values are the unpadded file's. A value under an unnamed column stays refused."""
+    rows = pendulum_rows()
+    plain = load_measurement(write(tmp_path, "plain", ["t,pendulum_angle"] + rows))
+    padded = load_measurement(write(tmp_path, "padded", ["t,pendulum_angle" + pad] + [r + pad for r in rows]))
+    assert np.array_equal(padded.t, plain.t) and list(padded.channels) == ["pendulum_angle"]
+    assert np.array_equal(padded.channels["pendulum_angle"], plain.channels["pendulum_angle"])
+    units = load_measurement(write(tmp_path, "units", ["t,pendulum_angle" + pad, "s,rad" + pad] + [r + pad for r in rows]))
+    assert np.array_equal(units.channels["pendulum_angle"], plain.channels["pendulum_angle"])
+    stray = ["t,pendulum_angle" + pad] + [r + pad for r in rows]
+    stray[5] = rows[4] + ",7" + pad[1:]  # a value in a column the header leaves unnamed
+    err = refusal(write(tmp_path, "stray", stray), capsys)
+    assert "stray.csv: line 6: has " in err and "the header has 2" in err
+
+
+def test_a_padded_semicolon_export_with_decimal_commas_reads(tmp_path):
+    rows = [r.replace(",", ";").replace(".", ",") + ";;" for r in pendulum_rows()]
+    padded = load_measurement(write(tmp_path, "excel", ["t;pendulum_angle;;"] + rows))
+    plain = load_measurement(write(tmp_path, "plain", ["t,pendulum_angle"] + pendulum_rows()))
+    assert np.array_equal(padded.channels["pendulum_angle"], plain.channels["pendulum_angle"])

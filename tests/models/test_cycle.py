@@ -171,6 +171,32 @@ def test_a_wiggle_at_the_solvers_resolution_is_no_turn_back_a_real_one_fails_the
 
 
 @needs_compiler
+def test_a_cam_at_rest_short_of_its_latch_fails_the_closing(reference):
+    """The run cut at 45 ms (the cam on its way after the touch), then made to stand still where it is
+    for its last samples, neither running back nor on: held there for parameters.CAM_REST_TIME and more
+    (friction, or a balance of the springs and the contacts) the closing fails, with the angle short;
+    held for less, or a run that ends with the cam creeping on at 2 rad/s, latching is not judged."""
+    r = simulate(reference, backend="compiled", t_end=0.045)
+    ch, t = r.channels, r.t
+
+    def held(duration, creep=0.0):
+        """(figures, the angle it stops at): the cam standing still (or creeping at ``creep`` rad/s)
+        for the run's last ``duration`` (s)."""
+        last = t >= t[-1] - duration
+        k = int(np.argmax(last))
+        w, theta = ch["shaft_velocity"].copy(), ch["cam_angle"].copy()
+        w[last], theta[last] = creep, theta[k - 1] + creep * (t[last] - t[k - 1])
+        return figures_of_merit(replace(r, channels={**ch, "shaft_velocity": w, "cam_angle": theta}), reference), theta[k - 1]
+
+    stuck, angle = held(P.CAM_REST_TIME + 1e-3)
+    assert stuck["latched"] is False and stuck["kinetic_margin_J"] is None
+    short = np.degrees(P.REFERENCE_BREAKER_SECTION["hold_latch"]["angle"] - angle)
+    assert stuck["latch_short_deg"] == pytest.approx(short, rel=1e-9) and short > 1.0
+    assert held(P.CAM_REST_TIME - 1e-3)[0]["latched"] is None  # stopped too briefly to tell
+    assert held(P.CAM_REST_TIME + 1e-3, creep=2.0)[0]["latched"] is None  # 0.69 deg in 6 ms: still on its way
+
+
+@needs_compiler
 def test_making_current_blows_the_contacts_open_above_its_limit(cycle, tmp_path):
     """At the rated 100 kA the bounce is the current-free closing's (1.93 ms) and the margin within
     0.5 J (measured 0.07 J less); at 150 kA Holm's force (7.1 kN) beats the closed contact force and the poles float open

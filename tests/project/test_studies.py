@@ -317,3 +317,13 @@ def test_benchmark_freezes_the_clusters_it_is_not_timing(tmp_path, monkeypatch):
         for c in clusters:
             c.__exit__(None, None, None)
     assert all(p.poll() is not None for c in clusters for p in c.procs)
+
+
+def test_the_benchmark_counts_one_worker_in_the_singular(monkeypatch):
+    """benchmark.md read '1 workers 2.8 %' for the idle 1-worker cluster."""
+    monkeypatch.syspath_prepend(str(STUDIES))  # the studies import their _common
+    table = _load_study("benchmark").scaling_table(
+        {"weak_scaling": [], "closings_per_worker": 10, "simulated_with": "the compiled path", "rounds": 3, "cores": 2,
+         "load_average_before_after": [[1.0], [1.0]], "idle_cluster_processor_share": {"1": 0.028, "2": 0.043}})
+    assert "idle, each took this share of one core (its scheduler and workers, nannies not counted): " \
+           "1 worker 2.8 %, 2 workers 4.3 %." in table

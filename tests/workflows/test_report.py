@@ -194,14 +194,50 @@ def test_the_verdict_says_when_the_cam_does_not_latch_whatever_the_limits_say(tm
     hooked["closing_spring"].update(wire_diameter=0.0114, coil_diameter=0.0684, active_coils=21.6, ends="hooks")
     heavy = tmp_path / "hooked.rig.json"
     heavy.write_text(json.dumps(hooked))
+    capsys.readouterr()
     verdicts = {}
-    for rig, t_end in ((heavy, "0.055"), (heavy, "0.1"), (template, "0.1")):
+    for rig, t_end, status in ((heavy, "0.055", 0), (heavy, "0.1", 1), (template, "0.1", 0)):
         assert main(["simulate", str(rig), "--backend", "fast", "--t-end", t_end, "-o",
-                     str(tmp_path / f"{rig.stem}{t_end}.csv"), "--json", "-q"]) == 0
-        verdicts[rig.stem, t_end] = json.loads(capsys.readouterr().out)["verdict"]
+                     str(tmp_path / f"{rig.stem}{t_end}.csv"), "--json", "-q"]) == status  # 1: the closing fails
+        out, err = capsys.readouterr()
+        verdicts[rig.stem, t_end] = json.loads(out)["verdict"]
+        # turned back short of its latch, the closing fails (its contacts reopen: pole 2's force fails too)
+        assert err.strip() == ("vcbmodel: the breaker fails: contact force closed on pole 2; CLOSING FAILS (latch not "
+                               "reached) (report and outputs written)" if status else "")
     assert "all pass; latching not judged: the run ends at 55 ms before the cam reaches its latch" in \
         verdicts["hooked.rig", "0.055"]
     assert "THE CLOSING FAILS: the cam stops 10.4 deg short of its latch" in verdicts["hooked.rig", "0.1"]
     assert verdicts["t.rig", "0.1"].endswith("all pass")  # it latched: nothing to add
     no_touch = summaries.latching_verdict({"latched": None, "kinetic_at_touch_J": None, "end_s": 0.02})
     assert no_touch is None  # no pole touched: the notes say the run is not a complete closing
+
+
+def single_pole(limits):
+    data, _ = breaker(limits)
+    data["breaker"]["poles"].update(count=1, gap_offsets=[0.0])
+    data["breaker"].pop("main_shaft")
+    return data
+
+
+def test_a_single_pole_has_no_pole_spread_to_print_or_limit(tmp_path, capsys):
+    """One pole: the report said 'pole spread 0.000 ms' (and 'no limit given' beside it); it says the
+    figure does not apply, in text and JSON, and a pole-spread limit is refused (check and simulate:
+    status 2, naming the field), the other limits kept."""
+    limits = {"pole_spread": {"max": 2, "unit": "ms"}, "closing_speed": {"min": 1.0, "max": 1.5, "unit": "m/s"}}
+    refused = write_rig(tmp_path, single_pole(limits), "spread")
+    for command in (["check", str(refused)], ["simulate", str(refused), "-o", str(tmp_path / "x.csv")]):
+        assert main(command) == 2
+        out, err = capsys.readouterr()
+        assert out == "" and err.strip() == (f"vcbmodel: bad input: {refused}: breaker.limits.pole_spread: a single-pole "
+                                             "breaker (breaker.poles.count 1) has no pole spread: delete this limit")
+    assert not (tmp_path / "x.csv").exists()
+    del limits["pole_spread"]
+    rig = load_rig(write_rig(tmp_path, single_pole(limits), "one"))
+    report = summaries.closing_report(simulate(rig, backend="fast"), rig)
+    line = next(x for x in report_text(report).splitlines() if x.strip().startswith("pole spread"))
+    assert line.split() == ["pole", "spread", "does", "not", "apply:", "one", "pole"]  # no number, no limit cell
+    row = next(r for r in report_json(report)["summary"] if r.get("figure") == "pole_spread_s")
+    assert row["value"] is None and row["does_not_apply"] == "one pole" and "limit" not in row
+    assert "1 of 1 judged: all pass" in report.verdict()
+    three = load_rig(write_rig(tmp_path, breaker(limits)[0], "three"))  # three poles: the figure as it was
+    assert all(not r.absent for r in summaries.closing_report(simulate(three, backend="fast"), three).rows)

@@ -108,8 +108,11 @@ def test_a_run_to_rest_on_the_latch_has_no_note(rigs):
 
 def test_simulate_json_carries_the_notes(rigs, tmp_path, capsys):
     out = tmp_path / "long.csv"
-    assert main(["simulate", rigs["no_stop"].path, "--backend", "compiled", "--t-end", "0.1", "-o", str(out), "--json", "-q"]) == 0
+    # the contacts reopen: their force at the end of the run fails the rig's limit (status 1, the report written)
+    assert main(["simulate", rigs["no_stop"].path, "--backend", "compiled", "--t-end", "0.1", "-o", str(out), "--json", "-q"]) == 1
     report = json.loads(capsys.readouterr().out)
+    assert report["fails"] and "contact_force_closed" in [lim["figure"] for lim in report["limits"]
+                                                          if lim["result"].startswith("FAIL")]
     assert any(n.startswith("CONTACTS REOPEN") for n in report["notes"])
     assert report["figures_of_merit"]["contacts_reopen_s"] > report["figures_of_merit"]["closing_time_s"]
     assert report["end_s"] == pytest.approx(0.1) and out.exists()

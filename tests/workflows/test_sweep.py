@@ -323,3 +323,17 @@ def test_a_t_end_spelt_out_at_its_default_resumes_like_none_and_another_is_refus
     assert capsys.readouterr().err == ""
     assert main(["sweep", rig, *vary, "--t-end", f"{default / 2:g}", "-o", str(usual), "--resume"]) == 2
     assert "another --t-end" in capsys.readouterr().err
+
+
+def test_a_sweep_states_its_duration_once_for_the_fingerprint_it_writes_and_resumes(rig, tmp_path, monkeypatch):
+    """The duration the table's fingerprint hashes is decided once per sweep, resumed or not (it was
+    worked out again for the file's first line); both lines agree, so a resume keeps the table."""
+    calls = []
+    stated = S._stated
+    monkeypatch.setattr(S, "_stated", lambda *a: calls.append(a) or stated(*a))
+    out = tmp_path / "once.csv"
+    vary = ["--vary", "pendulum.mass=-60:0:2", "--workers", "1", "-o", str(out), "-q"]  # runs that fail at once
+    assert main(["sweep", rig, *vary]) == 1 and len(calls) == 1
+    first = out.read_text().splitlines()[0]
+    assert main(["sweep", rig, *vary, "--resume"]) == 1 and len(calls) == 2
+    assert out.read_text().splitlines()[0] == first and len(read_rows(out)) == 3

@@ -28,7 +28,7 @@ from ..errors import InputError, SimulationError
 from ..experiments import experiment_of
 from ..experiments.report import Report, lines_report, report_json, report_text
 from ..experiments.loading import load_record, load_rig, require_experiment, rig_of
-from ..experiments.sequence import run_sequence, sequence_lines
+from ..experiments.sequence import run_sequence, sequence_failures, sequence_lines
 from ..experiments.run_checks import require_motion
 from ..experiments.simulation import compiled_path_has, model_spec, output_times, simulate
 from ..model.choice import choose, parse_effects_option
@@ -225,7 +225,17 @@ def cmd_simulate(args: argparse.Namespace) -> int:
         plot_closing(full, rig, args.plot, f"{rig.name}: {spec.spring_model.label}", report)
     elif args.plot:
         plot_simulation(result, channels, args.plot, f"{rig.name}: {spec.spring_model.label}")
-    return 0
+    return verdict_status(report.failures())
+
+
+def verdict_status(failures: list[str]) -> int:
+    """The exit status of a run judged against its limits (docs/cli.md): 0 when nothing fails; 1 when a
+    limit fails or the closing does, with one line on stderr naming what fails. Called once every output
+    is written: the report and files stand, the record of why."""
+    if not failures:
+        return 0
+    print(f"vcbmodel: the breaker fails: {'; '.join(failures)} (report and outputs written)", file=sys.stderr)
+    return 1
 
 
 def simulate_sequence(rig: Rig, args: argparse.Namespace) -> int:
@@ -243,13 +253,15 @@ def simulate_sequence(rig: Rig, args: argparse.Namespace) -> int:
     log.info("simulate %s: sequence %s", rig.name, args.sequence)
     results = []
     report = run_sequence(rig, args.sequence, backend=args.backend, results=results)
+    failures = sequence_failures(report)
     if args.json:
-        print(json.dumps({**envelope(rig, {"*_s": "s", "*_m": "m", "*_m_s": "m/s", "*_J": "J"}), **_plain(report)}))
+        print(json.dumps({**envelope(rig, {"*_s": "s", "*_m": "m", "*_m_s": "m/s", "*_J": "J"}), **_plain(report),
+                          "fails": bool(failures)}))
     else:
         print("\n".join(sequence_lines(report)))
     if args.plot:  # each operation as an analyser shows it, at the solver's step
         plot_sequence(report, results, rig, args.plot, rig.name)
-    return 0
+    return verdict_status(failures)
 
 
 def _plain(value):

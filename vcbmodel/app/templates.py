@@ -17,6 +17,7 @@ from .. import parameters as P
 from ..experiments.cycle_evaluation import cycle_check_lines
 from ..experiments import experiment_of
 from ..experiments.simulation import model_spec
+from ..rig.limits import OPENING_LIMITS
 from ..rig.plausibility import reachable_travel, travel_curve
 from ..model.effects import EFFECTS, parameter_specs
 from ..model.values import rig_values
@@ -170,11 +171,19 @@ def cam_lines(rig: Rig) -> list[str]:
 
 
 def limit_lines(b) -> list[str]:
-    """The acceptance limits ``simulate`` will judge (``breaker.limits``), each as stated with its unit."""
+    """The acceptance limits ``simulate`` will judge (``breaker.limits``), each as stated with its unit:
+    a closing's, then an opening's (judged by ``simulate --sequence``)."""
     if not b.limits:
         return ["  limits: none given (breaker.limits): simulate judges no figure"]
-    return ["  limits simulate judges (breaker.limits): "
-            + "; ".join(f"{lim.figure.replace('_', ' ')} {lim.text()}" for lim in b.limits)]
+    closing = [lim for lim in b.limits if lim.figure not in OPENING_LIMITS]
+    opening = [lim for lim in b.limits if lim.figure in OPENING_LIMITS]
+    return ([f"  limits simulate judges (breaker.limits): {_stated(closing)}"] if closing else []) + \
+        ([f"  limits on the opening, judged by simulate --sequence on each O and CO (breaker.limits): {_stated(opening)}"]
+         if opening else [])
+
+
+def _stated(limits: list) -> str:
+    return "; ".join(f"{lim.figure.replace('_', ' ')} {lim.text()}" for lim in limits)
 
 
 def shaft_lines(b) -> list[str]:

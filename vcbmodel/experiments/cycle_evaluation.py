@@ -12,9 +12,11 @@ energy of the cam (with the springs' pin mass on it) from the first touch until 
 holding latch's angle (the end stop's without a holding latch): what was left when it was least.
 ``kinetic_margin_J`` is None when the cam does not get there: ``latched`` False once it has turned
 back short of it (run back from its farthest angle by more than ``parameters.CAM_TURN_BACK_ANGLE``,
-0.1 deg: a negative speed at the solver's resolution is no turn-back), None when the run ends with
-the cam still on its way or stopped less far back (a longer run tells);
-``latch_short_deg``: how far short its farthest angle after the touch stays.
+0.1 deg: a negative speed at the solver's resolution is no turn-back) or has come to rest short of it
+(its angle within that 0.1 deg over the run's last ``parameters.CAM_REST_TIME``: held by friction or
+in balance, it will not latch), None when the run ends with the cam still on its way or stopped for
+less time (a longer run tells); ``latch_short_deg``: how far short its farthest angle after the touch
+stays.
 """
 from __future__ import annotations
 
@@ -69,9 +71,9 @@ def kinetic_margin(result: SimulationResult, rig: Rig, first_touch: float | None
     at_touch = float(np.interp(first_touch, t, ke))
     reached = np.nonzero(theta[k0:] >= target)[0]
     if not reached.size:
-        # short of its latch: a failure once the cam has turned back, else the run ended first (not known)
-        turned_back = turned_back_angle(theta[k0:]) > P.CAM_TURN_BACK_ANGLE
-        return empty | {"kinetic_at_touch_J": at_touch, "latched": False if turned_back else None,
+        # short of its latch: a failure once the cam has turned back or come to rest, else the run ended first
+        stopped = turned_back_angle(theta[k0:]) > P.CAM_TURN_BACK_ANGLE or at_rest(t[k0:], theta[k0:])
+        return empty | {"kinetic_at_touch_J": at_touch, "latched": False if stopped else None,
                         "latch_short_deg": float(np.degrees(target - np.max(theta[k0:])))}
     k1 = k0 + int(reached[0])
     margin = float(min(at_touch, np.min(ke[k0:k1 + 1])))
@@ -87,6 +89,16 @@ def turned_back_angle(theta: np.ndarray) -> float:
     if not theta.size:
         return 0.0
     return float(np.max(np.maximum.accumulate(theta) - theta))
+
+
+def at_rest(t: np.ndarray, theta: np.ndarray) -> bool:
+    """Whether the cam angle ``theta`` (rad, over the times ``t``, s) has stayed within
+    ``parameters.CAM_TURN_BACK_ANGLE`` of its last value for the last ``parameters.CAM_REST_TIME`` of
+    the run (False when the run is shorter than that)."""
+    if not t.size or t[-1] - t[0] < P.CAM_REST_TIME:
+        return False
+    tail = t >= t[-1] - P.CAM_REST_TIME
+    return bool(np.max(np.abs(theta[tail] - theta[-1])) <= P.CAM_TURN_BACK_ANGLE)
 
 
 def replay_memory(laws: BreakerLaws, cycle: CycleLaws, ch: dict[str, np.ndarray], t: np.ndarray) -> np.ndarray:

@@ -55,10 +55,11 @@ def with_peak(rig: Rig, peak: float, folder: Path) -> Rig:
 
 def closing_figures(rig: Rig, backend: str) -> dict:
     """The figures of merit of the rig's closing run to rest on its holding latch; a run that ends
-    before the cam has reached its latch or turned back is a SimulationError (neither verdict holds)."""
+    before the cam has reached its latch, turned back or come to rest short of it is a SimulationError
+    (neither verdict holds)."""
     f = figures_of_merit(simulate(rig, backend=backend, t_end=RUN_LENGTH["C"]), rig)
     if f["latched"] is None:
-        raise SimulationError(f"the closing has neither reached its latch nor turned back by {RUN_LENGTH['C']:g} s "
+        raise SimulationError(f"the closing has neither reached its latch nor stopped short of it by {RUN_LENGTH['C']:g} s "
                               "(or no pole touches, or the rig has no holding latch or end stop): no making limit")
     return f
 

@@ -29,6 +29,9 @@ class Row:
     values: list
     unit: str | None
     show: str | None = None
+    #: why the figure does not apply to this breaker (``one pole`` for a single pole's spread): shown
+    #: in place of its value, never judged against a limit; "" for a figure that applies
+    absent: str = ""
 
     @property
     def figure(self) -> str:
@@ -39,6 +42,8 @@ class Row:
 
     def cells(self) -> tuple[str, list[str], list]:
         """(shown unit, each value as printed, each value in the shown unit)."""
+        if self.absent:
+            return "", [f"does not apply: {self.absent}"], [None]
         if self.show is not None and to_si(self.show) is not None:
             factor = to_si(self.show)[1]
             out = [None if _missing(v) else float(v) / factor for v in self.values]
@@ -83,8 +88,9 @@ class Report:
     poles: int = 0
     notes: list = field(default_factory=list)
     limits: tuple | None = None
-    #: what the limits cannot say about a closing, said in the verdict: ``(text, brief text)`` for a cam
-    #: that stops short of its latch (the closing fails) or a run that ends before it reaches it; None
+    #: what the limits cannot say about a closing, said in the verdict: ``(text, brief text, fails)`` for
+    #: a cam that stops short of its latch (the closing fails: True) or a run that ends before it
+    #: reaches it (False); None
     latching: tuple | None = None
 
     def judged_per_pole(self, row: Row) -> bool:
@@ -97,7 +103,7 @@ class Report:
     def check(self, row: Row) -> Check | None:
         """The row against the rig's limit on its figure (None: no limit on it, or one that judges
         the poles' rows instead: :meth:`judged_per_pole`)."""
-        if self.judged_per_pole(row):
+        if self.judged_per_pole(row) or row.absent:
             return None
         for limit in self.limits or ():
             if limit.figure == row.figure:
@@ -114,7 +120,18 @@ class Report:
         if c is not None:
             return c.limit.text(), c.result
         return ((NO_LIMIT, "") if self.limits is not None and row.figure in LIMITED_FIGURES
-                and not self.judged_per_pole(row) else ("", ""))
+                and not self.judged_per_pole(row) and not row.absent else ("", ""))
+
+    def failures(self) -> list[str]:
+        """What fails the run's acceptance, briefly (each failing figure and its poles; ``CLOSING FAILS
+        (latch not reached)`` for a cam short of its latch); a limit with no value, or latching not
+        judged, fails nothing."""
+        failed = [self._failure(row, c, True) for row, c in self.checks() if c.result.startswith("FAIL")]
+        return failed + ([self.latching[1]] if self.latching and self.latching[2] else [])
+
+    def fails(self) -> bool:
+        """Whether anything fails the run's acceptance (:meth:`failures`)."""
+        return bool(self.failures())
 
     def verdict(self, brief: bool = False) -> str:
         """One line: how many limits hold, which fail (``brief``: each failing figure and its poles,
@@ -131,6 +148,8 @@ class Report:
         head = f"limits (breaker.limits): {judged} of {len(self.limits)} judged"
         if failed:
             return f"{head}: FAIL: {'; '.join(failed)}{latching}"
+        if not checks:  # none of the rig's limits bounds a figure of this run (an opening's, in a closing)
+            return head + latching
         return f"{head}: all pass" + (f"; no value for {', '.join(unseen)}" if unseen else "") + latching
 
 
@@ -187,11 +206,13 @@ def _row_json(report: Report, row: Row, pole: int | None = None) -> dict:
     out = {"what": row.what, "value": value, "unit": unit}
     if row.key:
         out["figure"] = row.key
+    if row.absent:
+        out["does_not_apply"] = row.absent
     c = report.check(row)
     if c is not None:
         holds = c.holds[pole if pole is not None else 0]
         out.update({"limit": c.limit.text(), "pass": holds})
-    elif report.limits is not None and row.figure in LIMITED_FIGURES and not report.judged_per_pole(row):
+    elif report.limits is not None and row.figure in LIMITED_FIGURES and not report.judged_per_pole(row) and not row.absent:
         out["limit"] = None
     return out
 
@@ -199,7 +220,8 @@ def _row_json(report: Report, row: Row, pole: int | None = None) -> dict:
 def report_json(report: Report) -> dict:
     """The report as JSON: ``poles`` (per pole: {figure: {what, value, unit, limit, pass}}), ``summary``
     (the whole-run figures as [{what, value, unit, ...}]), ``notes``, ``limits`` (each with its values
-    in SI, the unit it is stated in, source, result) and ``verdict``; values in the units shown."""
+    in SI, the unit it is stated in, source, result), ``verdict`` and ``fails`` (:meth:`Report.fails`); values
+    in the units shown."""
     out = {"summary": [_row_json(report, r) for r in report.rows], "notes": list(report.notes)}
     if report.pole_rows:
         out["poles"] = [{"pole": i + 1, **{r.figure or r.what: _row_json(report, r, i) for r in report.pole_rows}}
@@ -211,4 +233,5 @@ def report_json(report: Report) -> dict:
                           "text": lim.text(), "source": lim.source, "result": results.get(lim.figure, "not in the report")}
                          for lim in report.limits]
         out["verdict"] = report.verdict()
+        out["fails"] = report.fails()
     return out

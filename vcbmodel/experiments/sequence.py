@@ -168,27 +168,48 @@ def operation_summary(entry: dict) -> dict:
     return out
 
 
-#: The closing figures a sequence judges against the rig's ``breaker.limits``: {limit: the figures
-#: (SI) it bounds, every one of which must hold: each pole's closing speed through the slowest and the
-#: fastest pole's}. A closing's contact force at the end of its run is not judged (a CO reopens), nor
-#: any figure of the travel after the touch.
-SEQUENCE_LIMITED = {"closing_time": ("closing_time_s",), "closing_time_from_coil": ("closing_time_from_coil",),
-                    "pole_spread": ("pole_spread_s",), "closing_speed": ("zone_speed_min_m_s", "zone_speed_max_m_s"),
-                    "bounce_duration": ("bounce_duration_s",), "bounce_count": ("bounce_count",),
-                    "kinetic_margin": ("kinetic_margin_J",)}
+def _coil(f: dict, part: str) -> float | None:
+    """IEC's time from the ``part``'s (closing or opening) coil at rated supply (s; None without its release)."""
+    times = f.get(f"{part}_time_from_coil_s")
+    return times[1] if times else None
+
+
+def _opening(f: dict, key: str):
+    """One of the run's opening figures (None for a run that does not trip)."""
+    return (f.get("opening") or {}).get(key)
+
+
+#: The figures a sequence judges against the rig's ``breaker.limits``: {limit: (the part of an operation
+#: it bounds, ``closing`` or ``opening``, the run's values (SI) it bounds, every one of which must hold:
+#: each pole's closing or opening speed)}. A closing's contact force at the end of its run is not judged
+#: (a CO reopens), nor any figure of the travel after the touch.
+SEQUENCE_LIMITED = {
+    "closing_time": ("closing", lambda f: [f["closing_time_s"]]),
+    "closing_time_from_coil": ("closing", lambda f: [_coil(f, "closing")]),
+    "pole_spread": ("closing", lambda f: [f["pole_spread_s"]]),
+    "closing_speed": ("closing", lambda f: [f["zone_speed_min_m_s"], f["zone_speed_max_m_s"]]),
+    "bounce_duration": ("closing", lambda f: [f["bounce_duration_s"]]),
+    "bounce_count": ("closing", lambda f: [f["bounce_count"]]),
+    "kinetic_margin": ("closing", lambda f: [f["kinetic_margin_J"]]),
+    "opening_time": ("opening", lambda f: [_opening(f, "opening_time_s")]),
+    "opening_time_from_coil": ("opening", lambda f: [_coil(f, "opening")]),
+    "opening_speed": ("opening", lambda f: list(_opening(f, "opening_speeds_m_s") or [None])),
+}
+#: The parts of each operation, each judged against the limits on it.
+OPERATION_PARTS = {"O": ("opening",), "C": ("closing",), "CO": ("closing", "opening")}
 
 
 def operation_limits(limits: tuple, entry: dict) -> list[dict]:
-    """A closing operation's figures against the rig's limits (:data:`SEQUENCE_LIMITED`): one dict per
-    limit, ``limit`` (its key), ``text`` (as the rig states it), ``values_si`` and ``pass`` (None: the run
-    did not show the figure, e.g. a cam that has not latched has no kinetic margin)."""
+    """An operation's figures against the rig's limits on its parts (:data:`SEQUENCE_LIMITED`: a
+    closing's on C and CO, an opening's on O and CO): one dict per limit, ``limit`` (its key), ``text``
+    (as the rig states it), ``values_si`` and ``pass`` (None: the run did not show the figure, e.g. a cam
+    that has not latched has no kinetic margin)."""
     f, out = entry["figures"], []
     for lim in limits:
-        keys = SEQUENCE_LIMITED.get(lim.figure)
-        if keys is None or entry["op"] == "O":
+        part, values_of = SEQUENCE_LIMITED.get(lim.figure, (None, None))
+        if part not in OPERATION_PARTS[entry["op"]]:
             continue
-        coil = f.get("closing_time_from_coil_s")
-        values = [(coil[1] if coil else None) if k == "closing_time_from_coil" else f.get(k) for k in keys]
+        values = values_of(f)
         holds = [lim.holds(None if v is None else float(v)) for v in values]
         verdict = None if None in holds else all(holds)
         out.append({"limit": lim.figure, "text": lim.text(), "values_si": values, "pass": verdict})
@@ -216,8 +237,10 @@ def run_sequence(rig: Rig, text: str, backend: str = "exudyn", results: list | N
         if results is not None:
             results.append(result)
         summary = operation_summary(entry)
+        judged = operation_limits(rig.breaker.limits, entry)
+        if judged or (step.op != "O" and rig.breaker.limits):  # an O without opening limits: none, as before
+            summary["limits"] = judged
         if step.op != "O" and rig.breaker.limits:
-            summary["limits"] = operation_limits(rig.breaker.limits, entry)
             summary["limits_not_judged"] = [lim.figure for lim in rig.breaker.limits if lim.figure not in SEQUENCE_LIMITED]
         entries.append(summary)
         notes += _operation_notes(entry, summary, steps[k + 1] if k + 1 < len(steps) else None)
@@ -283,7 +306,7 @@ def dead_times(steps: list[Step], entries: list[dict]) -> list[float | None]:
 
 def sequence_lines(report: dict) -> list[str]:
     """The text ``vcbmodel simulate --sequence`` prints: one block per operation, its figures with
-    units (ms, m/s, mm, J) and each closing against the limits, then the notes and the closings' verdict."""
+    units (ms, m/s, mm, J) and each operation against the limits, then the notes and the operations' verdict."""
     def ms(x):
         return "-" if x is None else f"{1e3 * x:.2f} ms"
 
@@ -315,8 +338,8 @@ def sequence_lines(report: dict) -> list[str]:
 
 
 def limit_lines(e: dict) -> list[str]:
-    """An operation's closing against the limits: ``limits: closing speed 1-1.5 m/s pass; ...``, and the
-    limits a sequence does not judge (said also when they are the rig's only ones)."""
+    """An operation against the limits on its parts: ``limits: closing speed 1-1.5 m/s pass; ...``, and, for
+    a closing, the limits a sequence does not judge (said also when they are the rig's only ones)."""
     left = [name.replace("_", " ") for name in e.get("limits_not_judged", [])]
     if not e.get("limits") and not left:
         return []
@@ -327,10 +350,22 @@ def limit_lines(e: dict) -> list[str]:
 
 
 def sequence_verdict(report: dict) -> list[str]:
-    """One line: the closings' limits all pass, or which operation fails which (none without limits)."""
-    judged = [(e, c) for e in report["operations"] for c in e.get("limits", [])]
-    if not judged:
+    """One line: the operations' limits all pass, or which operation fails which (none without limits
+    judged)."""
+    if not any(e.get("limits") for e in report["operations"]):
         return []
-    failed = [f"{e['op']} at {e['command_s']:g} s: {c['limit'].replace('_', ' ')} (limit {c['text']})"
-              for e, c in judged if c["pass"] is False]
-    return ["limits (breaker.limits), the closings: " + (f"FAIL: {'; '.join(failed)}" if failed else "all pass")]
+    failed = _limit_failures(report)
+    return ["limits (breaker.limits), the operations: " + (f"FAIL: {'; '.join(failed)}" if failed else "all pass")]
+
+
+def _limit_failures(report: dict) -> list[str]:
+    """Each limit an operation fails: ``CO at 0.3 s: bounce duration (limit <= 1 ms)``."""
+    return [f"{e['op']} at {e['command_s']:g} s: {c['limit'].replace('_', ' ')} (limit {c['text']})"
+            for e in report["operations"] for c in e.get("limits", []) if c["pass"] is False]
+
+
+def sequence_failures(report: dict) -> list[str]:
+    """What fails in a sequence: each limit an operation fails and each closing whose cam stops short of
+    its holding latch (the closing fails whatever the limits say); [] when nothing fails."""
+    return _limit_failures(report) + [f"{e['op']} at {e['command_s']:g} s: the closing fails (the cam stops short of "
+                                      "its latch)" for e in report["operations"] if e.get("latched") is False]

@@ -13,6 +13,7 @@ from ..laws.breaker import pole_gaps
 from ..laws.cam_follower import follower_displacement
 from ..records.analyser import simulated_channels, travel_figures
 from ..records.signals import decay_shape, swing_peaks
+from ..rig.limits import OPENING_LIMITS
 from ..rig.units import unit_of_name
 from .base import experiment_of, measured_only
 from .closing_evaluation import main_shaft_twist
@@ -136,6 +137,10 @@ def closing_notes(fom: dict, rig: Rig) -> list[tuple]:
                      "margin is used up (the closing fails)")
     if fom["latched"] is None and fom["kinetic_at_touch_J"] is not None:
         notes.append(f"the run ends at {end_ms:.4g} ms before the cam reaches its latch: no kinetic margin yet (a longer --t-end)")
+    opening = [lim.figure.replace("_", " ") for lim in rig.breaker.limits if lim.figure in OPENING_LIMITS]
+    if opening and fom.get("opening") is None:
+        notes.append(f"the limits on the opening ({', '.join(opening)}) are judged by simulate --sequence, on each "
+                     "O and CO: a closing does not open")
     if rig.breaker.end_stop is not None and fom["end_stop_met"] is False:
         notes.append(f"the run ends at {end_ms:.4g} ms before the cam meets its end stop (a longer --t-end shows it)")
     if fom["moving_at_end"]:
@@ -244,8 +249,8 @@ NOT_BREAKER_ROWS = {"closing_speed_m_s", "zone_speed_min_m_s", "zone_speed_max_m
                     "final_travel_m", "end_s", "contacts_reopen_s", "cam_falls_back_s", "lift_lost_m",
                     "shaft_velocity_end_rad_s", "cam_angle_end_deg", "roller_first_lift_off_s", "max_pressure_angle_deg"}
 #: Whole-run figures of an opening, shown only for a run that trips (an O, a CO: its ``opening`` figures
-#: are there); a plain closing has no close-open time to show, not an empty one.
-OPENING_ONLY_ROWS = {"close_open_time_s"}
+#: are there); a plain closing has no close-open time or opening time from the coil to show, not an empty one.
+OPENING_ONLY_ROWS = {"close_open_time_s", "opening_time_from_coil_s"}
 
 
 def closing_report(result: SimulationResult, rig: Rig) -> Report:
@@ -253,7 +258,9 @@ def closing_report(result: SimulationResult, rig: Rig) -> Report:
     then the whole breaker's (:func:`breaker_figures`, then any other figure of the evaluation whose
     name ends in its unit), the end stop's and the main shaft's, and the notes."""
     fom = result_figures(result, rig)
-    rows = [Row(key, what, [value], unit) for key, what, value, unit in breaker_figures(fom, rig)]
+    single = rig.breaker.poles.count == 1  # one pole has no spread: said, not printed as 0.000 ms
+    rows = [Row(key, what, [value], unit, absent="one pole" if single and key == "pole_spread_s" else "")
+            for key, what, value, unit in breaker_figures(fom, rig)]
     shown = {key for key, *_ in breaker_figures(fom, rig)} | NOT_BREAKER_ROWS
     if fom.get("opening") is None:  # the run does not trip
         shown |= OPENING_ONLY_ROWS
@@ -266,14 +273,14 @@ def closing_report(result: SimulationResult, rig: Rig) -> Report:
                   [text for _, text, _ in closing_notes(fom, rig)], rig.breaker.limits, latching_verdict(fom))
 
 
-def latching_verdict(fom: dict) -> tuple[str, str] | None:
-    """(text, brief text) for the verdict on the limits: a cam that stops short of its latch fails the
-    closing whatever the limits say; a run that ends before the cam reaches its latch leaves that
-    unjudged (None: it latched, or no pole touched)."""
+def latching_verdict(fom: dict) -> tuple[str, str, bool] | None:
+    """(text, brief text, whether the closing fails) for the verdict on the limits: a cam that stops
+    short of its latch fails the closing whatever the limits say; a run that ends before the cam
+    reaches its latch leaves that unjudged (None: it latched, or no pole touched)."""
     if fom["latched"] is False:
         return (f"THE CLOSING FAILS: the cam stops {fom['latch_short_deg']:.3g} deg short of its latch",
-                "CLOSING FAILS (latch not reached)")
+                "CLOSING FAILS (latch not reached)", True)
     if fom["latched"] is None and fom["kinetic_at_touch_J"] is not None:
         return (f"latching not judged: the run ends at {1e3 * fom['end_s']:.4g} ms before the cam reaches its latch "
-                "(a longer --t-end)", "latching not judged")
+                "(a longer --t-end)", "latching not judged", False)
     return None

@@ -90,7 +90,8 @@ def _dialect(header_text, separator=None):
 
 def _cells(text, delimiter, decimal_comma):
     """A line's cells: split, stripped, symmetric double quotes removed, a trailing empty cell
-    (a trailing delimiter) dropped, decimal commas read as points."""
+    (a trailing delimiter) dropped, decimal commas read as points; the header and each row then drop
+    their empty cells past the last column (a spreadsheet's padding, :func:`_within`)."""
     cells = [c.strip() for c in text.split(delimiter)]
     if len(cells) > 1 and cells[-1] == "":
         cells = cells[:-1]
@@ -137,10 +138,17 @@ UNIT_CELL = re.compile(r"[\[(]?\s*(?P<unit>°|[^\W\d_][\w/^.*]*|-|1)\s*[\])]?")
 TIME_NAMES = ("t", "time")
 
 
+def _within(cells: list, width: int) -> list:
+    """A row's cells without the empty ones past the header's ``width`` columns (a spreadsheet pads
+    every row to its widest: ``0.001,0.17,,``); a value past them is kept, for the row's refusal."""
+    return cells[:width] if len(cells) > width and not any(cells[width:]) else cells
+
+
 def _units_row(cells, header, path, line, units) -> list[float] | None:
     """The factors to SI if ``cells`` is a units row under the header (every cell a unit or empty,
     none a number), else None: each unit converted or refused like a unit in the header (``m`` for
     a time is refused, naming both)."""
+    cells = _within(cells, len(header))
     if len(cells) != len(header) or any(NUMBER.fullmatch(c) for c in cells) or not any(cells):
         return None
     matches = [UNIT_CELL.fullmatch(c) for c in cells]
@@ -249,6 +257,8 @@ def _header_or_preamble(cells: list, path: str, line: int, units: dict[str, str]
     if not _names_time(cells[0]):
         _preamble_line(cells, path, line, preamble, comments)
         return None
+    while cells[-1] == "":  # a spreadsheet's padding, empty cells after the last column (t,angle,,)
+        cells = cells[:-1]
     names, factors = _header(cells, path, line, units)
     _check_header(names, path, line, known)
     return names, factors
@@ -347,7 +357,9 @@ def _merge_units(header: list, factors: list, units_row: list, path: str, line: 
 
 
 def _data_row(cells: list, header: list, dialect: tuple, path: str, line: int) -> list[float]:
-    """One row's values: as many as the header's columns, each a finite number."""
+    """One row's values: as many as the header's columns (empty cells past them are padding), each a
+    finite number."""
+    cells = _within(cells, len(header))
     if len(cells) != len(header):
         raise InputError(path, f"line {line}", f"has {len(cells)} values, the header has {len(header)}"
                          + (" (a decimal comma in a comma-separated file? use ';' between values)"

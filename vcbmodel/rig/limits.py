@@ -35,7 +35,15 @@ LIMITED_FIGURES = {
     "closing_time_from_coil": ("s", "energising the closing coil to the last pole's touch, at rated supply "
                                "(IEC 62271-100's closing time; needs breaker.closing_release)"),
     "kinetic_margin": ("J", "the cam's least kinetic energy from the first touch to its latch"),
+    "opening_time": ("s", "the pawl letting go to the last pole's parting (an O, a CO's opening; needs "
+                     "breaker.trip_latch and breaker.opening_dashpot)"),
+    "opening_time_from_coil": ("s", "energising the opening coil to the last pole's parting, at rated supply "
+                               "(IEC 62271-100's opening time; needs breaker.opening_release)"),
+    "opening_speed": ("m/s", "mean speed over breaker.opening_speed_zone after the parting (every pole)"),
 }
+#: The limits on an opening: judged by ``simulate --sequence`` on each O and each CO's opening, not by
+#: a closing's report (a plain closing does not open).
+OPENING_LIMITS = ("opening_time", "opening_time_from_coil", "opening_speed")
 LIMIT_KEYS = ("min", "max", "unit", "source")
 
 
@@ -66,8 +74,9 @@ class Limit:
         return f"<= {hi}{unit}" if hi is not None else f">= {lo}{unit}"
 
 
-def read_limits(rd: Reader, b: dict) -> tuple[Limit, ...]:
-    """``breaker.limits`` (optional): {figure: {min, max, unit, source}}; () when absent."""
+def read_limits(rd: Reader, b: dict, poles: int) -> tuple[Limit, ...]:
+    """``breaker.limits`` (optional): {figure: {min, max, unit, source}}; () when absent. ``poles``:
+    the breaker's pole count (a single pole has no pole spread to limit)."""
     if "limits" not in b:
         return ()
     section = rd.optional_section(b, "limits", "breaker.", tuple(LIMITED_FIGURES))
@@ -77,9 +86,7 @@ def read_limits(rd: Reader, b: dict) -> tuple[Limit, ...]:
             continue
         p = f"breaker.limits.{name}."
         entry = rd.optional_section(section, name, "breaker.limits.", LIMIT_KEYS)
-        if name == "closing_time_from_coil" and "closing_release" not in b:
-            rd.fail(p[:-1], "needs breaker.closing_release, the coil this closing time is counted from "
-                    "(without it, closing_time bounds the time from the latch release)")
+        check_judgeable(rd, b, name, poles)
         si_unit = LIMITED_FIGURES[name][0]
         unit = entry.get("unit")
         if not isinstance(unit, str):
@@ -99,6 +106,24 @@ def read_limits(rd: Reader, b: dict) -> tuple[Limit, ...]:
             rd.fail(p + "source", "must be text")
         limits.append(Limit(name, low, high, unit.strip(), source))
     return tuple(limits)
+
+
+def check_judgeable(rd: Reader, b: dict, name: str, poles: int) -> None:
+    """Refuse a limit the rig can never judge: a single pole's spread, a time from a coil without its
+    release, an opening's figure on a breaker without the parts that open it (``breaker.trip_latch``,
+    ``breaker.opening_dashpot``)."""
+    p = f"breaker.limits.{name}"
+    if name == "pole_spread" and poles == 1:
+        rd.fail(p, "a single-pole breaker (breaker.poles.count 1) has no pole spread: delete this limit")
+    if name == "closing_time_from_coil" and "closing_release" not in b:
+        rd.fail(p, "needs breaker.closing_release, the coil this closing time is counted from "
+                "(without it, closing_time bounds the time from the latch release)")
+    if name in OPENING_LIMITS and not ("trip_latch" in b and "opening_dashpot" in b):
+        rd.fail(p, "bounds an opening: needs breaker.trip_latch and breaker.opening_dashpot (docs/rig-format.md), "
+                "without which the breaker does not open")
+    if name == "opening_time_from_coil" and "opening_release" not in b:
+        rd.fail(p, "needs breaker.opening_release, the coil this opening time is counted from "
+                "(without it, opening_time bounds the time from the pawl)")
 
 
 def check_plausible(rd: Reader, name: str, low: float | None, high: float | None, unit: str, factor: float) -> None:

@@ -255,7 +255,7 @@ def read_breaker(rd, data, cam) -> Breaker:
     breaker = Breaker(profile, roller_radius, follower, poles, opening,
                       contact, release, roller_law, latch_point,
                       read_speed_zone(rd, b, poles), end_stop, hold_latch, read_main_shaft(rd, b, follower, poles),
-                      read_limits(rd, b))
+                      read_limits(rd, b, poles.count))
     try:
         rest_geometry(breaker, cam.pivot)
     except ValueError as e:

@@ -233,13 +233,14 @@ def sweep(rig: str | Path | dict | Rig, vary: Iterable[str | tuple[str, str] | V
         raise InputError(output, "output", "exists already: give --force to replace it (or --resume to continue it)")
     with table_lock(output):
         has_rows = resume and output and os.path.exists(output) and os.path.getsize(output) > 0
-        finished = read_finished(output, p.header, p.table, rig_fingerprint(p.data, p.rig_path, _stated(p, t_end, evaluate))) if has_rows else {}
+        stated = _stated(p, t_end, evaluate)
+        finished = read_finished(output, p.header, p.table, rig_fingerprint(p.data, p.rig_path, stated)) if has_rows else {}
         client, own_client = (connect(scheduler) if scheduler is not None else (None, False))
         try:
             if client is not None:
                 check_workers(client, str(scheduler if own_client else client.scheduler.address),
                               evaluate is None and p.backend == BACKEND_NAME)
-            return _execute(p, finished, client, workers, output, stream, evaluate, t_end, verbose, seed, sampling)
+            return _execute(p, finished, client, workers, output, stream, evaluate, (t_end, stated), verbose, seed, sampling)
         finally:
             if own_client:
                 client.close()
@@ -293,8 +294,10 @@ def _runner(p, todo, client, n_workers, evaluate, t_end):
     return _serial(job, jobs)
 
 
-def _execute(p, finished, client, workers, output, stream, evaluate, t_end, verbose, seed, sampling):
-    """Run what is not in the table yet, writing each row as it finishes; the table in run order."""
+def _execute(p, finished, client, workers, output, stream, evaluate, durations, verbose, seed, sampling):
+    """Run what is not in the table yet, writing each row as it finishes; the table in run order.
+    ``durations``: (the runs' ``t_end``, the one the table's fingerprint states: :func:`_stated`)."""
+    t_end, stated = durations
     todo = [i for i in range(1, len(p.table) + 1) if i not in finished]
     address = client.scheduler.address if client is not None else None
     n_workers = 1 if not todo else min(int(workers or default_workers()), len(todo))
@@ -302,7 +305,7 @@ def _execute(p, finished, client, workers, output, stream, evaluate, t_end, verb
              else f"{n_workers} local process{'es' if n_workers > 1 else ''}")
     _announce(p, finished, todo, where, output, verbose)
     rows = {run: typed_row(r, p.paths, p.columns) for run, r in finished.items()}
-    f, sinks = _open_outputs(p, finished, output, stream, _stated(p, t_end, evaluate))
+    f, sinks = _open_outputs(p, finished, output, stream, stated)
     runner = _runner(p, todo, client, n_workers, evaluate, t_end)
     values_of = p.table.to_numpy(dtype=float)
     bar = Progress(len(todo), p.name, verbose)
