@@ -317,3 +317,27 @@ def test_benchmark_freezes_the_clusters_it_is_not_timing(tmp_path, monkeypatch):
         for c in clusters:
             c.__exit__(None, None, None)
     assert all(p.poll() is not None for c in clusters for p in c.procs)
+
+
+def test_benchmark_sweeps_run_each_in_a_process_of_its_own(tmp_path, monkeypatch):
+    """The benchmark's timed sweeps: each in a child the sweep server forks after its imports (a process of its
+    own: its pid is new each time, the server's stays), every run done; a failing sweep is an error naming
+    its cause, and the server goes on; closing the server's input ends it."""
+    monkeypatch.syspath_prepend(str(STUDIES))
+    benchmark = _load_study("benchmark")
+    from vcbmodel import parameters as P
+
+    rig = tmp_path / "breaker.rig.json"
+    rig.write_text(json.dumps(P.REFERENCE_BREAKER))
+    runs = tmp_path / "runs.json"
+    runs.write_text(json.dumps([{"friction.mu_k": 0.12}, {"friction.mu_k": 0.14}]))
+    with benchmark.SweepServer() as server:
+        first = server.timed_sweep(rig, runs, workers=1)
+        with pytest.raises(RuntimeError, match="(?s)timed sweep failed.*no_such_runs"):
+            server.timed_sweep(rig, tmp_path / "no_such_runs.json", workers=1)
+        second = server.timed_sweep(rig, runs, workers=1)
+        assert first["ok"] == second["ok"] == first["runs"] == 2
+        assert first["wall_s"] > 0 and first["cpu_s"] > 0
+        assert first["pid"] != second["pid"] and server.proc.pid not in (first["pid"], second["pid"])
+        proc = server.proc
+    assert proc.poll() is not None
