@@ -203,9 +203,10 @@ class Laps:
         self.last = now
 
 
-#: Closings per worker of the weak-scaling sweeps: about 3.4 s of work per worker (a closing ~28 ms); with
-#: 60 a 2-core run's local scaling read 0.83 against 0.90 (the pool's start a larger share of the sweep)
-SCALING_PER_WORKER = 120
+#: Closings per worker of the weak-scaling sweeps: about 3.5 s of work per worker (a closing ~16 ms of processor
+#: time, 2 cores; 120 when a closing's setup made it ~28 ms); with half the work a 2-core run's local scaling
+#: read 0.83 against 0.90, and Dask's fixed start per sweep (the first chunks of one run) a larger share too
+SCALING_PER_WORKER = 220
 #: ... and of ``--scaling-only``: 60, so that a 16-core node's table fits a 5-minute lease
 SCALING_ONLY_PER_WORKER = 60
 
