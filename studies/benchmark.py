@@ -11,6 +11,7 @@ import json
 import os
 import platform
 import resource
+import select
 import signal
 import statistics
 import subprocess
@@ -202,9 +203,10 @@ class Laps:
         self.last = now
 
 
-#: Closings per worker of the weak-scaling sweeps: about 3.4 s of work per worker (a closing ~28 ms); with
-#: 60 a 2-core run's local scaling read 0.83 against 0.90 (the pool's start a larger share of the sweep)
-SCALING_PER_WORKER = 120
+#: Closings per worker of the weak-scaling sweeps: about 3.5 s of work per worker (a closing ~16 ms of processor
+#: time, 2 cores; 120 when a closing's setup made it ~28 ms); with half the work a 2-core run's local scaling
+#: read 0.83 against 0.90, and Dask's fixed start per sweep (the first chunks of one run) a larger share too
+SCALING_PER_WORKER = 220
 #: ... and of ``--scaling-only``: 60, so that a 16-core node's table fits a 5-minute lease
 SCALING_ONLY_PER_WORKER = 60
 
@@ -381,30 +383,60 @@ def diagnosis_times(tmp):
 
 
 #: A sweep timed in a process of its own, as `vcbmodel sweep` runs (no other thread: the local pool forks;
-#: the process's start and imports are not counted, the pool's start is): prints its wall time and the
-#: time its workers spent in runs
+#: the process's start and imports are not counted, the pool's start is): ``timed(a)`` returns its wall
+#: time and the time its workers spent in runs. The :class:`SweepServer` runs it in a child it forks per sweep.
 SWEEP_DRIVER = """
-import json, resource, sys, time
+import json, os, resource, time
+import distributed
 from vcbmodel.analysis.sweep import sweep
-a = json.loads(sys.argv[1])
-runs = json.load(open(a["runs"]))
 
 def cpu(client):  # processor seconds of this process, its children (a local pool) and the cluster's workers
     own = sum(getattr(resource.getrusage(w), f) for w in (resource.RUSAGE_SELF, resource.RUSAGE_CHILDREN)
               for f in ("ru_utime", "ru_stime"))
     return own + (sum(client.run(time.process_time).values()) if client is not None else 0.0)
 
-client = None
-if a.get("scheduler"):
-    import distributed
-    client = distributed.Client(a["scheduler"], set_as_default=False)
-c0 = cpu(client)
-t0 = time.perf_counter()
-df = sweep(a["rig"], runs=runs, workers=a.get("workers"), scheduler=a.get("scheduler"), verbose=False)
-wall = time.perf_counter() - t0
-c1 = cpu(client)
-print(json.dumps({"wall_s": wall, "run_s": sum(df.attrs["run_s"]), "cpu_s": c1 - c0, "ok": int((df.status == "ok").sum()),
-                  "runs": len(df)}))
+def timed(a):
+    runs = json.load(open(a["runs"]))
+    client = None
+    if a.get("scheduler"):
+        client = distributed.Client(a["scheduler"], set_as_default=False)
+    c0 = cpu(client)
+    t0 = time.perf_counter()
+    df = sweep(a["rig"], runs=runs, workers=a.get("workers"), scheduler=a.get("scheduler"), verbose=False)
+    wall = time.perf_counter() - t0
+    c1 = cpu(client)
+    if client is not None:
+        client.close()
+    return {"wall_s": wall, "run_s": sum(df.attrs["run_s"]), "cpu_s": c1 - c0, "ok": int((df.status == "ok").sum()),
+            "runs": len(df), "pid": os.getpid()}
+"""
+
+#: The sweeps' server: runs SWEEP_DRIVER's imports and definitions once, then for each request (one JSON line
+#: on its standard input) forks a child that runs ``timed`` and ends; the child's answer (one JSON line, or
+#: {"error": traceback}) goes to the server's standard output. A child is what a fresh process is after its
+#: imports (the server has no thread and runs nothing else), without paying Python's start and the imports
+#: (2 to 3 s on 2 busy cores) once per sweep. End of input (the benchmark ended, however) ends the server.
+SWEEP_SERVER = """
+import json, os, sys, traceback
+exec(sys.argv[1])
+for line in iter(sys.stdin.readline, ""):
+    read, write = os.pipe()
+    pid = os.fork()
+    if pid == 0:
+        os.close(read)
+        try:
+            answer = json.dumps(timed(json.loads(line)))
+        except BaseException:
+            answer = json.dumps({"error": traceback.format_exc()[-800:]})
+        with os.fdopen(write, "w") as f:
+            f.write(answer)
+        os._exit(0)
+    os.close(write)
+    with os.fdopen(read) as f:
+        answer = f.read()
+    os.waitpid(pid, 0)
+    sys.stdout.write((answer or json.dumps({"error": "the sweep's process ended without an answer"})) + "\\n")
+    sys.stdout.flush()
 """
 
 #: Closings per worker of the sweep that warms each cluster up before the timed rounds (its workers import
@@ -422,14 +454,37 @@ def study_environment() -> dict:
     return dict(os.environ, PYTHONPATH=os.pathsep.join(paths))
 
 
-def timed_sweep(rig, runs_file, workers=None, scheduler=None):
-    """{wall_s, run_s, ok, runs} of one sweep in a fresh process (SWEEP_DRIVER)."""
-    arg = json.dumps({"rig": str(rig), "runs": str(runs_file), "workers": workers, "scheduler": scheduler})
-    p = subprocess.run([sys.executable, "-c", SWEEP_DRIVER, arg], capture_output=True, text=True, timeout=1800,
-                       env=study_environment())
-    if p.returncode != 0:
-        raise RuntimeError(f"timed sweep failed: {p.stderr[-800:]}")
-    return json.loads(p.stdout.strip().splitlines()[-1])
+class SweepServer:
+    """The :data:`SWEEP_SERVER` process (a context manager); :meth:`timed_sweep` runs one sweep in a child of it."""
+
+    def __enter__(self):
+        self.errors = tempfile.TemporaryFile(mode="w+")
+        self.proc = subprocess.Popen([sys.executable, "-c", SWEEP_SERVER, SWEEP_DRIVER], stdin=subprocess.PIPE,
+                                     stdout=subprocess.PIPE, stderr=self.errors, text=True, env=study_environment())
+        return self
+
+    def timed_sweep(self, rig, runs_file, workers=None, scheduler=None, timeout=1800.0) -> dict:
+        """{wall_s, run_s, cpu_s, ok, runs} of one sweep in a process of its own (SWEEP_DRIVER)."""
+        self.proc.stdin.write(json.dumps({"rig": str(rig), "runs": str(runs_file), "workers": workers,
+                                          "scheduler": scheduler}) + "\n")
+        self.proc.stdin.flush()
+        ready, _, _ = select.select([self.proc.stdout], [], [], timeout)
+        answer = json.loads(self.proc.stdout.readline() or "{}") if ready else {"error": f"no answer in {timeout:.0f} s"}
+        if "wall_s" not in answer:
+            self.errors.seek(0)
+            raise RuntimeError(f"timed sweep failed: {answer.get('error', 'the sweep server ended')} {self.errors.read()[-800:]}")
+        return answer
+
+    def __exit__(self, *exc):
+        if getattr(self, "proc", None) is None:
+            return
+        self.proc.stdin.close()
+        try:
+            self.proc.wait(timeout=30)
+        except subprocess.TimeoutExpired:
+            self.proc.kill()
+        self.proc.stdout.close()
+        self.errors.close()
 
 
 #: Seconds a thawed cluster is left to catch up with its heartbeats before a timed sweep uses it
@@ -535,8 +590,8 @@ def sweep_scaling(quick, per_worker=None, rounds=None, after_round=None):
     hypercube of friction.mu_k and breaker.poles.moving_mass): one run's parts measured in this process; then
     weak scaling: for each worker count the machine's cores allow (1, 2, 4, 8, 16), the same number of runs
     per worker on local processes and on a Dask cluster (a scheduler and single-threaded workers started
-    with the dask command lines), every sweep in a fresh process, the variants interleaved round by round
-    (the medians are compared: a shared machine's slow phases hit all alike). Per run and worker against
+    with the dask command lines), every sweep in a process of its own (forked after its imports: SWEEP_SERVER),
+    the variants interleaved round by round (the medians are compared: a shared machine's slow phases hit all alike). Per run and worker against
     one worker: T1 / Tw on the same work per worker. Dask against local at equal workers: T_dask / T_local.
     Utilisation: the workers' time in runs over workers x wall (what the executor leaves idle)."""
     data = copy.deepcopy(P.REFERENCE_BREAKER)
@@ -568,26 +623,29 @@ def sweep_scaling(quick, per_worker=None, rounds=None, after_round=None):
     clusters = [DaskCluster(tmp / f"cluster_{w}", w) for w in measured]
     times = {(how, w): [] for w in measured for how in ("local", "dask")}
     check, idle = {}, {}
+    server = SweepServer()  # every sweep a process of its own, forked after the imports (SWEEP_SERVER)
     try:
+        server.__enter__()
         for c in clusters:
             c.__enter__()
         check = worker_check_seconds(clusters[-1].address, measured[-1])
         idle = idle_processor_share(clusters)
         print(f"[{time.strftime('%H:%M:%S')}] clusters up, worker check {check}", file=sys.stderr, flush=True)
         for c, w in zip(clusters, measured):  # warm-up: each cluster's workers import and compile once
-            timed_sweep(rig_file, warm_files[w], scheduler=c.address)
+            server.timed_sweep(rig_file, warm_files[w], scheduler=c.address)
         variants = [(how, w) for w in measured for how in ("local", "dask")]
         for r in range(rounds):
             for how, w in variants[r % len(variants):] + variants[:r % len(variants)]:
                 c = clusters[measured.index(w)]
                 only_running(clusters, c if how == "dask" else None)
-                times[(how, w)].append(timed_sweep(rig_file, runs_files[w], workers=w if how == "local" else None,
-                                                   scheduler=c.address if how == "dask" else None))
+                times[(how, w)].append(server.timed_sweep(rig_file, runs_files[w], workers=w if how == "local" else None,
+                                                          scheduler=c.address if how == "dask" else None))
                 print(f"[{time.strftime('%H:%M:%S')}] round {r + 1} {how} {w} workers: {times[(how, w)][-1]}",
                       file=sys.stderr, flush=True)
             if after_round is not None:
                 after_round(scaling_result(one, cores, per_worker, r + 1, measured, times, check, load_before, idle))
     finally:
+        server.__exit__(None, None, None)
         for c in clusters:
             if c.procs:
                 c.__exit__(None, None, None)
@@ -653,7 +711,7 @@ def scaling_table(scaling):
                      f"per run local {1e3 * r['cpu_per_run_s']['local']:.1f} ms, Dask {1e3 * r['cpu_per_run_s']['dask']:.1f} ms"])
     check = scaling.get("worker_check_s") or {}
     head = (f"\n# Scale-out (studies/benchmark.py: {scaling['closings_per_worker']} reference closings per worker, "
-            f"{scaling['simulated_with']}; each sweep in a fresh process, medians of {scaling['rounds']} interleaved "
+            f"{scaling['simulated_with']}; each sweep in a process of its own, forked after its imports, medians of {scaling['rounds']} interleaved "
             f"rounds; this machine: {scaling['cores']} cores)\n\n"
             "Weak scaling: the same runs per worker; 'vs 1 worker' is T1 / Tw (1.00: ideal). Dask: a scheduler and "
             "single-threaded workers started with `dask scheduler` / `dask worker`. Targets: Dask within 1.15x of "

@@ -291,3 +291,27 @@ def test_a_soft_main_shaft_is_warned_of(tmp_path, capsys):
     f = edited(tmp_path, CLOSING, {"breaker.main_shaft.diameter": 0.02})
     assert main(["check", str(f)]) == 0
     assert "breaker.main_shaft.diameter: a 20 mm shaft of 79.3 GPa" in capsys.readouterr().out
+
+
+def test_the_reachable_travel_is_kept_per_geometry_not_per_breaker():
+    """A sweep loads one breaker per run; the travel a turn of the cam reaches depends on the geometry alone:
+    a breaker with other pole masses and gaps gets the kept value, one with another lift its own, as
+    computed afresh (travel_curve)."""
+    from vcbmodel.rig import plausibility
+    from vcbmodel.rig.plausibility import reachable_travel, travel_curve
+
+    def breaker(changes):
+        data = copy.deepcopy(P.REFERENCE_BREAKER)
+        for path, value in changes.items():
+            set_path(data, path, value)
+        rig = rig_from_data(data, "test")
+        return rig.breaker, rig.cam
+
+    b0, cam0 = breaker({})
+    base = reachable_travel(b0, cam0)
+    kept = len(plausibility._TRAVELS)
+    b1, cam1 = breaker({"breaker.poles.moving_mass": 1.7, "breaker.poles.gap_offsets": [0.0, 0.0002, -0.0002]})
+    assert reachable_travel(b1, cam1) == base and len(plausibility._TRAVELS) == kept
+    b2, cam2 = breaker({"breaker.cam_profile.lift": 0.0104})
+    fresh = float(np.max(travel_curve(b2, cam2, cam2.initial_angle + np.linspace(0.0, 2 * np.pi, 361))))
+    assert reachable_travel(b2, cam2) == fresh and fresh > 1.05 * base

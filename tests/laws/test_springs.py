@@ -111,3 +111,24 @@ def test_paper_convention_puts_nothing_at_the_ends_and_drifts_away_as_n_grows():
         totals.append(c.total_mass / M0)
     assert totals[0] == pytest.approx(1.0) and totals[1] == pytest.approx(4 / 3)
     assert all(a < b for a, b in zip(totals, totals[1:])) and totals[-1] > 2.0
+
+
+def test_chain_for_solves_a_spring_once_and_hands_out_a_read_only_chain():
+    """A closing's setup, step limits and energy audit ask for the same chain: the same inputs give the same
+    object (its arrays read-only, so no caller can change the chain another one holds); other inputs their own."""
+    from vcbmodel.laws.springs import chain_for
+    from vcbmodel.rig.spring_model import SpringModel
+
+    class Spring:
+        stiffness, mass, free_length = K0, M0, L0
+
+    class Stiffer(Spring):
+        stiffness = 1.1 * K0
+
+    model = SpringModel("lumped", 2, "exact")
+    a, b, c = chain_for(Spring, model), chain_for(Spring, model), chain_for(Stiffer, model)
+    assert a is b and c is not a
+    fresh = lumped_chain(model.masses, 1.1 * K0, M0, L0, model.convention)
+    assert np.array_equal(c.stiffnesses, fresh.stiffnesses) and np.array_equal(c.masses, fresh.masses)
+    with pytest.raises(ValueError):
+        a.masses[0] = 1.0

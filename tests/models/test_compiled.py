@@ -186,3 +186,24 @@ def test_without_a_compiler_compiled_is_one_line_and_fast_falls_back(tmp_path):
     p = subprocess.run(base + ["--backend", "fast"], env=env, capture_output=True, text=True, timeout=300)
     assert p.returncode == 0, p.stderr[-800:]
     assert "solved by exudyn" in (tmp_path / "out.csv").read_text().splitlines()[0]
+
+
+@pytest.mark.parametrize("which", ["pendulum", "breaker"])
+def test_every_step_and_every_third_step_record_the_same_run(which, pendulum_rig, breaker_rig):
+    """A recorded step's end-of-step evaluation is the next step's first stage (codegen's driver): a
+    run recorded at every step and one recorded at every third carry the same numbers, bit for bit, at
+    the times both record (the pendulum: no memory; the closing: the contacts' latched memory). The poles'
+    contact forces are left out: they are evaluated afterwards from the recorded samples, replaying the
+    latched impact speeds on the recorded grid (closing_evaluation), so they depend on it."""
+    rig, values, t_end = (pendulum_rig, VALUES, 1.0) if which == "pendulum" else (breaker_rig, None, 0.045)
+    step = experiment_of(rig.experiment).step(rig)
+    every = simulate(rig, values=values, backend="compiled", t_end=t_end)
+    third = simulate(rig, values=values, backend="compiled", t_end=t_end, step=step,
+                     sample_times=np.arange(int(t_end / step) // 3 + 1) * 3 * step)
+    assert every.info["step"] == pytest.approx(step) and len(every.t) > 3 * (len(third.t) - 1)
+    replayed = [name for name in third.channels if "_contact_" in name]
+    assert len(replayed) == (0 if which == "pendulum" else 6)
+    for name, samples in third.channels.items():
+        if name in replayed:
+            continue
+        assert np.array_equal(every.channels[name][: 3 * len(third.t): 3], samples), name

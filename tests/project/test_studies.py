@@ -327,3 +327,27 @@ def test_the_benchmark_counts_one_worker_in_the_singular(monkeypatch):
          "load_average_before_after": [[1.0], [1.0]], "idle_cluster_processor_share": {"1": 0.028, "2": 0.043}})
     assert "idle, each took this share of one core (its scheduler and workers, nannies not counted): " \
            "1 worker 2.8 %, 2 workers 4.3 %." in table
+
+
+def test_benchmark_sweeps_run_each_in_a_process_of_its_own(tmp_path, monkeypatch):
+    """The benchmark's timed sweeps: each in a child the sweep server forks after its imports (a process of its
+    own: its pid is new each time, the server's stays), every run done; a failing sweep is an error naming
+    its cause, and the server goes on; closing the server's input ends it."""
+    monkeypatch.syspath_prepend(str(STUDIES))
+    benchmark = _load_study("benchmark")
+    from vcbmodel import parameters as P
+
+    rig = tmp_path / "breaker.rig.json"
+    rig.write_text(json.dumps(P.REFERENCE_BREAKER))
+    runs = tmp_path / "runs.json"
+    runs.write_text(json.dumps([{"friction.mu_k": 0.12}, {"friction.mu_k": 0.14}]))
+    with benchmark.SweepServer() as server:
+        first = server.timed_sweep(rig, runs, workers=1)
+        with pytest.raises(RuntimeError, match="(?s)timed sweep failed.*no_such_runs"):
+            server.timed_sweep(rig, tmp_path / "no_such_runs.json", workers=1)
+        second = server.timed_sweep(rig, runs, workers=1)
+        assert first["ok"] == second["ok"] == first["runs"] == 2
+        assert first["wall_s"] > 0 and first["cpu_s"] > 0
+        assert first["pid"] != second["pid"] and server.proc.pid not in (first["pid"], second["pid"])
+        proc = server.proc
+    assert proc.poll() is not None

@@ -18,7 +18,7 @@ from typing import TYPE_CHECKING
 import numpy as np
 from numpy.typing import ArrayLike
 
-from .friction import NumericOps
+from .friction import ArrayOps, NumericOps
 from .types import Ops, Scalar
 
 if TYPE_CHECKING:
@@ -256,8 +256,10 @@ def pressure_angle_curve(breaker, geometry: Geometry, thetas):
 
 
 def follower_displacement(phi: float | np.ndarray, follower, phi0: float) -> np.ndarray:
-    """Travel (m) of the output point F along the poles' closing direction (+y) from rest."""
-    return np.array([output_point(p, follower)[1] for p in np.atleast_1d(phi)]) - output_point(phi0, follower)[1]
+    """Travel (m) of the output point F along the poles' closing direction (+y) from rest (the samples of
+    ``phi`` at once: :class:`~.friction.ArrayOps`, elementwise the same arithmetic as one at a time)."""
+    return np.asarray(output_point(np.atleast_1d(np.asarray(phi, float)), follower, ArrayOps)[1], float) \
+        - output_point(phi0, follower)[1]
 
 
 @dataclass(frozen=True)

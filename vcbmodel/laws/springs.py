@@ -163,9 +163,26 @@ def string_frequencies(tension: float, m0: float, length: float, count: int = 3)
     return np.arange(1, count + 1) * math.pi * math.sqrt(tension / (m0 * length))
 
 
+#: The chains :func:`chain_for` solved in this process, by their inputs (a closing's setup, step limits and
+#: energy audit ask for the same spring's chain five times; its least-squares solve was a seventh of a
+#: tolerance study's processor time). At most :data:`CHAINS_KEPT`; their arrays are read-only.
+_CHAINS: dict = {}
+CHAINS_KEPT = 256
+
+
 def chain_for(spring, spring_model) -> LumpedChain | None:
     """The lumped chain of ``spring`` (k0, m0, free length) for a spring model (``kind``,
-    ``masses``, ``convention``); None for massless and ANCF springs."""
+    ``masses``, ``convention``); None for massless and ANCF springs. The same inputs give the same
+    chain object (read-only arrays), solved once per process (:data:`_CHAINS`)."""
     if spring_model.kind != "lumped":
         return None
-    return lumped_chain(spring_model.masses, spring.stiffness, spring.mass, spring.free_length, spring_model.convention)
+    key = (spring_model.masses, spring.stiffness, spring.mass, spring.free_length, spring_model.convention)
+    chain = _CHAINS.get(key)
+    if chain is None:
+        chain = lumped_chain(*key)
+        for a in (chain.masses, chain.stiffnesses, chain.free_lengths):
+            a.flags.writeable = False
+        if len(_CHAINS) >= CHAINS_KEPT:
+            _CHAINS.pop(next(iter(_CHAINS)))
+        _CHAINS[key] = chain
+    return chain

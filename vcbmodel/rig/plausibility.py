@@ -15,6 +15,7 @@ Three kinds of check, each naming the rig file and the field:
 from __future__ import annotations
 
 import math
+import pickle
 from collections.abc import Iterator
 from typing import TYPE_CHECKING
 
@@ -84,9 +85,31 @@ def travel_curve(b: Breaker, cam: Cam, thetas: np.ndarray) -> np.ndarray:
     return np.array(out)
 
 
+#: Reachable travels computed in this process, by the geometry they depend on (:func:`reachable_travel`):
+#: a sweep loads one breaker per run, the geometry the same in all (a tolerance study draws springs, masses,
+#: friction and gaps), and the kinematics over a turn were a fifth of its processor time. At most
+#: :data:`TRAVELS_KEPT`.
+_TRAVELS: dict = {}
+TRAVELS_KEPT = 64
+
+
 def reachable_travel(b: Breaker, cam: Cam) -> float:
-    """The largest travel (m) of the poles over a turn of the cam from its start (:func:`travel_curve`)."""
-    return float(np.max(travel_curve(b, cam, cam.initial_angle + np.linspace(0.0, TWO_PI, 361))))
+    """The largest travel (m) of the poles over a turn of the cam from its start (:func:`travel_curve`), once
+    per geometry and process: what it depends on (the follower, the cam profile, the roller radius, the cam's
+    pivot and initial angle) pickled is the key of :data:`_TRAVELS`."""
+    try:
+        key = pickle.dumps((b.follower, b.profile, b.roller_radius, tuple(cam.pivot), cam.initial_angle),
+                           protocol=pickle.HIGHEST_PROTOCOL)
+    except (pickle.PicklingError, TypeError, AttributeError):
+        key = None  # a geometry that does not pickle: computed each time
+    travel = _TRAVELS.get(key) if key is not None else None
+    if travel is None:
+        travel = float(np.max(travel_curve(b, cam, cam.initial_angle + np.linspace(0.0, TWO_PI, 361))))
+        if key is not None:
+            if len(_TRAVELS) >= TRAVELS_KEPT:
+                _TRAVELS.pop(next(iter(_TRAVELS)))
+            _TRAVELS[key] = travel
+    return travel
 
 
 def check_reachable(rd: Reader, b: Breaker, cam: Cam, profile_field: str) -> None:
