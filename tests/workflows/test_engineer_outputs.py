@@ -177,6 +177,22 @@ def test_a_sequence_says_so_when_none_of_the_rigs_limits_is_one_it_judges(tmp_pa
     assert "  limits (breaker.limits): not judged in a sequence: contact force closed" in out
 
 
+def test_a_sequence_names_the_limits_on_a_part_none_of_its_operations_has(tmp_path, capsys):
+    """A C alone on a rig with opening limits (or an O alone on one with closing limits) printed no word
+    of them, no line and no verdict, where a plain closing says in a note that a sequence judges them."""
+    data = json.loads(CYCLE.read_text())
+    data["breaker"]["limits"] = {"opening_speed": {"min": 1.5, "max": 2.0, "unit": "m/s"}}
+    rig = tmp_path / "open.rig.json"
+    rig.write_text(json.dumps(data))
+    assert main(["simulate", str(rig), "--sequence", "C", "--backend", "fast", "-q"]) == 0
+    assert "note: the limits on the opening (opening speed) are not judged: the sequence has no O or CO" \
+        in capsys.readouterr().out.splitlines()
+    assert main(["simulate", str(CYCLE), "--sequence", "O", "--backend", "fast", "--json", "-q"]) == 0
+    notes = json.loads(capsys.readouterr().out)["notes"]
+    assert ("the limits on the closing (closing speed, closing time, pole spread, bounce duration, contact force "
+            "closed) are not judged: the sequence has no C or CO") in notes
+
+
 def test_an_opening_has_limits_judged_on_each_o_and_co(tmp_path, capsys):
     """No limit bounded an opening: a catalogue's opening time (IEC's, from the opening coil), the time
     from the pawl and the opening speed are judged on the O and on the CO's opening (the reference: 19.82
