@@ -195,9 +195,11 @@ def comparison_text(c, evaluated=()):
         text += (" The reference stiffness at that speed is outside the limits ("
                  + (", ".join(c["reference_at_target_breaks"]) or "a limit") + "), so the optimum is the lowest-energy "
                  "design that stays within them, not a saving over an equal design.")
-    if abs(c["stored_gain_percent"]) < EQUAL_SPEED_RESOLUTION_PERCENT:
-        text += (f" At equal speed the gain is {abs(c['stored_gain_percent']):.1f} %, under "
-                 f"{EQUAL_SPEED_RESOLUTION_PERCENT:g} %: within the assumed margins, not a design result.")
+    gain = c["stored_gain_percent"]
+    if abs(gain) < EQUAL_SPEED_RESOLUTION_PERCENT:  # a loss is not printed as a gain of its size
+        said = f"the gain is {gain:.1f} %" if gain >= 0 else f"the optimum stores {-gain:.1f} % more than the reference"
+        text += (f" At equal speed {said}, under {EQUAL_SPEED_RESOLUTION_PERCENT:g} %: within the assumed margins, "
+                 "not a design result.")
     return text + "\n"
 
 

@@ -30,6 +30,9 @@ def test_the_optimum_page_prints_the_equal_speed_gain_it_computed(study):
     assert "the gain is 1.8 %" in text and "about 1 %" not in text
     assert "outside the limits (pole_spread_s over 2 ms)" in text and "slack" not in text
     assert "within the assumed margins" not in s.comparison_text(dict(c, stored_gain_percent=7.0))
+    loss = s.comparison_text(dict(c, stored_gain_percent=-1.5))  # the optimum stores more: no gain of 1.5 %
+    assert "the gain is" not in loss and "the optimum stores 1.5 % more than the reference, under 2 %" in loss
+    assert "the optimum's gain is -1.5 %" in loss
 
 
 def test_the_optimum_names_the_limits_a_design_breaks(study):
@@ -51,7 +54,9 @@ def test_the_spring_reading_page_quotes_its_own_table(study):
     assert text.startswith("Only m0 as eq. 8's chain parameter")
     # a reading whose frequency also met f0 would take the claim away
     rows[0] = dict(rows[0], fixed_fixed_frequency_hz=s.F0_PAPER)
-    assert not s.conclusion(rows).startswith("Only")
+    other = s.conclusion(rows)
+    assert not other.startswith("Only")
+    assert f"reading (within {100 * s.F0_MATCH:g} %); with m0 as eq. 8's chain parameter, the spring's fixed-fixed" in other  # not "its"
 
 
 def test_the_conclusion_map_names_the_side_only_where_the_ratios_order_it(study):
@@ -61,6 +66,8 @@ def test_the_conclusion_map_names_the_side_only_where_the_ratios_order_it(study)
     assert s.where_it_holds(grids).startswith("left of the black line")
     grids[s.RATIOS[0][0]] = np.array([[2.0, 3.0], [2.5, 0.8]])  # heavier spring, larger ratio at low mu_k
     assert not s.where_it_holds(grids).startswith("left")
+    failed = {col: np.full((2, 2), np.nan) for col, _ in s.RATIOS}  # every run failed: nothing is ordered
+    assert not s.where_it_holds(failed).startswith("left")
 
 
 def test_the_tolerance_page_says_where_the_bounce_limit_falls_among_the_counts(study):
@@ -68,7 +75,13 @@ def test_the_tolerance_page_says_where_the_bounce_limit_falls_among_the_counts(s
     limit = 1e-3 * s._BOUNCE["max"]
     text = s.cluster_text({1: {"min": 0.4 * limit, "max": 0.6 * limit}, 2: {"min": 0.8 * limit, "max": 1.2 * limit}})
     assert f"{1e3 * 0.8 * limit:.2f}-{1e3 * 1.2 * limit:.2f} ms with 2" in text and "with 2 bounce(s)." in text
-    assert "between the counts" in s.cluster_text({1: {"min": 0.4 * limit, "max": 0.6 * limit}})
+    one, three = {"min": 0.4 * limit, "max": 0.6 * limit}, {"min": 1.4 * limit, "max": 1.6 * limit}
+    assert "falls between the poles with 1 and with 3 bounce(s)" in s.cluster_text({1: one, 3: three})
+    # a limit below (above) every count's durations does not fall "between the counts"
+    assert "lies below every count's durations" in s.cluster_text({3: three})
+    assert "lies above every count's durations" in s.cluster_text({0: {"min": 0.0, "max": 0.0}, 1: one})
+    assert "with 0" not in s.cluster_text({0: {"min": 0.0, "max": 0.0}, 1: one})
+    assert s.cluster_text({0: {"min": 0.0, "max": 0.0}}).startswith("No pole bounces")
 
 
 def test_the_spring_modes_note_quotes_the_stress_ratio_it_computed(study):
