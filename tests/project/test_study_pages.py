@@ -99,3 +99,20 @@ def test_the_spring_modes_note_quotes_the_stress_ratio_it_computed(study):
     assert "4.0x the 0.45 S_ut" in note and "3.00 m0 at n = 20" in note and "no steel spring" in note
     data["coil_geometry"][f"{sp['mass']:g} kg"]["shear_stress_at_6000N_Pa"] = 0.5e9
     assert "no steel spring" not in s.modes_note(data, sp["stiffness"], sp["mass"])
+
+
+def test_the_closing_page_reads_the_former_rise_from_its_runs(study):
+    """vcb_closing's roller-jump paragraph printed 'above the 0.6-1.5 m/s' whatever the speed, and 'the
+    roller stays on the cam (at 2400 N it can)' for a roller that does not jump."""
+    s = study("vcb_closing")
+    lo, hi = s.VACUUM_CLOSING_SPEEDS
+    assert "2.15 m/s over the zone, above the" in s.rise_speed_text(2.15)
+    assert "within the" in s.rise_speed_text(0.5 * (lo + hi)) and "below the" in s.rise_speed_text(0.5 * lo)
+
+    def run(lift, preload):
+        return {"figures_of_merit": {"roller_first_lift_off_s": lift}, "opening_preload_N": preload}
+    jumps = s.jump_text(run(-3.8e-4, 1200.0), run(None, 2400.0))
+    assert "leaves the cam 0.38 ms before" in jumps and "1200 N opening spring" in jumps and "(at 2400 N it can)" in jumps
+    assert "(at 2400 N it still cannot)" in s.jump_text(run(-3.8e-4, 1200.0), run(-1e-4, 2400.0))
+    stays = s.jump_text(run(None, 1200.0), run(None, 2400.0))
+    assert stays == "the roller stays on the cam up to the touch. "
