@@ -421,6 +421,14 @@ def md_energy_split(split_rows, stop_rows):
             "stiffness and damping.\n"]
 
 
+def coil_claim(reading):
+    """Whether a steel coil of the reading's mass carries its pull, from its wire stress and the
+    allowable (Pa), in words."""
+    stress, allowed = reading["shear_stress_Pa"], reading["allowable_extension_Pa"]
+    return (f"which {'no' if stress > allowed else 'a'} steel coil of that mass carries (`spring_reading.md`: wire "
+            f"shear stress {stress / 1e9:.2f} GPa against the {allowed / 1e9:.2f} GPa allowed)")
+
+
 def md_sizing(rig, rows, sizing):
     """Why the reference breaker is sized as it is: the paper's springs under two readings."""
     old, new = sizing["flywheel_reading"], sizing["reference"]
@@ -430,9 +438,8 @@ def md_sizing(rig, rows, sizing):
     return ["## Why the reference breaker is sized as it is: the paper's springs read two ways\n",
             markdown_table(SIZING_HEADERS, rows),
             f"\nRead as {old['spring_mass_kg']:.2f} kg and {round(old['charged_pull_per_spring_N'], -2):.0f} N each, "
-            f"the paper's springs store {old['stored_J']:.0f} J, which no steel coil of that mass carries "
-            f"(`spring_reading.md`: wire shear stress {old['shear_stress_Pa'] / 1e9:.2f} GPa against the "
-            f"{old['allowable_extension_Pa'] / 1e9:.2f} GPa allowed), on a {old['cam_inertia_kg_m2']:.3f} kg m^2 cam: a "
+            f"the paper's springs store {old['stored_J']:.0f} J, {coil_claim(old)}, on a "
+            f"{old['cam_inertia_kg_m2']:.3f} kg m^2 cam: a "
             f"flywheel. The reference breaker takes the settled reading ({s.mass:.2f} kg, "
             f"{round(new['charged_pull_per_spring_N'], -2):.0f} N each; the pair stores {new['stored_J']:.0f} J), its "
             f"cam shaft sized for that energy ({new['cam_inertia_kg_m2']:.3f} kg m^2), the rise ending at "

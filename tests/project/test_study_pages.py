@@ -116,3 +116,10 @@ def test_the_closing_page_reads_the_former_rise_from_its_runs(study):
     assert "(at 2400 N it still cannot)" in s.jump_text(run(-3.8e-4, 1200.0), run(-1e-4, 2400.0))
     stays = s.jump_text(run(None, 1200.0), run(None, 2400.0))
     assert stays == "the roller stays on the cam up to the touch. "
+
+
+def test_the_closing_page_says_a_coil_fails_only_where_its_stress_is_over_the_allowable(study):
+    s = study("vcb_closing")
+    over = s.coil_claim({"shear_stress_Pa": 2.94e9, "allowable_extension_Pa": 0.76e9})
+    assert over.startswith("which no steel coil") and "2.94 GPa against the 0.76 GPa allowed" in over
+    assert s.coil_claim({"shear_stress_Pa": 0.5e9, "allowable_extension_Pa": 0.76e9}).startswith("which a steel coil")
