@@ -141,7 +141,8 @@ def closing_notes(fom: dict, rig: Rig) -> list[tuple]:
     if opening and fom.get("opening") is None:
         notes.append(f"the limits on the opening ({', '.join(opening)}) are judged by simulate --sequence, on each "
                      "O and CO: a closing does not open")
-    if rig.breaker.end_stop is not None and fom["end_stop_met"] is False:
+    if rig.breaker.end_stop is not None and fom["end_stop_met"] is False and fom["latched"] is not False:
+        # a cam that has stopped short of its latch will not meet its stop either: no longer run shows it
         notes.append(f"the run ends at {end_ms:.4g} ms before the cam meets its end stop (a longer --t-end shows it)")
     if fom["moving_at_end"]:
         notes.append(f"the run ends at {end_ms:.4g} ms with the cam still turning ({fom['shaft_velocity_end_rad_s']:.3g} "
