@@ -154,7 +154,7 @@ def test_a_sequence_judges_its_closings_against_the_limits(tmp_path, capsys):
     out, err = capsys.readouterr()
     assert err.strip() == ("vcbmodel: the breaker fails: CO at 0.3 s: bounce duration (limit <= 1 ms) "
                            "(report and outputs written)")
-    assert "  limits (breaker.limits): bounce duration <= 1 ms FAIL; closing speed 1-1.5 m/s pass; " \
+    assert "  limits (breaker.limits): bounce duration <= 1 ms FAIL (1.93 ms); closing speed 1-1.5 m/s pass; " \
            "not judged in a sequence: contact force closed" in out
     assert out.splitlines()[-1] == "limits (breaker.limits), the operations: FAIL: CO at 0.3 s: bounce duration (limit <= 1 ms)"
     assert main(["simulate", str(rig), "--sequence", "O-0.3s-CO", "--backend", "fast", "--json", "-q"]) == 1
@@ -220,6 +220,8 @@ def test_an_opening_has_limits_judged_on_each_o_and_co(tmp_path, capsys):
     out = capsys.readouterr().out
     assert "  limits (breaker.limits): opening time <= 3.3 ms pass; opening time from coil <= 30 ms pass; " \
            "opening speed 1.5-2 m/s pass" in out
+    # the CO's line printed the poles' mean (2.24 m/s) beside FAIL: the failing limit shows each pole's value
+    assert f"opening speed 1.5-2 m/s FAIL ({', '.join(f'{v:.3g}' for v in speeds)} m/s)" in out
     assert out.splitlines()[-1] == ("limits (breaker.limits), the operations: FAIL: CO at 0.3 s: opening time (limit "
                                     "<= 3.3 ms); CO at 0.3 s: opening speed (limit 1.5-2 m/s)")
     assert main(["simulate", str(rig), "--backend", "fast", "-o", str(tmp_path / "c.csv"), "--json", "-q"]) == 0

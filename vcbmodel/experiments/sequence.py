@@ -36,6 +36,7 @@ from .. import parameters as P
 from ..errors import InputError, SimulationError
 from ..laws.opening import NO_TRIP, Commands
 from ..laws.release import release_delay
+from ..rig.limits import LIMITED_FIGURES
 from .closing_evaluation import figures_of_merit
 from .simulation import simulate
 
@@ -360,9 +361,19 @@ def limit_lines(e: dict) -> list[str]:
     if not e.get("limits") and not left:
         return []
     words = {True: "pass", False: "FAIL", None: "no value"}
-    judged = [f"{c['limit'].replace('_', ' ')} {c['text']} {words[c['pass']]}" for c in e.get("limits", [])]
+    judged = [f"{c['limit'].replace('_', ' ')} {c['text']} {words[c['pass']]}" + (f" ({failing_values(c)})" if c["pass"]
+                                                                                 is False else "")
+              for c in e.get("limits", [])]
     return ["  limits (breaker.limits): " + "; ".join(judged + ([f"not judged in a sequence: {', '.join(left)}"]
                                                                if left else []))]
+
+
+def failing_values(c: dict) -> str:
+    """The values a failing limit judged (``c``: one of :func:`operation_limits`' dicts), as read: ms for a
+    time, m/s for a speed, J for an energy; every pole's for a per-pole limit (the line's mean hides one)."""
+    unit, scale = {"s": ("ms", 1e3), "m/s": ("m/s", 1.0), "J": ("J", 1.0)}.get(LIMITED_FIGURES[c["limit"]][0], ("", 1.0))
+    shown = ", ".join("-" if v is None else f"{scale * v:.3g}" for v in c["values_si"])
+    return f"{shown} {unit}".rstrip()
 
 
 def sequence_verdict(report: dict) -> list[str]:
