@@ -243,3 +243,19 @@ def test_a_single_pole_has_no_pole_spread_to_print_or_limit(tmp_path, capsys):
     assert "1 of 1 judged: all pass" in report.verdict()
     three = load_rig(write_rig(tmp_path, breaker(limits)[0], "three"))  # three poles: the figure as it was
     assert all(not r.absent for r in summaries.closing_report(simulate(three, backend="fast"), three).rows)
+
+
+def test_a_run_too_short_to_touch_shows_no_closed_contact_force(tmp_path, capsys):
+    """A 20 ms run (no pole has touched) printed a closed contact force of 0.000 kN per pole and failed
+    the limit on it: 'the breaker fails' (status 1) for a run the notes call not a complete closing,
+    while its closing time read 'no value'. A pole not yet touched has no closed force to judge."""
+    data, _ = breaker({"contact_force_closed": {"min": 3, "unit": "kN"}, "closing_time": {"max": 80, "unit": "ms"}})
+    rig = write_rig(tmp_path, data, "short")
+    assert main(["simulate", str(rig), "--backend", "fast", "--t-end", "0.02", "-o", str(tmp_path / "s.csv"),
+                 "--json", "-q"]) == 0
+    out, err = capsys.readouterr()
+    body = json.loads(out)
+    force = [p["contact_force_closed"] for p in body["poles"]]
+    assert all(f["value"] is None and f["pass"] is None for f in force) and len(force) == 3
+    assert body["fails"] is False and err == ""
+    assert any("not a complete closing" in n for n in body["notes"])

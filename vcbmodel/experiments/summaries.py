@@ -216,14 +216,15 @@ def pole_travel_figures(result: SimulationResult, rig: Rig, touches: list) -> li
     (:func:`vcbmodel.records.analyser.travel_figures`): ``overtravel_m`` beyond the final position,
     ``rebound_m`` below it after the peak, ``wipe_m`` from the pole's touch to the final position (None
     if it never touches); and ``contact_force_closed_N``: the contact force at rest, the median of the
-    run's last 2 % (0 for a pole open at the end)."""
+    run's last 2 % (0 for a pole that touched and is open at the end; None for one that has not touched
+    yet: a run too short to show its closed force, as its closing time)."""
     out = []
     for i, touch in enumerate(touches, start=1):
         figures = travel_figures(result.t, pole_drive_travel(result, rig, i), touch)
         force = result.channels[f"pole_{i}_contact_force"]
         out.append({"overtravel_m": figures["overtravel_m"], "rebound_m": figures["rebound_m"],
                     "wipe_m": figures.get("wipe_m"),
-                    "contact_force_closed_N": float(np.median(force[-max(3, force.size // 50):]))})
+                    "contact_force_closed_N": None if touch is None else float(np.median(force[-max(3, force.size // 50):]))})
     return out
 
 
