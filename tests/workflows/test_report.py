@@ -259,3 +259,25 @@ def test_a_run_too_short_to_touch_shows_no_closed_contact_force(tmp_path, capsys
     assert all(f["value"] is None and f["pass"] is None for f in force) and len(force) == 3
     assert body["fails"] is False and err == ""
     assert any("not a complete closing" in n for n in body["notes"])
+
+
+def test_a_cam_at_rest_before_any_pole_touches_fails_the_closing(tmp_path):
+    """A closing cut at 25 ms (no pole touched yet) is not judged; the same run with its cam standing
+    still over its last CAM_REST_TIME and more, no pole touched, will never close: the closing fails
+    (it read 'not a complete closing (a longer --t-end)', status 0, every limit 'no value')."""
+    from dataclasses import replace
+
+    import numpy as np
+    rig = load_rig(write_rig(tmp_path, breaker({"closing_time": {"max": 80, "unit": "ms"}})[0], "rest"))
+    r = simulate(rig, backend="fast", t_end=0.025)
+    cut = summaries.closing_report(r, rig)
+    assert cut.failures() == [] and any("not a complete closing" in n for n in cut.notes)
+    theta = r.channels["cam_angle"].copy()
+    still = r.t >= r.t[-1] - P.CAM_REST_TIME - 1e-3
+    theta[still] = theta[np.argmax(still) - 1]
+    held = replace(r, channels={**r.channels, "cam_angle": theta})
+    report = summaries.closing_report(held, rig)
+    assert report.failures() == ["CLOSING FAILS (no pole touches)"]
+    assert "THE CLOSING FAILS: no pole touches" in report.verdict()
+    assert any(n.startswith("no pole touches: the cam comes to rest") for n in report.notes)
+    assert not any("a longer --t-end" in n and "touch" in n for n in report.notes)
