@@ -42,6 +42,7 @@ def test_the_optimum_names_the_limits_a_design_breaks(study):
     assert s.broken_limits(ok) == []
     broke = s.broken_limits(dict(ok, min_spring_force_N=100.0, zone_speed_max_m_s=1.6))
     assert len(broke) == 2 and any("slack" in b for b in broke) and any("zone speed" in b for b in broke)
+    assert s.broken_limits(dict(ok, pole_spread_s=3e-3)) == ["pole spread over 2 ms"]  # not the column's name
 
 
 def test_the_spring_reading_page_quotes_its_own_table(study):
