@@ -125,9 +125,10 @@ def ratio_section(name, g, b, frac):
 def where_it_holds(grids):
     """Where the conclusion holds, in words: 'left of the black line (lighter springs, more friction)' only
     where every computed ratio falls with the spring's mass and rises with mu_k."""
-    def monotone(g, axis, sign):
+    def monotone(g, axis, sign):  # at least one computed step along the axis: a grid of failed runs orders nothing
         d = sign * np.diff(g, axis=axis)
-        return bool(np.all(d[np.isfinite(d)] > 0))
+        d = d[np.isfinite(d)]
+        return bool(d.size) and bool(np.all(d > 0))
 
     if all(monotone(grids[col], 0, -1) and monotone(grids[col], 1, 1) for col, _ in RATIOS):
         return "left of the black line (lighter springs, more friction; red in the figure)"

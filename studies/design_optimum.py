@@ -88,11 +88,16 @@ def violation(r):
     return v + max(0.0, (MIN_PULL_FRACTION * r["preload_N"] - r["min_spring_force_N"]) / r["preload_N"])
 
 
+def limit_name(column):
+    """A figure's column (``pole_spread_s``) as the page names it (``pole spread``)."""
+    return column.removesuffix("_s").replace("_", " ")
+
+
 def broken_limits(r):
     """The limits a closing breaks, in words (empty: within them all, or not known)."""
     if "error" in r or r.get(SPEED) is None or r.get("zone_speed_min_m_s") is None:
         return ["no closing"]
-    out = [f"{c} over {1e3 * lim:g} ms" for c, lim in LIMITS.items() if r.get(c) is not None and r[c] > lim]
+    out = [f"{limit_name(c)} over {1e3 * lim:g} ms" for c, lim in LIMITS.items() if r.get(c) is not None and r[c] > lim]
     if r["zone_speed_min_m_s"] < ZONE_WINDOW[0] or r["zone_speed_max_m_s"] > ZONE_WINDOW[1]:
         out.append("a pole's zone speed outside the window")
     if r.get("min_spring_force_N") is not None and r["min_spring_force_N"] < MIN_PULL_FRACTION * r["preload_N"]:
@@ -177,7 +182,7 @@ def comparison_text(c, evaluated=()):
         broken = {name: min(e[name] for e in on_target if e.get(name) is not None) for name in LIMITS
                   if all(e.get(name) is not None and e[name] > LIMITS[name] for e in on_target)}
         return (f"No design within the limits: {len(on_target)} designs reached the target speed, and every one of them "
-                + ("broke " + ", ".join(f"{name} <= {1e3 * LIMITS[name]:g} ms (the best: {1e3 * v:.2f} ms)"
+                + ("broke " + ", ".join(f"{limit_name(name)} <= {1e3 * LIMITS[name]:g} ms (the best: {1e3 * v:.2f} ms)"
                                         for name, v in broken.items()) if broken else "broke one limit or another")
                 + ". The closing springs cannot mend it: see what sets that figure in `vcb_closing.md`.\n")
     gain, share = c["gain_at_own_speed_percent"], c["speed_squared_share_percent"]
@@ -195,9 +200,11 @@ def comparison_text(c, evaluated=()):
         text += (" The reference stiffness at that speed is outside the limits ("
                  + (", ".join(c["reference_at_target_breaks"]) or "a limit") + "), so the optimum is the lowest-energy "
                  "design that stays within them, not a saving over an equal design.")
-    if abs(c["stored_gain_percent"]) < EQUAL_SPEED_RESOLUTION_PERCENT:
-        text += (f" At equal speed the gain is {abs(c['stored_gain_percent']):.1f} %, under "
-                 f"{EQUAL_SPEED_RESOLUTION_PERCENT:g} %: within the assumed margins, not a design result.")
+    gain = c["stored_gain_percent"]
+    if abs(gain) < EQUAL_SPEED_RESOLUTION_PERCENT:  # a loss is not printed as a gain of its size
+        said = f"the gain is {gain:.1f} %" if gain >= 0 else f"the optimum stores {-gain:.1f} % more than the reference"
+        text += (f" At equal speed {said}, under {EQUAL_SPEED_RESOLUTION_PERCENT:g} %: within the assumed margins, "
+                 "not a design result.")
     return text + "\n"
 
 

@@ -159,11 +159,22 @@ def bounce_distributions(ok, count):
 def cluster_text(by_count):
     """Where the bounce limit falls among the counts' durations (the bounce section's first line)."""
     limit = 1e-3 * _BOUNCE["max"]
-    spans = ", ".join(f"{1e3 * v['min']:.2f}-{1e3 * v['max']:.2f} ms with {c}" for c, v in by_count.items())
-    cut = [str(c) for c, v in by_count.items() if v["min"] <= limit < v["max"]]
-    return (f"A pole's bounce lasts {spans} bounce(s); the {_BOUNCE['max']:g} ms limit "
-            + (f"cuts through the poles with {' and '.join(cut)} bounce(s)." if cut else
-               "falls between the counts.") + "\n")
+    bouncing = {c: v for c, v in by_count.items() if c > 0}  # a pole that does not bounce has no duration
+    if not bouncing:
+        return f"No pole bounces: the {_BOUNCE['max']:g} ms limit cuts nothing.\n"
+    spans = ", ".join(f"{1e3 * v['min']:.2f}-{1e3 * v['max']:.2f} ms with {c}" for c, v in bouncing.items())
+    cut = [str(c) for c, v in bouncing.items() if v["min"] <= limit < v["max"]]
+    below = [c for c, v in bouncing.items() if v["max"] <= limit]
+    above = [c for c, v in bouncing.items() if v["min"] > limit]
+    if cut:
+        where = f"cuts through the poles with {' and '.join(cut)} bounce(s)."
+    elif not above:
+        where = "lies above every count's durations: no pole goes over it."
+    elif not below:
+        where = "lies below every count's durations: every pole that bounces goes over it."
+    else:
+        where = f"falls between the poles with {max(below)} and with {min(above)} bounce(s)."
+    return f"A pole's bounce lasts {spans} bounce(s); the {_BOUNCE['max']:g} ms limit {where}\n"
 
 
 def bounce_by_restitution(ok, count):

@@ -54,9 +54,11 @@ def conclusion(rows):
     each = [r for r in rows if r["force_per_spring_N"] == CHARGED]
     pair = [r for r in chain if r["force_per_spring_N"] == CHARGED / 2]
     f_chain, m_chain = chain[0]["fixed_fixed_frequency_hz"], chain[0]["active_mass_kg"]
-    text = ((f"Only m0 as eq. 8's chain parameter reproduces the paper's f0 (within {100 * F0_MATCH:g} %)"
-             if near == {round(m_chain, 6)} else "The paper's f0 does not single out one reading")
-            + f": its fixed-fixed continuum's fundamental is {f_chain:.1f} Hz, as the paper's eq. 8 chain "
+    text = ((f"Only m0 as eq. 8's chain parameter reproduces the paper's f0 (within {100 * F0_MATCH:g} %): its"
+             if near == {round(m_chain, 6)} else
+             f"The paper's f0 does not single out one reading (within {100 * F0_MATCH:g} %); with m0 as eq. 8's "
+             "chain parameter, the spring's")
+            + f" fixed-fixed continuum's fundamental is {f_chain:.1f} Hz, as the paper's eq. 8 chain "
             f"(w1 = 2 sqrt(k0/m0)), and its mass is {m_chain:.2f} kg (the text's \"about 1 kg\"). ")
     stress = [r["shear_stress_Pa"] / 1e9 for r in each]
     over = all(r["shear_stress_Pa"] > r["allowable_compression_set_removed_Pa"] for r in each)

@@ -38,6 +38,9 @@ from vcbmodel.records.measurement import write_measurement
 from vcbmodel.reference.breaker import solve_closing
 
 FRICTION = ("coulomb_friction", "stribeck")
+#: m/s: the closing speeds of 12 kV vacuum breakers (parameters.py, the note on REFERENCE_LIMITS' closing
+#: speed), against which the former rise's speed is read
+VACUUM_CLOSING_SPEEDS = (0.6, 1.5)
 
 
 def models(rig):
@@ -418,6 +421,14 @@ def md_energy_split(split_rows, stop_rows):
             "stiffness and damping.\n"]
 
 
+def coil_claim(reading):
+    """Whether a steel coil of the reading's mass carries its pull, from its wire stress and the
+    allowable (Pa), in words."""
+    stress, allowed = reading["shear_stress_Pa"], reading["allowable_extension_Pa"]
+    return (f"which {'no' if stress > allowed else 'a'} steel coil of that mass carries (`spring_reading.md`: wire "
+            f"shear stress {stress / 1e9:.2f} GPa against the {allowed / 1e9:.2f} GPa allowed)")
+
+
 def md_sizing(rig, rows, sizing):
     """Why the reference breaker is sized as it is: the paper's springs under two readings."""
     old, new = sizing["flywheel_reading"], sizing["reference"]
@@ -427,9 +438,8 @@ def md_sizing(rig, rows, sizing):
     return ["## Why the reference breaker is sized as it is: the paper's springs read two ways\n",
             markdown_table(SIZING_HEADERS, rows),
             f"\nRead as {old['spring_mass_kg']:.2f} kg and {round(old['charged_pull_per_spring_N'], -2):.0f} N each, "
-            f"the paper's springs store {old['stored_J']:.0f} J, which no steel coil of that mass carries "
-            f"(`spring_reading.md`: wire shear stress {old['shear_stress_Pa'] / 1e9:.2f} GPa against the "
-            f"{old['allowable_extension_Pa'] / 1e9:.2f} GPa allowed), on a {old['cam_inertia_kg_m2']:.3f} kg m^2 cam: a "
+            f"the paper's springs store {old['stored_J']:.0f} J, {coil_claim(old)}, on a "
+            f"{old['cam_inertia_kg_m2']:.3f} kg m^2 cam: a "
             f"flywheel. The reference breaker takes the settled reading ({s.mass:.2f} kg, "
             f"{round(new['charged_pull_per_spring_N'], -2):.0f} N each; the pair stores {new['stored_J']:.0f} J), its "
             f"cam shaft sized for that energy ({new['cam_inertia_kg_m2']:.3f} kg m^2), the rise ending at "
@@ -464,27 +474,42 @@ def md_main_shaft(spread_rows, spread, twist):
             "\n" + static_check_sentence(twist, spread) + "\n"]
 
 
+def rise_speed_text(speed):
+    """Where a closing speed (m/s) lies against :data:`VACUUM_CLOSING_SPEEDS`, in words."""
+    lo, hi = VACUUM_CLOSING_SPEEDS
+    side = "above" if speed > hi else "below" if speed < lo else "within"
+    return f"{speed:.2f} m/s over the zone, {side} the {lo:g}-{hi:g} m/s of 12 kV vacuum breakers"
+
+
+def jump_text(weak, strong):
+    """Whether the roller leaves the cam before the touch with the former opening spring, and with the
+    stronger one (``opening_preload_N`` of each run, N)."""
+    fw, fs = weak["figures_of_merit"], strong["figures_of_merit"]
+    lift = fw["roller_first_lift_off_s"]  # s from the first touch; negative: before it
+    if lift is None or lift >= 0:
+        return "the roller stays on the cam up to the touch. "
+    stronger = fs["roller_first_lift_off_s"] is None or fs["roller_first_lift_off_s"] >= 0
+    return (f"the roller leaves the cam {1e3 * -lift:.2f} ms before the contacts touch: in the rise's deceleration "
+            f"the {weak['opening_preload_N']:.0f} N opening spring cannot hold the follower and the poles (at "
+            f"{strong['opening_preload_N']:.0f} N it {'can' if stronger else 'still cannot'}). ")
+
+
 def md_opening_spring_and_rise(rows, runs):
     """A follower jump and what stops it, on the flywheel reading's springs and cam."""
     (weak_label, weak), (strong_label, strong), (now_label, now) = runs.items()
-    fw, fs, fn = weak["figures_of_merit"], strong["figures_of_merit"], now["figures_of_merit"]
-    jumps = fw["roller_first_lift_off_s"] is not None and fw["roller_first_lift_off_s"] < 0
+    fn = now["figures_of_merit"]
     held = lambda f: f["roller_first_lift_off_s"] is None  # noqa: E731
     return ["## Keeping the roller on the cam: the opening spring and the rise\n",
             "On the springs and cam of the flywheel reading (the table above): the former rise over "
             f"{weak['rise_span_deg']:.0f} deg of cam angle with two opening springs, and the rise and contact it was "
             "given:\n",
             markdown_table(["breaker", *FOM_HEADERS], rows),
-            f"\nWith the former rise the poles close at {fw['closing_speed_m_s']:.2f} m/s over the zone, above the "
-            "0.6-1.5 m/s of 12 kV vacuum breakers, and "
-            + (f"the roller leaves the cam {1e3 * -fw['roller_first_lift_off_s']:.2f} ms before the contacts touch: in "
-               "the rise's deceleration the 1200 N opening spring cannot hold the follower and the poles"
-               if jumps else "the roller stays on the cam")
-            + (" (at 2400 N it can). " if held(fs) else " (at 2400 N it still leaves). ")
+            f"\nWith the former rise the poles close at {rise_speed_text(weak['figures_of_merit']['closing_speed_m_s'])}, "
+            "and " + jump_text(weak, strong)
             + "With the closing springs and the cam unchanged, the touch speed is the cam's speed times the output "
             f"point's travel per cam angle: spreading the rise over {now['rise_span_deg']:.0f} deg brings the closing "
             f"speed to {fn['closing_speed_m_s']:.2f} m/s and the closing time to {1e3 * fn['closing_time_s']:.1f} ms"
-            + (f", and the 2000 N opening spring keeps the roller on the cam with "
+            + (f", and the {now['opening_preload_N']:.0f} N opening spring keeps the roller on the cam with "
                f"{1e-3 * fn['min_cam_roller_force_before_touch_N']:.2f} kN to spare.\n" if held(fn)
                else ", but the roller still leaves the cam.\n")]
 
@@ -638,7 +663,7 @@ def opening_spring_and_rise(t_end):
         r = rig_from_data(d)
         f = figures_of_merit(simulate(r, t_end=t_end), r)
         profile = d["breaker"]["cam_profile"]
-        out[label] = {"figures_of_merit": f,
+        out[label] = {"figures_of_merit": f, "opening_preload_N": float(d["breaker"]["opening_spring"]["preload"]),
                       "rise_span_deg": float(np.degrees(profile["rise_end"] - profile["rise_start"]))}
         rows.append(fom_row(label, f))
     return rows, out

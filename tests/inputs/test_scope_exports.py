@@ -182,6 +182,7 @@ def test_a_header_padded_with_empty_cells_reads_as_the_plain_record(tmp_path, ca
     stray[5] = rows[4] + ",7" + pad[1:]  # a value in a column the header leaves unnamed
     err = refusal(write(tmp_path, "stray", stray), capsys)
     assert "stray.csv: line 6: has " in err and "the header has 2" in err
+    assert "a value under a column the header does not name" in err and "decimal comma" not in err
 
 
 def test_a_padded_semicolon_export_with_decimal_commas_reads(tmp_path):

@@ -30,6 +30,9 @@ def test_the_optimum_page_prints_the_equal_speed_gain_it_computed(study):
     assert "the gain is 1.8 %" in text and "about 1 %" not in text
     assert "outside the limits (pole_spread_s over 2 ms)" in text and "slack" not in text
     assert "within the assumed margins" not in s.comparison_text(dict(c, stored_gain_percent=7.0))
+    loss = s.comparison_text(dict(c, stored_gain_percent=-1.5))  # the optimum stores more: no gain of 1.5 %
+    assert "the gain is" not in loss and "the optimum stores 1.5 % more than the reference, under 2 %" in loss
+    assert "the optimum's gain is -1.5 %" in loss
 
 
 def test_the_optimum_names_the_limits_a_design_breaks(study):
@@ -39,6 +42,7 @@ def test_the_optimum_names_the_limits_a_design_breaks(study):
     assert s.broken_limits(ok) == []
     broke = s.broken_limits(dict(ok, min_spring_force_N=100.0, zone_speed_max_m_s=1.6))
     assert len(broke) == 2 and any("slack" in b for b in broke) and any("zone speed" in b for b in broke)
+    assert s.broken_limits(dict(ok, pole_spread_s=3e-3)) == ["pole spread over 2 ms"]  # not the column's name
 
 
 def test_the_spring_reading_page_quotes_its_own_table(study):
@@ -51,7 +55,9 @@ def test_the_spring_reading_page_quotes_its_own_table(study):
     assert text.startswith("Only m0 as eq. 8's chain parameter")
     # a reading whose frequency also met f0 would take the claim away
     rows[0] = dict(rows[0], fixed_fixed_frequency_hz=s.F0_PAPER)
-    assert not s.conclusion(rows).startswith("Only")
+    other = s.conclusion(rows)
+    assert not other.startswith("Only")
+    assert f"reading (within {100 * s.F0_MATCH:g} %); with m0 as eq. 8's chain parameter, the spring's fixed-fixed" in other  # not "its"
 
 
 def test_the_conclusion_map_names_the_side_only_where_the_ratios_order_it(study):
@@ -61,6 +67,8 @@ def test_the_conclusion_map_names_the_side_only_where_the_ratios_order_it(study)
     assert s.where_it_holds(grids).startswith("left of the black line")
     grids[s.RATIOS[0][0]] = np.array([[2.0, 3.0], [2.5, 0.8]])  # heavier spring, larger ratio at low mu_k
     assert not s.where_it_holds(grids).startswith("left")
+    failed = {col: np.full((2, 2), np.nan) for col, _ in s.RATIOS}  # every run failed: nothing is ordered
+    assert not s.where_it_holds(failed).startswith("left")
 
 
 def test_the_tolerance_page_says_where_the_bounce_limit_falls_among_the_counts(study):
@@ -68,7 +76,13 @@ def test_the_tolerance_page_says_where_the_bounce_limit_falls_among_the_counts(s
     limit = 1e-3 * s._BOUNCE["max"]
     text = s.cluster_text({1: {"min": 0.4 * limit, "max": 0.6 * limit}, 2: {"min": 0.8 * limit, "max": 1.2 * limit}})
     assert f"{1e3 * 0.8 * limit:.2f}-{1e3 * 1.2 * limit:.2f} ms with 2" in text and "with 2 bounce(s)." in text
-    assert "between the counts" in s.cluster_text({1: {"min": 0.4 * limit, "max": 0.6 * limit}})
+    one, three = {"min": 0.4 * limit, "max": 0.6 * limit}, {"min": 1.4 * limit, "max": 1.6 * limit}
+    assert "falls between the poles with 1 and with 3 bounce(s)" in s.cluster_text({1: one, 3: three})
+    # a limit below (above) every count's durations does not fall "between the counts"
+    assert "lies below every count's durations" in s.cluster_text({3: three})
+    assert "lies above every count's durations" in s.cluster_text({0: {"min": 0.0, "max": 0.0}, 1: one})
+    assert "with 0" not in s.cluster_text({0: {"min": 0.0, "max": 0.0}, 1: one})
+    assert s.cluster_text({0: {"min": 0.0, "max": 0.0}}).startswith("No pole bounces")
 
 
 def test_the_spring_modes_note_quotes_the_stress_ratio_it_computed(study):
@@ -86,3 +100,27 @@ def test_the_spring_modes_note_quotes_the_stress_ratio_it_computed(study):
     assert "4.0x the 0.45 S_ut" in note and "3.00 m0 at n = 20" in note and "no steel spring" in note
     data["coil_geometry"][f"{sp['mass']:g} kg"]["shear_stress_at_6000N_Pa"] = 0.5e9
     assert "no steel spring" not in s.modes_note(data, sp["stiffness"], sp["mass"])
+
+
+def test_the_closing_page_reads_the_former_rise_from_its_runs(study):
+    """vcb_closing's roller-jump paragraph printed 'above the 0.6-1.5 m/s' whatever the speed, and 'the
+    roller stays on the cam (at 2400 N it can)' for a roller that does not jump."""
+    s = study("vcb_closing")
+    lo, hi = s.VACUUM_CLOSING_SPEEDS
+    assert "2.15 m/s over the zone, above the" in s.rise_speed_text(2.15)
+    assert "within the" in s.rise_speed_text(0.5 * (lo + hi)) and "below the" in s.rise_speed_text(0.5 * lo)
+
+    def run(lift, preload):
+        return {"figures_of_merit": {"roller_first_lift_off_s": lift}, "opening_preload_N": preload}
+    jumps = s.jump_text(run(-3.8e-4, 1200.0), run(None, 2400.0))
+    assert "leaves the cam 0.38 ms before" in jumps and "1200 N opening spring" in jumps and "(at 2400 N it can)" in jumps
+    assert "(at 2400 N it still cannot)" in s.jump_text(run(-3.8e-4, 1200.0), run(-1e-4, 2400.0))
+    stays = s.jump_text(run(None, 1200.0), run(None, 2400.0))
+    assert stays == "the roller stays on the cam up to the touch. "
+
+
+def test_the_closing_page_says_a_coil_fails_only_where_its_stress_is_over_the_allowable(study):
+    s = study("vcb_closing")
+    over = s.coil_claim({"shear_stress_Pa": 2.94e9, "allowable_extension_Pa": 0.76e9})
+    assert over.startswith("which no steel coil") and "2.94 GPa against the 0.76 GPa allowed" in over
+    assert s.coil_claim({"shear_stress_Pa": 0.5e9, "allowable_extension_Pa": 0.76e9}).startswith("which a steel coil")

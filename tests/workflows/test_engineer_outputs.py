@@ -154,7 +154,7 @@ def test_a_sequence_judges_its_closings_against_the_limits(tmp_path, capsys):
     out, err = capsys.readouterr()
     assert err.strip() == ("vcbmodel: the breaker fails: CO at 0.3 s: bounce duration (limit <= 1 ms) "
                            "(report and outputs written)")
-    assert "  limits (breaker.limits): bounce duration <= 1 ms FAIL; closing speed 1-1.5 m/s pass; " \
+    assert "  limits (breaker.limits): bounce duration <= 1 ms FAIL (1.93 ms); closing speed 1-1.5 m/s pass; " \
            "not judged in a sequence: contact force closed" in out
     assert out.splitlines()[-1] == "limits (breaker.limits), the operations: FAIL: CO at 0.3 s: bounce duration (limit <= 1 ms)"
     assert main(["simulate", str(rig), "--sequence", "O-0.3s-CO", "--backend", "fast", "--json", "-q"]) == 1
@@ -175,6 +175,22 @@ def test_a_sequence_says_so_when_none_of_the_rigs_limits_is_one_it_judges(tmp_pa
     assert main(["simulate", str(rig), "--sequence", "C", "--backend", "fast", "-q"]) == 0
     out = capsys.readouterr().out
     assert "  limits (breaker.limits): not judged in a sequence: contact force closed" in out
+
+
+def test_a_sequence_names_the_limits_on_a_part_none_of_its_operations_has(tmp_path, capsys):
+    """A C alone on a rig with opening limits (or an O alone on one with closing limits) printed no word
+    of them, no line and no verdict, where a plain closing says in a note that a sequence judges them."""
+    data = json.loads(CYCLE.read_text())
+    data["breaker"]["limits"] = {"opening_speed": {"min": 1.5, "max": 2.0, "unit": "m/s"}}
+    rig = tmp_path / "open.rig.json"
+    rig.write_text(json.dumps(data))
+    assert main(["simulate", str(rig), "--sequence", "C", "--backend", "fast", "-q"]) == 0
+    assert "note: the limits on the opening (opening speed) are not judged: the sequence has no O or CO" \
+        in capsys.readouterr().out.splitlines()
+    assert main(["simulate", str(CYCLE), "--sequence", "O", "--backend", "fast", "--json", "-q"]) == 0
+    notes = json.loads(capsys.readouterr().out)["notes"]
+    assert ("the limits on the closing (closing speed, closing time, pole spread, bounce duration, contact force "
+            "closed) are not judged: the sequence has no C or CO") in notes
 
 
 def test_an_opening_has_limits_judged_on_each_o_and_co(tmp_path, capsys):
@@ -204,6 +220,8 @@ def test_an_opening_has_limits_judged_on_each_o_and_co(tmp_path, capsys):
     out = capsys.readouterr().out
     assert "  limits (breaker.limits): opening time <= 3.3 ms pass; opening time from coil <= 30 ms pass; " \
            "opening speed 1.5-2 m/s pass" in out
+    # the CO's line printed the poles' mean (2.24 m/s) beside FAIL: the failing limit shows each pole's value
+    assert f"opening speed 1.5-2 m/s FAIL ({', '.join(f'{v:.3g}' for v in speeds)} m/s)" in out
     assert out.splitlines()[-1] == ("limits (breaker.limits), the operations: FAIL: CO at 0.3 s: opening time (limit "
                                     "<= 3.3 ms); CO at 0.3 s: opening speed (limit 1.5-2 m/s)")
     assert main(["simulate", str(rig), "--backend", "fast", "-o", str(tmp_path / "c.csv"), "--json", "-q"]) == 0

@@ -201,6 +201,8 @@ def test_the_verdict_says_when_the_cam_does_not_latch_whatever_the_limits_say(tm
                      str(tmp_path / f"{rig.stem}{t_end}.csv"), "--json", "-q"]) == status  # 1: the closing fails
         out, err = capsys.readouterr()
         verdicts[rig.stem, t_end] = json.loads(out)["verdict"]
+        if status:  # stopped short: no longer run shows the end stop (the note said 'a longer --t-end shows it')
+            assert not any("before the cam meets its end stop" in n for n in json.loads(out)["notes"])
         # turned back short of its latch, the closing fails (its contacts reopen: pole 2's force fails too)
         assert err.strip() == ("vcbmodel: the breaker fails: contact force closed on pole 2; CLOSING FAILS (latch not "
                                "reached) (report and outputs written)" if status else "")
@@ -241,3 +243,41 @@ def test_a_single_pole_has_no_pole_spread_to_print_or_limit(tmp_path, capsys):
     assert "1 of 1 judged: all pass" in report.verdict()
     three = load_rig(write_rig(tmp_path, breaker(limits)[0], "three"))  # three poles: the figure as it was
     assert all(not r.absent for r in summaries.closing_report(simulate(three, backend="fast"), three).rows)
+
+
+def test_a_run_too_short_to_touch_shows_no_closed_contact_force(tmp_path, capsys):
+    """A 20 ms run (no pole has touched) printed a closed contact force of 0.000 kN per pole and failed
+    the limit on it: 'the breaker fails' (status 1) for a run the notes call not a complete closing,
+    while its closing time read 'no value'. A pole not yet touched has no closed force to judge."""
+    data, _ = breaker({"contact_force_closed": {"min": 3, "unit": "kN"}, "closing_time": {"max": 80, "unit": "ms"}})
+    rig = write_rig(tmp_path, data, "short")
+    assert main(["simulate", str(rig), "--backend", "fast", "--t-end", "0.02", "-o", str(tmp_path / "s.csv"),
+                 "--json", "-q"]) == 0
+    out, err = capsys.readouterr()
+    body = json.loads(out)
+    force = [p["contact_force_closed"] for p in body["poles"]]
+    assert all(f["value"] is None and f["pass"] is None for f in force) and len(force) == 3
+    assert body["fails"] is False and err == ""
+    assert any("not a complete closing" in n for n in body["notes"])
+
+
+def test_a_cam_at_rest_before_any_pole_touches_fails_the_closing(tmp_path):
+    """A closing cut at 25 ms (no pole touched yet) is not judged; the same run with its cam standing
+    still over its last CAM_REST_TIME and more, no pole touched, will never close: the closing fails
+    (it read 'not a complete closing (a longer --t-end)', status 0, every limit 'no value')."""
+    from dataclasses import replace
+
+    import numpy as np
+    rig = load_rig(write_rig(tmp_path, breaker({"closing_time": {"max": 80, "unit": "ms"}})[0], "rest"))
+    r = simulate(rig, backend="fast", t_end=0.025)
+    cut = summaries.closing_report(r, rig)
+    assert cut.failures() == [] and any("not a complete closing" in n for n in cut.notes)
+    theta = r.channels["cam_angle"].copy()
+    still = r.t >= r.t[-1] - P.CAM_REST_TIME - 1e-3
+    theta[still] = theta[np.argmax(still) - 1]
+    held = replace(r, channels={**r.channels, "cam_angle": theta})
+    report = summaries.closing_report(held, rig)
+    assert report.failures() == ["CLOSING FAILS (no pole touches)"]
+    assert "THE CLOSING FAILS: no pole touches" in report.verdict()
+    assert any(n.startswith("no pole touches: the cam comes to rest") for n in report.notes)
+    assert not any("a longer --t-end" in n and "touch" in n for n in report.notes)

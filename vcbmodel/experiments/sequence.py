@@ -36,6 +36,7 @@ from .. import parameters as P
 from ..errors import InputError, SimulationError
 from ..laws.opening import NO_TRIP, Commands
 from ..laws.release import release_delay
+from ..rig.limits import LIMITED_FIGURES
 from .closing_evaluation import figures_of_merit
 from .simulation import simulate
 
@@ -244,6 +245,7 @@ def run_sequence(rig: Rig, text: str, backend: str = "exudyn", results: list | N
             summary["limits_not_judged"] = [lim.figure for lim in rig.breaker.limits if lim.figure not in SEQUENCE_LIMITED]
         entries.append(summary)
         notes += _operation_notes(entry, summary, steps[k + 1] if k + 1 < len(steps) else None)
+    notes += unjudged_parts(rig.breaker.limits, steps)
     for key, ops in (("closing_release", ("C", "CO")), ("opening_release", ("O", "CO"))):
         if getattr(rig.breaker, key) is None and any(s.op in ops for s in steps):
             notes.append(f"no breaker.{key}: times from the coil are null, those from the latch or pawl stand"
@@ -251,6 +253,21 @@ def run_sequence(rig: Rig, text: str, backend: str = "exudyn", results: list | N
     notes.append(f"closing springs: charged at the start; each closing discharges them and the motor recharges them in "
                  f"{P.SPRING_RECHARGE_TIME:g} s (parameters.SPRING_RECHARGE_TIME), not simulated: an O does not use them")
     return {"sequence": text, "operations": entries, "notes": notes, "dead_times_s": dead_times(steps, entries)}
+
+
+def unjudged_parts(limits: tuple, steps: list[Step]) -> list[str]:
+    """A note for each part of an operation (``closing``, ``opening``) that the rig's limits bound but no
+    operation of the sequence has: an O-only sequence judges no closing limit, a C-only one no opening
+    limit; said, not left out of the text as if the rig had none. A limit a sequence never judges (the
+    contact force closed) bounds a closing: a closing's line lists it."""
+    parts = {part for s in steps for part in OPERATION_PARTS[s.op]}
+    notes = []
+    for part, ops in (("closing", "C or CO"), ("opening", "O or CO")):
+        names = [lim.figure.replace("_", " ") for lim in limits
+                 if SEQUENCE_LIMITED.get(lim.figure, ("closing",))[0] == part and part not in parts]
+        if names:
+            notes.append(f"the limits on the {part} ({', '.join(names)}) are not judged: the sequence has no {ops}")
+    return notes
 
 
 def _operation_notes(entry: dict, summary: dict, following: Step | None) -> list[str]:
@@ -344,9 +361,19 @@ def limit_lines(e: dict) -> list[str]:
     if not e.get("limits") and not left:
         return []
     words = {True: "pass", False: "FAIL", None: "no value"}
-    judged = [f"{c['limit'].replace('_', ' ')} {c['text']} {words[c['pass']]}" for c in e.get("limits", [])]
+    judged = [f"{c['limit'].replace('_', ' ')} {c['text']} {words[c['pass']]}" + (f" ({failing_values(c)})" if c["pass"]
+                                                                                 is False else "")
+              for c in e.get("limits", [])]
     return ["  limits (breaker.limits): " + "; ".join(judged + ([f"not judged in a sequence: {', '.join(left)}"]
                                                                if left else []))]
+
+
+def failing_values(c: dict) -> str:
+    """The values a failing limit judged (``c``: one of :func:`operation_limits`' dicts), as read: ms for a
+    time, m/s for a speed, J for an energy; every pole's for a per-pole limit (the line's mean hides one)."""
+    unit, scale = {"s": ("ms", 1e3), "m/s": ("m/s", 1.0), "J": ("J", 1.0)}.get(LIMITED_FIGURES[c["limit"]][0], ("", 1.0))
+    shown = ", ".join("-" if v is None else f"{scale * v:.3g}" for v in c["values_si"])
+    return f"{shown} {unit}".rstrip()
 
 
 def sequence_verdict(report: dict) -> list[str]:

@@ -9,6 +9,7 @@ from __future__ import annotations
 from typing import TYPE_CHECKING
 import numpy as np
 
+from .. import parameters as P
 from ..laws.breaker import pole_gaps
 from ..laws.cam_follower import follower_displacement
 from ..records.analyser import simulated_channels, travel_figures
@@ -17,6 +18,7 @@ from ..rig.limits import OPENING_LIMITS
 from ..rig.units import unit_of_name
 from .base import experiment_of, measured_only
 from .closing_evaluation import main_shaft_twist
+from .cycle_evaluation import at_rest
 from .report import Report, Row, label
 
 if TYPE_CHECKING:
@@ -106,19 +108,35 @@ def closing_summary(result: SimulationResult, rig: Rig) -> list[tuple]:
     and notes (``("note", text, None)``); each pole's figures: :func:`closing_report`."""
     fom = result_figures(result, rig)
     lines = [(what, value, unit) for _, what, value, unit in breaker_figures(fom, rig)]
-    return lines + stop_summary(result, rig) + twist_summary(result, rig) + closing_notes(fom, rig)
+    return (lines + stop_summary(result, rig) + twist_summary(result, rig)
+            + closing_notes(fom, rig, stops_untouched(result, fom)))
 
 
-def closing_notes(fom: dict, rig: Rig) -> list[tuple]:
+def stops_untouched(result: SimulationResult, fom: dict) -> bool:
+    """Whether the cam has come to rest with no pole touched: it moved (more than
+    ``parameters.CAM_TURN_BACK_ANGLE`` from its start) and has stood within that angle over the run's
+    last ``parameters.CAM_REST_TIME`` (:func:`~vcbmodel.experiments.cycle_evaluation.at_rest`): the
+    breaker will not close however long the run, where a run cut short before the touch is not judged."""
+    if fom.get("first_touch_s") is not None:
+        return False
+    t, theta = result.t, result.channels["cam_angle"]
+    return bool(theta.size) and float(np.max(theta) - theta[0]) > P.CAM_TURN_BACK_ANGLE and at_rest(t, theta)
+
+
+def closing_notes(fom: dict, rig: Rig, untouched: bool = False) -> list[tuple]:
     """[("note", text, None)]: what a reader of the figures must not miss, said plainly: a run that
     ends before every pole touches, before the cam meets its end stop, or with the cam still
-    turning (a truncated run, not a complete closing); contacts that reopen after closing; a cam
-    that runs back down its profile (turned back by its springs, or on into its return)."""
+    turning (a truncated run, not a complete closing); a cam at rest before any pole touches
+    (``untouched``: :func:`stops_untouched`, the closing fails); contacts that reopen after closing; a
+    cam that runs back down its profile (turned back by its springs, or on into its return)."""
     end_ms = 1e3 * fom["end_s"]
     notes = []
     touches = fom["per_pole"]["touch_s"]
     missing = [str(i) for i, x in enumerate(touches, start=1) if x is None]
-    if missing:
+    if untouched:
+        notes.append(f"no pole touches: the cam comes to rest at {fom['cam_angle_end_deg']:.1f} deg before the contacts "
+                     "close (the closing fails)")
+    elif missing:
         notes.append(f"the run ends at {end_ms:.4g} ms before pole {', '.join(missing)} "
                      f"{'touches' if len(missing) == 1 else 'touch'}: not a complete closing (a longer --t-end)")
     if fom["contacts_reopen_s"] is not None:
@@ -141,7 +159,9 @@ def closing_notes(fom: dict, rig: Rig) -> list[tuple]:
     if opening and fom.get("opening") is None:
         notes.append(f"the limits on the opening ({', '.join(opening)}) are judged by simulate --sequence, on each "
                      "O and CO: a closing does not open")
-    if rig.breaker.end_stop is not None and fom["end_stop_met"] is False:
+    if rig.breaker.end_stop is not None and fom["end_stop_met"] is False and fom["latched"] is not False \
+            and not untouched:
+        # a cam that has stopped short of its latch will not meet its stop either: no longer run shows it
         notes.append(f"the run ends at {end_ms:.4g} ms before the cam meets its end stop (a longer --t-end shows it)")
     if fom["moving_at_end"]:
         notes.append(f"the run ends at {end_ms:.4g} ms with the cam still turning ({fom['shaft_velocity_end_rad_s']:.3g} "
@@ -215,14 +235,15 @@ def pole_travel_figures(result: SimulationResult, rig: Rig, touches: list) -> li
     (:func:`vcbmodel.records.analyser.travel_figures`): ``overtravel_m`` beyond the final position,
     ``rebound_m`` below it after the peak, ``wipe_m`` from the pole's touch to the final position (None
     if it never touches); and ``contact_force_closed_N``: the contact force at rest, the median of the
-    run's last 2 % (0 for a pole open at the end)."""
+    run's last 2 % (0 for a pole that touched and is open at the end; None for one that has not touched
+    yet: a run too short to show its closed force, as its closing time)."""
     out = []
     for i, touch in enumerate(touches, start=1):
         figures = travel_figures(result.t, pole_drive_travel(result, rig, i), touch)
         force = result.channels[f"pole_{i}_contact_force"]
         out.append({"overtravel_m": figures["overtravel_m"], "rebound_m": figures["rebound_m"],
                     "wipe_m": figures.get("wipe_m"),
-                    "contact_force_closed_N": float(np.median(force[-max(3, force.size // 50):]))})
+                    "contact_force_closed_N": None if touch is None else float(np.median(force[-max(3, force.size // 50):]))})
     return out
 
 
@@ -269,14 +290,20 @@ def closing_report(result: SimulationResult, rig: Rig) -> Report:
              and not isinstance(value, bool)]
     rows += [Row("", what, [value], unit) for what, value, unit in stop_summary(result, rig) + twist_summary(result, rig)]
     extra = pole_travel_figures(result, rig, fom["per_pole"]["touch_s"])
+    untouched = stops_untouched(result, fom)
     return Report(f"{rig.name}: {rig.experiment}", rows, pole_rows(fom, extra, rig), rig.breaker.poles.count,
-                  [text for _, text, _ in closing_notes(fom, rig)], rig.breaker.limits, latching_verdict(fom))
+                  [text for _, text, _ in closing_notes(fom, rig, untouched)], rig.breaker.limits,
+                  latching_verdict(fom, untouched))
 
 
-def latching_verdict(fom: dict) -> tuple[str, str, bool] | None:
+def latching_verdict(fom: dict, untouched: bool = False) -> tuple[str, str, bool] | None:
     """(text, brief text, whether the closing fails) for the verdict on the limits: a cam that stops
-    short of its latch fails the closing whatever the limits say; a run that ends before the cam
-    reaches its latch leaves that unjudged (None: it latched, or no pole touched)."""
+    short of its latch, or at rest before any pole touches (``untouched``: :func:`stops_untouched`),
+    fails the closing whatever the limits say; a run that ends before the cam reaches its latch leaves
+    that unjudged (None: it latched, or no pole touched in a run that ends first)."""
+    if untouched:
+        return (f"THE CLOSING FAILS: no pole touches, the cam comes to rest at {fom['cam_angle_end_deg']:.1f} deg",
+                "CLOSING FAILS (no pole touches)", True)
     if fom["latched"] is False:
         return (f"THE CLOSING FAILS: the cam stops {fom['latch_short_deg']:.3g} deg short of its latch",
                 "CLOSING FAILS (latch not reached)", True)

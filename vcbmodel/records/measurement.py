@@ -361,9 +361,14 @@ def _data_row(cells: list, header: list, dialect: tuple, path: str, line: int) -
     finite number."""
     cells = _within(cells, len(header))
     if len(cells) != len(header):
+        extra = len(cells) > len(header)
+        # a decimal comma splits every number in two; a row whose values have decimal points holds a value
+        # past the header's columns (under a column it leaves unnamed, such as a spreadsheet's padding)
+        comma = extra and dialect[0] == "," and not any("." in c for c in cells)
         raise InputError(path, f"line {line}", f"has {len(cells)} values, the header has {len(header)}"
-                         + (" (a decimal comma in a comma-separated file? use ';' between values)"
-                            if dialect[0] == "," and len(cells) > len(header) else ""))
+                         + (" (a decimal comma in a comma-separated file? use ';' between values)" if comma else
+                            " (a value under a column the header does not name: name the column or delete the value)"
+                            if extra else ""))
     values = [_number(c, path, line) for c in cells]
     for col, v in zip(header, values):
         if not math.isfinite(v):
