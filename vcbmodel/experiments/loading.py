@@ -8,6 +8,7 @@ from __future__ import annotations
 import json
 import logging
 import math
+from dataclasses import replace
 from pathlib import Path
 from typing import TYPE_CHECKING
 
@@ -16,6 +17,7 @@ from ..model.choice import applicable
 from ..model.result import unit_of
 from ..model.values import rig_values
 from ..records.analyser import analyser_channels, check_contacts, simulated_channels
+from ..records.integrity import check_held_values, unwrap_turns
 from ..records.measurement import load_measurement, sibling_rig_path
 from ..rig.data import Rig
 from ..rig.paths import loaded_value
@@ -92,12 +94,28 @@ def load_record(measurement_path: str | Path, rig: Rig) -> Measurement:
     known = known_channels(rig)
     meas = load_measurement(measurement_path, record.measured_channel, known, {c: unit_of(c) for c in known},
                             record.channel_hint)
+    meas = unwrapped(meas)
     record.check_record(meas.t, meas.channel(record.measured_channel), meas.path,
                         [v for name, v in meas.channels.items() if name != record.measured_channel])
     if record.initial_angle_field is not None:
         check_start_in_degrees(meas, record.measured_channel, rig, record.initial_angle_field)
     check_contacts(meas)
+    check_held_values(meas.t, meas.channel(record.measured_channel), meas.path, record.measured_channel)
     return meas
+
+
+def unwrapped(meas: Measurement) -> Measurement:
+    """``meas`` with each angle channel (rad) that wraps at a full turn (an encoder counting 0..360 deg
+    or -180..180 deg) unwrapped, said once as a warning: the record as the shaft turned."""
+    channels = dict(meas.channels)
+    for name, y in meas.channels.items():
+        if unit_of(name) != "rad":
+            continue
+        channels[name], wraps = unwrap_turns(y)
+        if wraps:
+            log.warning("vcbmodel: warning: %s: column %r wraps at a full turn %d time(s) (an encoder's count): "
+                        "read unwrapped", meas.path, name, wraps)
+    return replace(meas, channels=channels)
 
 
 #: A record whose first sample, less the rig's stated sensor offset and over its gain, reads the record's
