@@ -40,10 +40,27 @@ class Measurement:
         return replace(self, t=self.t[keep], channels={k: v[keep] for k, v in self.channels.items()})
 
 
+#: The byte-order marks of UTF-16 (little- and big-endian), as Excel's "Unicode text" and other Windows
+#: tools write it.
+UTF16_BOMS = (b"\xff\xfe", b"\xfe\xff")
+
+
+def _utf8(path, raw: bytes) -> bytes:
+    """A UTF-16 file with its byte-order mark (Excel's "Unicode text", tab-separated) as UTF-8 bytes;
+    any other file as it is."""
+    if not raw.startswith(UTF16_BOMS):
+        return raw
+    try:
+        return raw.decode("utf-16").encode("utf-8")
+    except UnicodeDecodeError:
+        raise InputError(path, "file", "starts as UTF-16 text but is not UTF-16 throughout: save it as "
+                         "UTF-8") from None
+
+
 def _lines(path, raw):
     """(line number, text) of each line; comment lines may hold any bytes (free text), the others
-    are UTF-8 (a header's or units row's ``µs``, ``°``)."""
-    for i, line in enumerate(text_bytes(path, raw).splitlines(), start=1):
+    are UTF-8 (a header's or units row's ``µs``, ``°``); a UTF-16 file is read as its text."""
+    for i, line in enumerate(text_bytes(path, _utf8(path, raw)).splitlines(), start=1):
         s = line.strip()
         if s.startswith(b"#"):
             yield i, s.decode("utf-8", errors="replace")

@@ -1,0 +1,137 @@
+"""Records as sensors and loggers leave them: an encoder that wraps at a full turn (read unwrapped, the
+same record as the shaft turned), a channel clipped at the sensor's range or a dropout held or zeroed
+(refused: fitted as motion it would be a wrong diagnosis), a quantised sensor (neither: its turning points
+and rests hold a value too, and are read as they are), and a UTF-16 export (read as its text)."""
+import logging
+import math
+
+import numpy as np
+import pytest
+
+from vcbmodel.app.cli import main
+from vcbmodel.errors import InputError
+from vcbmodel.experiments.loading import load_pair
+from vcbmodel.records.integrity import check_held_values, unwrap_turns
+
+from conftest import ROOT
+
+SYNTHETIC = ROOT / "results" / "synthetic"
+PENDULUM, CAM = SYNTHETIC / "pendulum_10deg", SYNTHETIC / "demo_cam"
+
+
+def write(tmp_path, name, source, t, y, header=None, encoding="utf-8", sep=","):
+    """``t``, ``y`` under ``header`` (the source's channel) as ``name.csv``, beside a copy of the source's rig."""
+    _, clean = load_pair(source.with_suffix(".csv"))
+    channel = next(iter(clean.channels))
+    lines = [header or f"t{sep}{channel}"] + [f"{a:.7f}{sep}{b:.9g}" for a, b in zip(t, y)]
+    (tmp_path / f"{name}.csv").write_text("\r\n".join(lines) + "\r\n", encoding=encoding)
+    (tmp_path / f"{name}.rig.json").write_text(source.with_suffix(".rig.json").read_text())
+    return tmp_path / f"{name}.csv"
+
+
+def clean(source):
+    _, m = load_pair(source.with_suffix(".csv"))
+    return m.t, next(iter(m.channels.values()))
+
+
+def refused(capsys, path, tmp_path):
+    """``diagnose`` refuses ``path``: status 2, one line naming the file, nothing on stdout or written."""
+    plot = tmp_path / "out" / "d.png"
+    plot.parent.mkdir()
+    assert main(["diagnose", str(path), "--json", "--plot", str(plot)]) == 2
+    out, err = capsys.readouterr()
+    err = err.strip()
+    assert out == "" and "\n" not in err and "Traceback" not in err and path.name in err, err
+    assert list(plot.parent.iterdir()) == []
+    return err
+
+
+@pytest.mark.parametrize("source,wrap", [(CAM, "pm_pi"), (PENDULUM, "deg_360"), (PENDULUM, "zero_to_2pi")])
+def test_an_encoder_that_wraps_at_a_full_turn_is_read_as_the_shaft_turned(tmp_path, caplog, source, wrap):
+    t, y = clean(source)
+    channel = "cam_angle" if source == CAM else "pendulum_angle"
+    if wrap == "pm_pi":  # an absolute encoder counting -180..180 deg: the cam passes 180 deg
+        path = write(tmp_path, wrap, source, t, (y + math.pi) % (2 * math.pi) - math.pi)
+    elif wrap == "deg_360":
+        path = write(tmp_path, wrap, source, t, np.degrees(y) % 360, header=f"t,{channel} [deg]")
+    else:  # 0..360 deg: the pendulum swings through its zero, many times, noise flicking across it
+        path = write(tmp_path, wrap, source, t, y % (2 * math.pi))
+    assert np.ptp(load_pair(path)[1].channel(channel)) > 0
+    with caplog.at_level(logging.WARNING, logger="vcbmodel"):
+        _, read = load_pair(path)
+    assert np.allclose(read.channel(channel), y, atol=1e-7, rtol=0)
+    assert "wraps at a full turn" in caplog.text
+
+
+def test_a_wrapped_cam_record_gets_the_clean_records_diagnosis(tmp_path, capsys):
+    import json
+    t, y = clean(CAM)
+    path = write(tmp_path, "wrapped", CAM, t, (y + math.pi) % (2 * math.pi) - math.pi)
+    verdicts = []
+    for record in (CAM.with_suffix(".csv"), path):
+        assert main(["diagnose", str(record), "--json"]) == 0
+        d = json.loads(capsys.readouterr().out)
+        verdicts.append((d["explained"], d["final_effects"], round(d["rms_after"], 6)))
+    assert verdicts[0] == verdicts[1] and verdicts[0][0] is True
+
+
+@pytest.mark.parametrize("source,what", [(CAM, "top"), (CAM, "bottom"), (PENDULUM, "top"), (PENDULUM, "bottom")])
+def test_a_channel_clipped_at_its_range_is_refused_not_fitted(tmp_path, capsys, source, what):
+    """Before this check the cam record clipped at 85 % of its travel was diagnosed as missing viscous
+    friction: a plausible, wrong answer."""
+    t, y = clean(source)
+    lo, hi = y.min(), y.max()
+    clipped = np.minimum(y, lo + 0.85 * (hi - lo)) if what == "top" else np.maximum(y, lo + 0.15 * (hi - lo))
+    err = refused(capsys, write(tmp_path, f"clip_{what}", source, t, clipped), tmp_path)
+    assert "column" in err and "clipped" in err and ("largest" if what == "top" else "smallest") in err
+
+
+@pytest.mark.parametrize("fill", ["held", "zeros"])
+@pytest.mark.parametrize("source", [CAM, PENDULUM])
+def test_a_dropout_filled_by_the_logger_is_refused_naming_when(tmp_path, capsys, source, fill):
+    t, y = clean(source)
+    i = t.size // 3
+    y = y.copy()
+    y[i:i + 20] = y[i] if fill == "held" else 0.0
+    if source == PENDULUM and fill == "held":
+        y[i:i + 40] = y[i]  # a pendulum at 1 kHz moves little in 20 ms: a short hold is harmless and let be
+    err = refused(capsys, write(tmp_path, f"dropout_{fill}", source, t, y), tmp_path)
+    assert "exactly over" in err and f"t = {t[i]:.6g}" in err and ("zeros" if fill == "zeros" else "last value") in err
+
+
+@pytest.mark.parametrize("levels", [65536, 4096, 1024, 256, 64])
+@pytest.mark.parametrize("noise", [0.0, 0.3, 1.0])
+@pytest.mark.parametrize("name", ["pendulum_10deg", "pendulum_15deg", "held_out_10deg", "demo_cam", "cam_drop_m0_1kg",
+                                  "vcb_closing"])
+def test_a_quantised_sensors_turning_points_and_rests_are_not_called_held(name, noise, levels):
+    """A sensor with few levels (an encoder, a digitiser with few bits) holds a value at each turning
+    point and rest; with or without noise before the rounding, none of it is refused."""
+    _, m = load_pair((SYNTHETIC / name).with_suffix(".csv"))
+    channel, y = next(iter(m.channels.items()))
+    q = float(np.ptp(y)) / levels
+    rng = np.random.default_rng(levels)
+    rounded = np.round((y + noise * q * rng.standard_normal(y.size)) / q) * q
+    check_held_values(m.t, rounded, name, channel)
+
+
+def test_unwrapping_leaves_a_record_without_whole_turn_steps_alone():
+    y = np.linspace(0.0, 3.0, 200) + 1e-3 * np.random.default_rng(1).standard_normal(200)
+    same, wraps = unwrap_turns(y)
+    assert wraps == 0 and np.array_equal(same, y)
+    jump = y.copy()
+    jump[100:] += 2 * math.pi  # a whole turn between samples whose neighbours are also far apart: not a wrap
+    jump[99] += 1.0
+    assert unwrap_turns(jump)[1] == 0
+
+
+def test_a_utf16_export_reads_as_the_same_record(tmp_path):
+    """Excel's "Unicode text": UTF-16 with its byte-order mark, tab-separated, Windows line ends."""
+    t, y = clean(PENDULUM)
+    path = write(tmp_path, "unicode_text", PENDULUM, t, y, header="t\tpendulum_angle", encoding="utf-16", sep="\t")
+    assert path.read_bytes()[:2] in (b"\xff\xfe", b"\xfe\xff")
+    _, read = load_pair(path)
+    assert np.array_equal(read.t, t) and np.array_equal(read.channel("pendulum_angle"), y)
+    broken = tmp_path / "broken.csv"
+    broken.write_bytes(b"\xff\xfet\x00,\x00\x00\xd8")  # a lone surrogate: not UTF-16
+    with pytest.raises(InputError, match="UTF-16"):
+        load_pair(broken, PENDULUM.with_suffix(".rig.json"))
