@@ -127,7 +127,8 @@ DEGREES_RATIO_LEAST = 20.0
 
 
 def check_start_in_degrees(meas: Measurement, channel: str, rig: Rig, field: str) -> None:
-    """Refuse an angle record that starts at its starting angle read in degrees (a 2.5 deg pendulum
+    """Refuse an angle record that starts at its starting angle with its sign turned (a sensor counting
+    the other way: fitted, a mirror image the model cannot follow) or read in degrees (a 2.5 deg pendulum
     release written as 2.5 stays within pi, so the range check lets it pass, and the fits would take it as
     2.5 rad: a wrong diagnosis, not an error). The starting angle is the rig's ``record.initial_angle``
     when it states one, else ``field``; the first sample is read through the rig's stated
@@ -138,7 +139,13 @@ def check_start_in_degrees(meas: Measurement, channel: str, rig: Rig, field: str
     offset, gain = rig.record.get("sensor_offset") or 0.0, rig.record.get("sensor_gain") or 1.0
     first = (float(meas.channel(channel)[0]) - offset) / gain
     degrees = math.degrees(initial_angle)
-    if initial_angle == 0.0 or abs(first) < DEGREES_RATIO_LEAST * abs(initial_angle):
+    if initial_angle == 0.0:
+        return
+    if abs(first + initial_angle) <= DEGREES_MATCH * abs(initial_angle):
+        raise InputError(meas.path, f"column {channel!r}", f"starts at {first:.4g}, the rig's {where} "
+                         f"{initial_angle:.4g} rad with its sign turned: a sensor counting the other way? Turn the "
+                         f"column's sign; if the test did start there, state it as the rig's {where}")
+    if abs(first) < DEGREES_RATIO_LEAST * abs(initial_angle):
         return
     if abs(first - degrees) <= DEGREES_MATCH * abs(degrees):
         raise InputError(meas.path, f"column {channel!r}", f"starts at {first:.4g}, the rig's {where} "
