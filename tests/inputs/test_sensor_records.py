@@ -144,3 +144,9 @@ def test_an_angle_record_with_its_sign_turned_is_refused_not_fitted_as_a_mirror_
     t, y = clean(source)
     err = refused(capsys, write(tmp_path, "turned", source, t, -y), tmp_path)
     assert "sign turned" in err and "initial_angle" in err
+
+
+def test_a_time_column_of_sample_numbers_is_refused_saying_so(tmp_path, capsys):
+    t, y = clean(CAM)
+    err = refused(capsys, write(tmp_path, "numbers", CAM, np.arange(t.size), y), tmp_path)
+    assert "column 't'" in err and "sample numbers" in err

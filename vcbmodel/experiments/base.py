@@ -186,6 +186,11 @@ class Experiment:
         (a unit slip: degrees for rad, mm for m), or with no channel (``y`` and ``others``) that ever
         changes (one line, InputError)."""
         check_samples(t, source)
+        steps = np.diff(t)
+        if t.size > 2 and float(t[0]).is_integer() and np.all(steps == 1.0):
+            raise InputError(source, "column 't'", f"counts in whole steps of 1 ({t[0]:g} to {t[-1]:g}): sample numbers, or "
+                             "milliseconds of a 1 kHz record? It must be in seconds: give the time (sample number / "
+                             "sample rate), or state its unit (t [ms])")
         self.check_duration(float(t[-1] - t[0]), source, "column 't'")
         spacing = float(np.min(np.diff(t)))
         if spacing < MIN_SAMPLE_INTERVAL:
