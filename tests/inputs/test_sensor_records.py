@@ -150,3 +150,31 @@ def test_a_time_column_of_sample_numbers_is_refused_saying_so(tmp_path, capsys):
     t, y = clean(CAM)
     err = refused(capsys, write(tmp_path, "numbers", CAM, np.arange(t.size), y), tmp_path)
     assert "column 't'" in err and "sample numbers" in err
+
+
+@pytest.mark.parametrize("form", ["iso", "iso_t", "time_of_day", "semicolon"])
+def test_a_time_column_of_clock_times_reads_as_seconds_from_the_first(tmp_path, form):
+    """A logger's clock (an ISO date and time, or the time of day) in the time column: seconds from the
+    first sample's clock time, to the microsecond."""
+    import datetime as dt
+    t, y = clean(PENDULUM)
+    start = dt.datetime(2026, 11, 27, 23, 50, 0)
+    stamps = [start + dt.timedelta(seconds=float(a)) for a in t]
+    cell = {"iso": lambda s: s.isoformat(sep=" ", timespec="microseconds"),
+            "iso_t": lambda s: s.isoformat(timespec="milliseconds"),
+            "time_of_day": lambda s: s.time().isoformat(timespec="milliseconds"),
+            "semicolon": lambda s: s.isoformat(sep=" ", timespec="milliseconds").replace(".", ",")}[form]
+    sep, value = (";", lambda v: f"{v:.9g}".replace(".", ",")) if form == "semicolon" else (",", lambda v: f"{v:.9g}")
+    lines = [f"Time{sep}pendulum_angle"] + [f"{cell(s)}{sep}{value(v)}" for s, v in zip(stamps, y)]
+    (tmp_path / "clock.csv").write_text("\n".join(lines) + "\n")
+    (tmp_path / "clock.rig.json").write_text(PENDULUM.with_suffix(".rig.json").read_text())
+    _, read = load_pair(tmp_path / "clock.csv")
+    assert np.allclose(read.t, t - t[0], atol=1e-9, rtol=0) and np.array_equal(read.channel("pendulum_angle"), y)
+    said = "23:50:00" if form == "time_of_day" else "2026-11-27 23:50:00"
+    assert any(c.endswith(f"clock time, {said}") for c in read.comments), read.comments
+
+
+def test_a_time_column_mixing_clock_times_and_numbers_is_refused_naming_the_line(tmp_path):
+    (tmp_path / "mixed.csv").write_text("t,pendulum_angle\n10:00:00.000,0.1\n10:00:00.001,0.1\n0.002,0.1\n")
+    with pytest.raises(InputError, match="line 4, column 't'.*below clock times"):
+        load_pair(tmp_path / "mixed.csv", PENDULUM.with_suffix(".rig.json"))

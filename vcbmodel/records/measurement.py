@@ -8,6 +8,7 @@ header (``Record Length,10000``) is kept as comments, its ``Sample Interval`` ch
 with one line naming the file and the line or column; writing is the inverse (SI)."""
 from __future__ import annotations
 
+import datetime as dt
 import math
 import re
 from collections.abc import Iterable
@@ -219,7 +220,7 @@ def _parse(path: str, known: Iterable[str] | None, units: dict[str, str] | None)
     with text (an oscilloscope's ``Record Length,10000``), are an instrument's preamble: kept as
     comments (``Record Length: 10000``) and in ``preamble`` ({key: (line, value)})."""
     comments, rows, header, header_line, units_row, factors, row_lines = [], [], None, 0, None, [], []
-    separator, preamble = None, {}
+    separator, preamble, clock = None, {}, {}
     dialect = (",", False)
     lines = list(_lines(path, read_bytes(path)))
     for k, (i, s) in enumerate(lines):
@@ -247,7 +248,7 @@ def _parse(path: str, known: Iterable[str] | None, units: dict[str, str] | None)
                 continue
             units_row = []
         try:
-            rows.append(_data_row(cells, header, dialect, path, i))
+            rows.append(_data_row(cells, header, dialect, path, i, clock))
         except InputError as e:
             raise (_summary_below_the_data(e, cells, lines[k + 1:], header, dialect, path) if rows else e) from None
         row_lines.append(i)
@@ -255,6 +256,7 @@ def _parse(path: str, known: Iterable[str] | None, units: dict[str, str] | None)
         _time_not_first(path, preamble, 0, "")
     if header is None:
         raise InputError(path, "header", "missing (no line other than comments)")
+    _clock_comment(clock, factors, comments, path, header_line)
     return comments, header, header_line, factors, rows, row_lines, preamble
 
 
@@ -363,13 +365,53 @@ def _merge_units(header: list, factors: list, units_row: list, path: str, line: 
     return [b if a is None else a for a, b in zip(factors, units_row)]
 
 
-def _data_row(cells: list, header: list, dialect: tuple, path: str, line: int) -> list[float]:
-    """One row's values: as many as the header's columns, each a finite number."""
+#: A clock time in the time column, as loggers write it: an ISO 8601 date and time
+#: (``2026-11-27 10:00:00.000125``, or with ``T``) or a time of day (``10:00:00.001``).
+CLOCK = re.compile(r"(\d{4}-\d{2}-\d{2}[T ])?\d{2}:\d{2}:\d{2}(\.\d{1,6})?")
+
+
+def _clock_comment(clock: dict, factors: list, comments: list, path: str, line: int) -> None:
+    """Say in a comment where a time column of clock times starts; refuse one that states a unit."""
+    if clock.get("first") is None:
+        return
+    if factors[0] not in (None, 1.0):
+        raise InputError(path, f"line {line}, column 't'", "holds clock times but states a unit other than s: "
+                         "leave the unit out")
+    first = clock["first"].isoformat(sep=" ") if clock["dated"] else clock["first"].time().isoformat()
+    comments.append(f"time from the first sample's clock time, {first}")
+
+
+def _clock_seconds(cell: str, clock: dict, path: str, line: int) -> float:
+    """Seconds (exact to the microsecond) from the first row's clock time (kept in ``clock['first']``)
+    to the clock time ``cell``; a column that mixes clock times and numbers is refused."""
+    if clock.get("numbers"):
+        raise InputError(path, f"line {line}, column 't'", f"a clock time {cell!r} below numbers: one kind of time per column")
+    try:
+        when = (dt.datetime.fromisoformat(cell) if "-" in cell else
+                dt.datetime.combine(dt.date(2000, 1, 1), dt.time.fromisoformat(cell)))
+    except ValueError:
+        raise InputError(path, f"line {line}, column 't'", f"value {cell!r} is not a clock time") from None
+    clock.setdefault("first", when)
+    clock.setdefault("dated", "-" in cell)
+    return (when - clock["first"]).total_seconds()
+
+
+def _data_row(cells: list, header: list, dialect: tuple, path: str, line: int, clock: dict | None = None) -> list[float]:
+    """One row's values: as many as the header's columns, each a finite number; the time may be a clock
+    time (:data:`CLOCK`), read as seconds from the first row's (``clock`` holds it)."""
     if len(cells) != len(header):
         raise InputError(path, f"line {line}", f"has {len(cells)} values, the header has {len(header)}"
                          + (" (a decimal comma in a comma-separated file? use ';' between values)"
                             if dialect[0] == "," and len(cells) > len(header) else ""))
-    values = [_number(c, path, line) for c in cells]
+    clock = {} if clock is None else clock
+    if CLOCK.fullmatch(cells[0]):
+        values = [_clock_seconds(cells[0], clock, path, line)] + [_number(c, path, line) for c in cells[1:]]
+    elif clock.get("first") is not None:
+        raise InputError(path, f"line {line}, column 't'", f"a number {cells[0][:30]!r} below clock times: one kind "
+                         "of time per column")
+    else:
+        clock["numbers"] = True
+        values = [_number(c, path, line) for c in cells]
     for col, v in zip(header, values):
         if not math.isfinite(v):
             raise InputError(path, f"line {line}, column {col!r}", "value is not finite (NaN or inf)")
