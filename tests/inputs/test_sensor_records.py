@@ -178,3 +178,11 @@ def test_a_time_column_mixing_clock_times_and_numbers_is_refused_naming_the_line
     (tmp_path / "mixed.csv").write_text("t,pendulum_angle\n10:00:00.000,0.1\n10:00:00.001,0.1\n0.002,0.1\n")
     with pytest.raises(InputError, match="line 4, column 't'.*below clock times"):
         load_pair(tmp_path / "mixed.csv", PENDULUM.with_suffix(".rig.json"))
+
+
+def test_a_thousands_separator_is_refused_saying_so(tmp_path):
+    (tmp_path / "grouped.csv").write_text("t [ms];pendulum_angle\n" + "".join(
+        f"{'1.' if i >= 1000 else ''}{i % 1000 if i >= 1000 else i:0{3 if i >= 1000 else 1}d},0;0,1{i % 7}\n"
+        for i in range(995, 1060)))
+    with pytest.raises(InputError, match="line 7: value '1.000.0' is not a number .a thousands separator"):
+        load_pair(tmp_path / "grouped.csv", PENDULUM.with_suffix(".rig.json"))

@@ -81,7 +81,8 @@ NUMBER = re.compile(r"[+-]?(\d+\.?\d*|\.\d+)([eE][+-]?\d+)?|[+-]?(nan|inf|infini
 
 def _number(cell, path, line):
     if not NUMBER.fullmatch(cell):
-        why = " (underscores are not allowed in numbers)" if "_" in cell else ""
+        why = (" (underscores are not allowed in numbers)" if "_" in cell else
+               " (a thousands separator? Save the numbers without them)" if cell.count(".") > 1 else "")
         raise InputError(path, f"line {line}", f"value {cell[:30]!r} is not a number{why}")
     return float(cell)
 
