@@ -12,12 +12,14 @@ from dataclasses import replace
 from pathlib import Path
 from typing import TYPE_CHECKING
 
+import numpy as np
+
 from ..errors import InputError
 from ..model.choice import applicable
 from ..model.result import unit_of
 from ..model.values import rig_values
 from ..records.analyser import analyser_channels, check_contacts, simulated_channels
-from ..records.integrity import check_held_values, unwrap_turns
+from ..records.integrity import check_held_values, runs_backwards, unwrap_turns
 from ..records.measurement import load_measurement, sibling_rig_path
 from ..rig.data import Rig
 from ..rig.paths import loaded_value
@@ -100,8 +102,20 @@ def load_record(measurement_path: str | Path, rig: Rig) -> Measurement:
     if record.initial_angle_field is not None:
         check_start_in_degrees(meas, record.measured_channel, rig, record.initial_angle_field)
     check_contacts(meas)
+    check_travel_signs(meas)
     check_held_values(meas.t, meas.channel(record.measured_channel), meas.path, record.measured_channel)
     return meas
+
+
+def check_travel_signs(meas: Measurement) -> None:
+    """Refuse a travel channel (the follower's, a pole's: m, towards closing from rest) that runs mostly
+    below zero: a transducer counting the other way (fitted, a mirror image the model cannot follow, which
+    a diagnosis would read as a missing effect)."""
+    for name, y in meas.channels.items():
+        if (name == "follower_displacement" or name.endswith("_travel")) and runs_backwards(y):
+            raise InputError(meas.path, f"column {name!r}", f"runs to {float(np.min(y)):.4g} m, more than half its "
+                             "span below zero: a travel runs towards closing, from rest; a transducer counting the "
+                             "other way? Turn the column's sign")
 
 
 def unwrapped(meas: Measurement) -> Measurement:

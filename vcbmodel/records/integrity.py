@@ -131,3 +131,11 @@ def check_held_values(t: np.ndarray, y: np.ndarray, path: str, column: str) -> N
     raise InputError(path, f"column {column!r}", f"holds {value:.6g} exactly over {last - first + 1} samples, "
                      f"{at}{more}, where the samples around it move on: {why} (a held value fitted as motion "
                      "would give a wrong diagnosis)")
+
+
+def runs_backwards(y: np.ndarray) -> bool:
+    """Whether a travel that runs forward from rest (m: a follower's or a pole's towards closing) goes
+    mostly backwards instead: more than half its span below zero, as a transducer counting the other way
+    gives it (a sensor's zero offset moves it by a small share of the span only)."""
+    y = np.asarray(y, float)
+    return y.size > 0 and float(-np.min(y)) > 0.5 * float(np.ptp(y)) > 0.0
