@@ -196,3 +196,12 @@ def test_a_closing_travel_with_its_sign_turned_is_refused_not_diagnosed(tmp_path
     assert "column 'follower_displacement'" in err and "sign" in err
     offset = write(tmp_path, "offset", closing, t, y - 2e-4)  # a transducer's zero 0.2 mm off: read
     assert load_pair(offset)[1].t.size == t.size
+
+
+def test_matlab_comment_lines_are_comments_anywhere(tmp_path):
+    t, y = clean(PENDULUM)
+    lines = ["% logged by a MATLAB script, 1 kHz", "t,pendulum_angle"] + [f"{a:.7f},{b:.9g}" for a, b in zip(t, y)]
+    lines.insert(500, "% trigger re-armed")
+    (tmp_path / "matlab.csv").write_text("\n".join(lines) + "\n")
+    _, read = load_pair(tmp_path / "matlab.csv", PENDULUM.with_suffix(".rig.json"))
+    assert np.array_equal(read.t, t) and read.comments == ("logged by a MATLAB script, 1 kHz", "trigger re-armed")

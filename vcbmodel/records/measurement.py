@@ -41,6 +41,9 @@ class Measurement:
         return replace(self, t=self.t[keep], channels={k: v[keep] for k, v in self.channels.items()})
 
 
+#: What starts a comment line: ``#``, or ``%`` as MATLAB and Octave write them.
+COMMENT = ("#", "%")
+COMMENT_BYTES = tuple(c.encode() for c in COMMENT)
 #: The byte-order marks of UTF-16 (little- and big-endian), as Excel's "Unicode text" and other Windows
 #: tools write it.
 UTF16_BOMS = (b"\xff\xfe", b"\xfe\xff")
@@ -63,7 +66,7 @@ def _lines(path, raw):
     are UTF-8 (a header's or units row's ``µs``, ``°``); a UTF-16 file is read as its text."""
     for i, line in enumerate(text_bytes(path, _utf8(path, raw)).splitlines(), start=1):
         s = line.strip()
-        if s.startswith(b"#"):
+        if s.startswith(COMMENT_BYTES):
             yield i, s.decode("utf-8", errors="replace")
             continue
         try:
@@ -227,7 +230,7 @@ def _parse(path: str, known: Iterable[str] | None, units: dict[str, str] | None)
     for k, (i, s) in enumerate(lines):
         if not s:
             continue
-        if s.startswith("#"):
+        if s.startswith(COMMENT):
             comments.append(s[1:].strip())
             continue
         if header is None and SEPARATOR_LINE.fullmatch(s):  # Excel's separator line, above the header
@@ -324,10 +327,10 @@ def _summary_below_the_data(error: InputError, cells: list, rest: list, header: 
     """A data row's refusal, saying so when it (``cells``) holds text and no line after it, a few at most,
     is a sample (a spreadsheet's ``Mean,0.012`` or ``6001 samples`` under the data); a last row of
     numbers (a NaN sample, a line cut short) is a broken sample, refused as such."""
-    if all(NUMBER.fullmatch(c) for c in cells if c) or sum(1 for _, s in rest if s and not s.startswith("#")) > SUMMARY_LINES:
+    if all(NUMBER.fullmatch(c) for c in cells if c) or sum(1 for _, s in rest if s and not s.startswith(COMMENT)) > SUMMARY_LINES:
         return error
     for i, s in rest:
-        cells = _cells(s, *dialect) if s and not s.startswith("#") else []
+        cells = _cells(s, *dialect) if s and not s.startswith(COMMENT) else []
         if not any(cells):
             continue
         try:
