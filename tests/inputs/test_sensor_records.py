@@ -205,3 +205,18 @@ def test_matlab_comment_lines_are_comments_anywhere(tmp_path):
     (tmp_path / "matlab.csv").write_text("\n".join(lines) + "\n")
     _, read = load_pair(tmp_path / "matlab.csv", PENDULUM.with_suffix(".rig.json"))
     assert np.array_equal(read.t, t) and read.comments == ("logged by a MATLAB script, 1 kHz", "trigger re-armed")
+
+
+@pytest.mark.parametrize("levels", [0, 4096, 256])
+@pytest.mark.parametrize("source", [CAM, PENDULUM])
+def test_a_pre_trigger_held_exactly_at_rest_is_read(source, levels):
+    """A rest before the release that a quiet or quantised sensor reads as one value (at the record's
+    largest or smallest value) is the shaft at rest, not a clipped sensor: the motion leaves it from rest."""
+    t, y = clean(source)
+    step = float(t[1] - t[0])
+    t = np.concatenate([t[0] - step * np.arange(200, 0, -1), t])
+    y = np.concatenate([np.full(200, y[0]), y])
+    if levels:
+        q = float(np.ptp(y)) / levels
+        y = np.round(y / q) * q
+    check_held_values(t, y, source.name, "angle")
