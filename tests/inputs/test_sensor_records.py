@@ -220,3 +220,12 @@ def test_a_pre_trigger_held_exactly_at_rest_is_read(source, levels):
         q = float(np.ptp(y)) / levels
         y = np.round(y / q) * q
     check_held_values(t, y, source.name, "angle")
+
+
+def test_a_time_column_of_spreadsheet_date_serials_is_refused_saying_so(tmp_path, capsys):
+    t, y = clean(CAM)
+    lines = ["t,cam_angle"] + [f"{46353.4 + a / 86400:.12f},{b:.9g}" for a, b in zip(t, y)]
+    (tmp_path / "serial.csv").write_text("\n".join(lines) + "\n")
+    (tmp_path / "serial.rig.json").write_text(CAM.with_suffix(".rig.json").read_text())
+    err = refused(capsys, tmp_path / "serial.csv", tmp_path)
+    assert "column 't'" in err and "date-time serial" in err

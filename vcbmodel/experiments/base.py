@@ -195,7 +195,9 @@ class Experiment:
         spacing = float(np.min(np.diff(t)))
         if spacing < MIN_SAMPLE_INTERVAL:
             raise InputError(source, "column 't'", f"samples {spacing:.3g} s apart: no sensor of a {self.name} test samples "
-                             f"faster than {1 / MIN_SAMPLE_INTERVAL:.3g} Hz; is the time column in seconds?")
+                             f"faster than {1 / MIN_SAMPLE_INTERVAL:.3g} Hz; is the time column in seconds?"
+                             + (" It reads like spreadsheet date-time serial numbers (days since 1900): give the time "
+                                "in seconds, or as clock times (2026-11-27 10:00:00.000125)" if 1e4 < t[0] < 1e5 else ""))
         if t[-1] - t[0] < self.min_duration:
             raise InputError(source, "column 't'", f"the record lasts {t[-1] - t[0]:.3g} s: a {self.name} test needs at "
                              f"least {self.min_duration:g} s to show its motion")
