@@ -229,3 +229,21 @@ def test_a_time_column_of_spreadsheet_date_serials_is_refused_saying_so(tmp_path
     (tmp_path / "serial.rig.json").write_text(CAM.with_suffix(".rig.json").read_text())
     err = refused(capsys, tmp_path / "serial.csv", tmp_path)
     assert "column 't'" in err and "date-time serial" in err
+
+
+def test_columns_separated_by_spaces_read_as_the_same_record(tmp_path):
+    """Octave's ``save -ascii`` or a fixed-width export: columns separated by runs of spaces, a unit in
+    brackets after its name (``Time [ms]``, ``pendulum_angle (deg)``)."""
+    t, y = clean(PENDULUM)
+    lines = ["# octave", "Time [ms]   pendulum_angle (deg)"] + [f"{1e3 * a:10.3f} {math.degrees(b):14.9f}" for a, b in zip(t, y)]
+    (tmp_path / "spaces.csv").write_text("\n".join(lines) + "\n")
+    _, read = load_pair(tmp_path / "spaces.csv", PENDULUM.with_suffix(".rig.json"))
+    assert np.allclose(read.t, t, atol=1e-12, rtol=0) and np.allclose(read.channel("pendulum_angle"), y, atol=1e-10, rtol=0)
+
+
+def test_a_second_header_below_the_data_is_refused_as_two_records_joined(tmp_path):
+    t, y = clean(PENDULUM)
+    rows = [f"{a:.7f},{b:.9g}" for a, b in zip(t, y)]
+    (tmp_path / "joined.csv").write_text("\n".join(["t,pendulum_angle"] + rows[:3000] + ["t,pendulum_angle"] + rows[3000:]) + "\n")
+    with pytest.raises(InputError, match="line 3002: .*a second header below the data"):
+        load_pair(tmp_path / "joined.csv", PENDULUM.with_suffix(".rig.json"))

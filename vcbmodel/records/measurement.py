@@ -100,13 +100,15 @@ SEPARATOR_LINE = re.compile(r"sep=[;,\t]?", re.IGNORECASE)  # a tab (``sep=\t``)
 
 def _dialect(header_text, separator=None):
     """(delimiter, decimal comma) from a ``sep=`` line's ``separator`` or else the header line: ``;``
-    (spreadsheets with a decimal comma), a tab, or ``,``."""
+    (spreadsheets with a decimal comma), a tab, ``,``, or None for columns separated by spaces."""
     if separator is not None:
         return separator, separator == ";"
     if ";" in header_text:
         return ";", True
     if "\t" in header_text and "," not in header_text:
         return "\t", False
+    if "," not in header_text and len(header_text.split()) > 1:
+        return None, False  # columns separated by spaces (Octave's save -ascii, a fixed-width export)
     return ",", False
 
 
@@ -114,6 +116,8 @@ def _cells(text, delimiter, decimal_comma):
     """A line's cells: split, stripped, symmetric double quotes removed, a trailing empty cell
     (a trailing delimiter) dropped, decimal commas read as points."""
     cells = [c.strip() for c in text.split(delimiter)]
+    if delimiter is None:  # split at spaces: a unit in brackets belongs to the name before it (t [ms])
+        cells = [c for c in " ".join(cells).replace(" [", "[").replace(" (", "(").split()]
     if len(cells) > 1 and cells[-1] == "":
         cells = cells[:-1]
     cells = [c[1:-1].strip() if len(c) >= 2 and c[0] == c[-1] == '"' else c for c in cells]
@@ -326,7 +330,11 @@ def _summary_below_the_data(error: InputError, cells: list, rest: list, header: 
                             path: str) -> InputError:
     """A data row's refusal, saying so when it (``cells``) holds text and no line after it, a few at most,
     is a sample (a spreadsheet's ``Mean,0.012`` or ``6001 samples`` under the data); a last row of
-    numbers (a NaN sample, a line cut short) is a broken sample, refused as such."""
+    numbers (a NaN sample, a line cut short) is a broken sample, refused as such; a row that names the
+    time again is a second header (two records joined in one file)."""
+    if cells and _names_time(cells[0]):
+        return InputError(error.path, error.field, "a second header below the data (two records joined in one "
+                          "file?): give one record per file")
     if all(NUMBER.fullmatch(c) for c in cells if c) or sum(1 for _, s in rest if s and not s.startswith(COMMENT)) > SUMMARY_LINES:
         return error
     for i, s in rest:
