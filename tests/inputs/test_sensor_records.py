@@ -247,3 +247,14 @@ def test_a_second_header_below_the_data_is_refused_as_two_records_joined(tmp_pat
     (tmp_path / "joined.csv").write_text("\n".join(["t,pendulum_angle"] + rows[:3000] + ["t,pendulum_angle"] + rows[3000:]) + "\n")
     with pytest.raises(InputError, match="line 3002: .*a second header below the data"):
         load_pair(tmp_path / "joined.csv", PENDULUM.with_suffix(".rig.json"))
+
+
+def test_a_loggers_end_marker_ends_the_record_and_nothing_may_follow_it(tmp_path):
+    t, y = clean(PENDULUM)
+    rows = ["t,pendulum_angle"] + [f"{a:.7f},{b:.9g}" for a, b in zip(t, y)]
+    (tmp_path / "end.csv").write_text("\n".join(rows + ["END", "", "# saved 23:50"]) + "\n")
+    _, read = load_pair(tmp_path / "end.csv", PENDULUM.with_suffix(".rig.json"))
+    assert np.array_equal(read.t, t)
+    (tmp_path / "more.csv").write_text("\n".join(rows + ["END", "7.0,0.1"]) + "\n")
+    with pytest.raises(InputError, match=f"line {len(rows) + 1}: has 1 values"):
+        load_pair(tmp_path / "more.csv", PENDULUM.with_suffix(".rig.json"))

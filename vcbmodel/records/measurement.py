@@ -255,10 +255,10 @@ def _parse(path: str, known: Iterable[str] | None, units: dict[str, str] | None)
                 factors = _merge_units(header, factors, units_row, path, i)
                 continue
             units_row = []
-        try:
-            rows.append(_data_row(cells, header, dialect, path, i, clock))
-        except InputError as e:
-            raise (_summary_below_the_data(e, cells, lines[k + 1:], header, dialect, path) if rows else e) from None
+        values = _data_or_end(cells, header, dialect, path, i, clock, lines[k + 1:], bool(rows))
+        if values is None:
+            break
+        rows.append(values)
         row_lines.append(i)
     if header is None and preamble:
         _time_not_first(path, preamble, 0, "")
@@ -319,6 +319,29 @@ def _preamble_line(cells: list, path: str, line: int, preamble: dict, comments: 
     value = ", ".join(c for c in cells[1:] if c)
     preamble.setdefault(cells[0], (line, value))
     comments.append(f"{cells[0]}: {value}" if value else cells[0])
+
+
+def _data_or_end(cells: list, header: list, dialect: tuple, path: str, line: int, clock: dict, after: list,
+                 more: bool) -> list[float] | None:
+    """A data row's values (:func:`_data_row`), or None for a logger's end marker below the data (``more``:
+    there are rows above; ``after``: the lines below); a bad row is refused, said to be a summary line
+    where it is one."""
+    try:
+        return _data_row(cells, header, dialect, path, line, clock)
+    except InputError as e:
+        if more and _end_marker(cells, after):
+            return None
+        raise (_summary_below_the_data(e, cells, after, header, dialect, path) if more else e) from None
+
+
+#: A logger's last line, alone below the data: the end of the record.
+END_MARKERS = ("end", "eof", "[end]", "end of data")
+
+
+def _end_marker(cells: list, rest: list) -> bool:
+    """Whether ``cells`` is a logger's end marker (:data:`END_MARKERS`) with only blank or comment lines after it."""
+    return (len([c for c in cells if c]) == 1 and cells[0].lower() in END_MARKERS
+            and all(not s or s.startswith(COMMENT) for _, s in rest))
 
 
 #: The most lines below the data that a refused row and its followers may be to be called a summary
