@@ -258,3 +258,13 @@ def test_a_loggers_end_marker_ends_the_record_and_nothing_may_follow_it(tmp_path
     (tmp_path / "more.csv").write_text("\n".join(rows + ["END", "7.0,0.1"]) + "\n")
     with pytest.raises(InputError, match=f"line {len(rows) + 1}: has 1 values"):
         load_pair(tmp_path / "more.csv", PENDULUM.with_suffix(".rig.json"))
+
+
+@pytest.mark.parametrize("source", [CAM, PENDULUM, SYNTHETIC / "vcb_closing"])
+def test_values_in_si_under_a_stated_smaller_unit_are_refused(tmp_path, capsys, source):
+    """rad under ``[deg]``, m under ``[mm]``: converted once too often, the record is a tiny motion the
+    fits would read as missing effects (before: the closing record diagnosed as missing viscous friction)."""
+    t, y = clean(source)
+    channel, unit = {CAM: ("cam_angle", "deg"), PENDULUM: ("pendulum_angle", "deg")}.get(source, ("follower_displacement", "mm"))
+    err = refused(capsys, write(tmp_path, "small", source, t, y, header=f"t,{channel} [{unit}]"), tmp_path)
+    assert f"column '{channel}'" in err and ("converted from degrees once too often" in err or "spans only" in err)

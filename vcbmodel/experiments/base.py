@@ -137,6 +137,8 @@ class Experiment:
     min_duration: float = 0.0  # s: a shorter record cannot show the experiment's motion
     max_magnitude: float = math.inf  # largest plausible |measured value| in ``unit``
     unit_hint: str = ""  # what a value beyond max_magnitude suggests ("degrees?")
+    min_span: float = 0.0  # smallest plausible span of the measured channel in ``unit`` (a unit slip below it)
+    small_hint: str = ""  # what a span below min_span suggests
     channel_hint: str = ""  # what a record without measured_channel should rename (an analyser's export)
     figure_units: tuple = ()  # ((column, unit), ...): what a sweep tabulates
     missing_means: tuple = ()  # ((column, status), ...): see run_status
@@ -209,6 +211,9 @@ class Experiment:
             raise InputError(source, f"column {self.measured_channel!r}", f"reaches {peak:.4g}, implausible in "
                              f"{self.unit} for a {self.name} test (at most {self.max_magnitude:g})"
                              + (self.unit_hint if peak < 1000 * self.max_magnitude else ""))
+        if 0.0 < float(np.ptp(y)) < self.min_span:
+            raise InputError(source, f"column {self.measured_channel!r}", f"spans only {float(np.ptp(y)):.4g} {self.unit}, "
+                             f"implausible for a {self.name} test (at least {self.min_span:g}){self.small_hint}")
         if float(np.ptp(y)) == 0.0 and all(float(np.ptp(v)) == 0.0 for v in others):
             raise InputError(source, f"column {self.measured_channel!r}", "never changes: the record shows no motion to "
                              "fit or compare (a disconnected sensor, or the wrong column?)")

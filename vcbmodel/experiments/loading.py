@@ -142,7 +142,8 @@ DEGREES_RATIO_LEAST = 20.0
 
 def check_start_in_degrees(meas: Measurement, channel: str, rig: Rig, field: str) -> None:
     """Refuse an angle record that starts at its starting angle with its sign turned (a sensor counting
-    the other way: fitted, a mirror image the model cannot follow) or read in degrees (a 2.5 deg pendulum
+    the other way: fitted, a mirror image the model cannot follow), converted from degrees though it was
+    in rad (a column headed ``[deg]`` holding rad), or read in degrees (a 2.5 deg pendulum
     release written as 2.5 stays within pi, so the range check lets it pass, and the fits would take it as
     2.5 rad: a wrong diagnosis, not an error). The starting angle is the rig's ``record.initial_angle``
     when it states one, else ``field``; the first sample is read through the rig's stated
@@ -159,6 +160,10 @@ def check_start_in_degrees(meas: Measurement, channel: str, rig: Rig, field: str
         raise InputError(meas.path, f"column {channel!r}", f"starts at {first:.4g}, the rig's {where} "
                          f"{initial_angle:.4g} rad with its sign turned: a sensor counting the other way? Turn the "
                          f"column's sign; if the test did start there, state it as the rig's {where}")
+    if abs(first - math.radians(initial_angle)) <= DEGREES_MATCH * abs(math.radians(initial_angle)):
+        raise InputError(meas.path, f"column {channel!r}", f"starts at {first:.4g} rad, the rig's {where} "
+                         f"{initial_angle:.4g} rad converted from degrees once too often: values in rad under a "
+                         f"stated unit of deg? State the unit the values are in ({channel} [rad])")
     if abs(first) < DEGREES_RATIO_LEAST * abs(initial_angle):
         return
     if abs(first - degrees) <= DEGREES_MATCH * abs(degrees):

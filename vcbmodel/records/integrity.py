@@ -20,12 +20,15 @@ WRAP_TOLERANCE = 0.05
 def unwrap_turns(y: np.ndarray) -> tuple[np.ndarray, int]:
     """(``y`` with every full-turn wrap undone, how many wraps): an angle (rad) from an encoder that counts
     0..2 pi or -pi..pi jumps by about 2 pi where the shaft passes the count's end; each such jump, between
-    small steps, is taken back by adding the turn to every later sample. The first sample is kept as read."""
+    small steps, is taken back by adding the turn to every later sample. The first sample is kept as read.
+    A record whose values span more than a turn is no encoder's count and is left as it is."""
     y = np.asarray(y, float)
-    d = np.diff(y)
     turn = 2 * math.pi
-    rest = d - turn * np.round(d / turn)  # each step less the whole turns it may have wrapped
-    wraps = (np.round(d / turn) != 0) & (np.abs(rest) < WRAP_TOLERANCE * turn)
+    if y.size < 2 or not np.all(np.isfinite(y)) or float(np.ptp(y)) > (1 + WRAP_TOLERANCE) * turn:
+        return y, 0  # an encoder's count stays within one turn
+    d = np.diff(y)
+    rest = d - turn * np.round(d / turn)  # each step less the whole turn it may have wrapped
+    wraps = (np.abs(np.round(d / turn)) == 1) & (np.abs(rest) < WRAP_TOLERANCE * turn)
     if not wraps.any():
         return y, 0
     small = np.abs(rest) < WRAP_TOLERANCE * turn
