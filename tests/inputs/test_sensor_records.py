@@ -268,3 +268,11 @@ def test_values_in_si_under_a_stated_smaller_unit_are_refused(tmp_path, capsys, 
     channel, unit = {CAM: ("cam_angle", "deg"), PENDULUM: ("pendulum_angle", "deg")}.get(source, ("follower_displacement", "mm"))
     err = refused(capsys, write(tmp_path, "small", source, t, y, header=f"t,{channel} [{unit}]"), tmp_path)
     assert f"column '{channel}'" in err and ("converted from degrees once too often" in err or "spans only" in err)
+
+
+def test_a_time_that_starts_again_is_refused_as_segments(tmp_path):
+    t, y = clean(PENDULUM)
+    k = t.size // 3
+    path = write(tmp_path, "segments", PENDULUM, np.concatenate([t[:k], t[k:] - t[k]]), y)
+    with pytest.raises(InputError, match=f"line {k + 2}, column 't'.*the time starts again"):
+        load_pair(path)

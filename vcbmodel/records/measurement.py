@@ -211,8 +211,10 @@ def load_measurement(path: str | Path, channel: str | None = None, known: Iterab
     bad = np.nonzero(np.diff(t) <= 0)[0]
     if bad.size:
         k = bad[0]
+        why = ("the time starts again: a scope's segments or two records joined? One record per file"
+               if t[k + 1] <= t[0] and k > 0 else "a repeated or misplaced row")
         raise InputError(path, f"line {row_lines[k + 1]}, column 't'", f"time is not strictly increasing: "
-                         f"{rows[k + 1][0]:g} after {rows[k][0]:g} on line {row_lines[k]} (a repeated or misplaced row)")
+                         f"{rows[k + 1][0]:g} after {rows[k][0]:g} on line {row_lines[k]} ({why})")
     _check_sample_interval(preamble, t, path)
     channels = {col: arr[:, j] for j, col in enumerate(header) if j > 0}
     if channel is not None and channel not in channels:
