@@ -47,6 +47,10 @@ MIN_RUN = 5
 #: to a sensor's steps stays within a step or so of it.
 HELD_NOISE = 8.0
 HELD_STEPS = 4.0
+#: ... and by more than this share of the channel's span: a departure smaller than that moves no fit
+#: (a 20 ms hold of a 1 kHz pendulum swing), and a quiet record whose rounding is not recognised as a
+#: grid (its noise estimate near 0) would otherwise count any departure.
+HELD_SPAN = 0.01
 #: The longest runs looked at (a quantised record that moves slowly has thousands of short runs).
 MOST_RUNS = 2000
 
@@ -84,8 +88,11 @@ def held_excess(y: np.ndarray, first: int, last: int) -> float:
     if outward == 0 or n < EDGE_RUN or not (left or right):
         return 0.0
     if right:  # at the start: the motion leaving the run, carried back into it
-        return _departure(y, np.arange(last + 1, last + 1 + k), np.arange(last - min(n, k) + 1, last + 1), outward)
-    return _departure(y, np.arange(first - k, first), np.arange(first, first + min(n, k)), outward)
+        beside, inside = np.arange(last + 1, last + 1 + k), np.arange(last - min(n, k) + 1, last + 1)
+    else:
+        beside, inside = np.arange(first - k, first), np.arange(first, first + min(n, k))
+    # no further than the motion beside it goes: a parabola through a quantised flicker overshoots
+    return min(_departure(y, beside, inside, outward), float(np.ptp(y[beside])))
 
 
 #: A departure counts only beyond this many times the parabola's rms misfit on the samples it was fitted to.
@@ -108,15 +115,16 @@ def _departure(y: np.ndarray, fitted: np.ndarray, inside: np.ndarray, outward: i
 
 def check_held_values(t: np.ndarray, y: np.ndarray, path: str, column: str) -> None:
     """Refuse a channel that holds one value exactly over a run of samples where the samples around it say
-    it moved (:func:`held_excess` beyond :data:`HELD_NOISE` noise levels and :data:`HELD_STEPS`
-    quantisation steps): clipped at the sensor's range when the value is the record's largest or
+    it moved (:func:`held_excess` beyond :data:`HELD_NOISE` noise levels, :data:`HELD_STEPS`
+    quantisation steps and :data:`HELD_SPAN` of the channel's span): clipped at the sensor's range when the value is the record's largest or
     smallest, else a dropout filled by the logger. Fitted as motion, it would be a wrong diagnosis."""
     y = np.asarray(y, float)
     runs = sorted(runs_of_equal(y), key=lambda r: r[0] - r[1])[:MOST_RUNS]
     if not runs:
         return
     sigma = noise_estimate(y)
-    level = max(HELD_NOISE * (sigma if math.isfinite(sigma) else 0.0), HELD_STEPS * quantisation_step(y))
+    level = max(HELD_NOISE * (sigma if math.isfinite(sigma) else 0.0), HELD_STEPS * quantisation_step(y),
+                HELD_SPAN * float(np.ptp(y)))
     held = sorted(r for r in runs if held_excess(y, *r) > level)
     if not held:
         return
