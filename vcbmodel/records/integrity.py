@@ -1,7 +1,8 @@
 """What a sensor or logger does to a record that no fit may take as motion: an angle encoder that
 wraps at a full turn (read as meant: unwrapped), and a channel that holds one value exactly while the
 samples around it move (a sensor clipped at the end of its range, a dropout the logger fills with the
-last value or with zeros: refused, naming the lines). Units follow the channel (rad, m)."""
+last value or with zeros: refused, naming the column and when), and a travel a transducer counts the
+other way. Units follow the channel (rad, m)."""
 from __future__ import annotations
 
 import math
@@ -76,7 +77,8 @@ def held_excess(y: np.ndarray, first: int, last: int) -> float:
     record (the rest before a release, a shaft stopped at the end) only a run of at least
     :data:`EDGE_RUN` samples at the record's largest or smallest value counts, and only a departure
     beyond that value: a motion that arrives at (or leaves) the run heading past it, as at a sensor's
-    range end; a motion that comes to rest (or starts from it) turns back inside and gives 0."""
+    range end, and no further than the motion beside the run goes; a motion that comes to rest (or
+    starts from it) turns back inside and gives 0."""
     n = last - first + 1
     k = max(5, n // 2)
     if first >= k and last + k < y.size:
@@ -116,8 +118,9 @@ def _departure(y: np.ndarray, fitted: np.ndarray, inside: np.ndarray, outward: i
 def check_held_values(t: np.ndarray, y: np.ndarray, path: str, column: str) -> None:
     """Refuse a channel that holds one value exactly over a run of samples where the samples around it say
     it moved (:func:`held_excess` beyond :data:`HELD_NOISE` noise levels, :data:`HELD_STEPS`
-    quantisation steps and :data:`HELD_SPAN` of the channel's span): clipped at the sensor's range when the value is the record's largest or
-    smallest, else a dropout filled by the logger. Fitted as motion, it would be a wrong diagnosis."""
+    quantisation steps and :data:`HELD_SPAN` of the channel's span): clipped at the sensor's range when
+    the value is the record's largest or smallest, else a dropout filled by the logger. Fitted as motion,
+    it would be a wrong diagnosis."""
     y = np.asarray(y, float)
     runs = sorted(runs_of_equal(y), key=lambda r: r[0] - r[1])[:MOST_RUNS]
     if not runs:
