@@ -280,3 +280,11 @@ def test_a_time_that_starts_again_is_refused_as_segments(tmp_path):
     path = write(tmp_path, "segments", PENDULUM, np.concatenate([t[:k], t[k:] - t[k]]), y)
     with pytest.raises(InputError, match=f"line {k + 2}, column 't'.*the time starts again"):
         load_pair(path)
+
+
+def test_a_spreadsheet_workbook_is_refused_as_such(tmp_path):
+    import zipfile
+    with zipfile.ZipFile(tmp_path / "book.csv", "w") as z:
+        z.writestr("xl/workbook.xml", "<workbook/>")
+    with pytest.raises(InputError, match="book.csv: file: is a spreadsheet workbook"):
+        load_pair(tmp_path / "book.csv", PENDULUM.with_suffix(".rig.json"))

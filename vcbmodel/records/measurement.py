@@ -49,9 +49,16 @@ COMMENT_BYTES = tuple(c.encode() for c in COMMENT)
 UTF16_BOMS = (b"\xff\xfe", b"\xfe\xff")
 
 
+#: The first bytes of a spreadsheet workbook saved under a record's name: .xlsx (a zip) and .xls.
+WORKBOOKS = (b"PK\x03\x04", b"\xd0\xcf\x11\xe0")
+
+
 def _utf8(path, raw: bytes) -> bytes:
     """A UTF-16 file with its byte-order mark (Excel's "Unicode text", tab-separated) as UTF-8 bytes;
-    any other file as it is."""
+    a spreadsheet workbook refused as such; any other file as it is."""
+    if raw.startswith(WORKBOOKS):
+        raise InputError(path, "file", "is a spreadsheet workbook (.xlsx or .xls), not a text file: save the sheet "
+                         "as CSV")
     if not raw.startswith(UTF16_BOMS):
         return raw
     try:
