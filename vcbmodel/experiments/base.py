@@ -137,6 +137,8 @@ class Experiment:
     min_duration: float = 0.0  # s: a shorter record cannot show the experiment's motion
     max_magnitude: float = math.inf  # largest plausible |measured value| in ``unit``
     unit_hint: str = ""  # what a value beyond max_magnitude suggests ("degrees?")
+    min_span: float = 0.0  # smallest plausible span of the measured channel in ``unit`` (a unit slip below it)
+    small_hint: str = ""  # what a span below min_span suggests
     channel_hint: str = ""  # what a record without measured_channel should rename (an analyser's export)
     figure_units: tuple = ()  # ((column, unit), ...): what a sweep tabulates
     missing_means: tuple = ()  # ((column, status), ...): see run_status
@@ -186,11 +188,18 @@ class Experiment:
         (a unit slip: degrees for rad, mm for m), or with no channel (``y`` and ``others``) that ever
         changes (one line, InputError)."""
         check_samples(t, source)
+        steps = np.diff(t)
+        if t.size > 2 and float(t[0]).is_integer() and np.all(steps == 1.0):
+            raise InputError(source, "column 't'", f"counts in whole steps of 1 ({t[0]:g} to {t[-1]:g}): sample numbers, or "
+                             "milliseconds of a 1 kHz record? It must be in seconds: give the time (sample number / "
+                             "sample rate), or state its unit (t [ms])")
         self.check_duration(float(t[-1] - t[0]), source, "column 't'")
         spacing = float(np.min(np.diff(t)))
         if spacing < MIN_SAMPLE_INTERVAL:
             raise InputError(source, "column 't'", f"samples {spacing:.3g} s apart: no sensor of a {self.name} test samples "
-                             f"faster than {1 / MIN_SAMPLE_INTERVAL:.3g} Hz; is the time column in seconds?")
+                             f"faster than {1 / MIN_SAMPLE_INTERVAL:.3g} Hz; is the time column in seconds?"
+                             + (" It reads like spreadsheet date-time serial numbers (days since 1900): give the time "
+                                "in seconds, or as clock times (2026-11-27 10:00:00.000125)" if 1e4 < t[0] < 1e5 else ""))
         if t[-1] - t[0] < self.min_duration:
             raise InputError(source, "column 't'", f"the record lasts {t[-1] - t[0]:.3g} s: a {self.name} test needs at "
                              f"least {self.min_duration:g} s to show its motion")
@@ -202,6 +211,9 @@ class Experiment:
             raise InputError(source, f"column {self.measured_channel!r}", f"reaches {peak:.4g}, implausible in "
                              f"{self.unit} for a {self.name} test (at most {self.max_magnitude:g})"
                              + (self.unit_hint if peak < 1000 * self.max_magnitude else ""))
+        if 0.0 < float(np.ptp(y)) < self.min_span:
+            raise InputError(source, f"column {self.measured_channel!r}", f"spans only {float(np.ptp(y)):.4g} {self.unit}, "
+                             f"implausible for a {self.name} test (at least {self.min_span:g}){self.small_hint}")
         if float(np.ptp(y)) == 0.0 and all(float(np.ptp(v)) == 0.0 for v in others):
             raise InputError(source, f"column {self.measured_channel!r}", "never changes: the record shows no motion to "
                              "fit or compare (a disconnected sensor, or the wrong column?)")

@@ -8,14 +8,18 @@ from __future__ import annotations
 import json
 import logging
 import math
+from dataclasses import replace
 from pathlib import Path
 from typing import TYPE_CHECKING
+
+import numpy as np
 
 from ..errors import InputError
 from ..model.choice import applicable
 from ..model.result import unit_of
 from ..model.values import rig_values
 from ..records.analyser import analyser_channels, check_contacts, simulated_channels
+from ..records.integrity import check_held_values, runs_backwards, unwrap_turns
 from ..records.measurement import load_measurement, sibling_rig_path
 from ..rig.data import Rig
 from ..rig.paths import loaded_value
@@ -92,12 +96,40 @@ def load_record(measurement_path: str | Path, rig: Rig) -> Measurement:
     known = known_channels(rig)
     meas = load_measurement(measurement_path, record.measured_channel, known, {c: unit_of(c) for c in known},
                             record.channel_hint)
+    meas = unwrapped(meas)
     record.check_record(meas.t, meas.channel(record.measured_channel), meas.path,
                         [v for name, v in meas.channels.items() if name != record.measured_channel])
     if record.initial_angle_field is not None:
         check_start_in_degrees(meas, record.measured_channel, rig, record.initial_angle_field)
     check_contacts(meas)
+    check_travel_signs(meas)
+    check_held_values(meas.t, meas.channel(record.measured_channel), meas.path, record.measured_channel)
     return meas
+
+
+def check_travel_signs(meas: Measurement) -> None:
+    """Refuse a travel channel (the follower's, a pole's: m, towards closing from rest) that runs mostly
+    below zero: a transducer counting the other way (fitted, a mirror image the model cannot follow, which
+    a diagnosis would read as a missing effect)."""
+    for name, y in meas.channels.items():
+        if (name == "follower_displacement" or name.endswith("_travel")) and runs_backwards(y):
+            raise InputError(meas.path, f"column {name!r}", f"runs to {float(np.min(y)):.4g} m, more than half its "
+                             "span below zero: a travel runs towards closing, from rest; a transducer counting the "
+                             "other way? Turn the column's sign")
+
+
+def unwrapped(meas: Measurement) -> Measurement:
+    """``meas`` with each angle channel (rad) that wraps at a full turn (an encoder counting 0..360 deg
+    or -180..180 deg) unwrapped, said once as a warning: the record as the shaft turned."""
+    channels = dict(meas.channels)
+    for name, y in meas.channels.items():
+        if unit_of(name) != "rad":
+            continue
+        channels[name], wraps = unwrap_turns(y)
+        if wraps:
+            log.warning("vcbmodel: warning: %s: column %r wraps at a full turn %d time(s) (an encoder's count): "
+                        "read unwrapped", meas.path, name, wraps)
+    return replace(meas, channels=channels)
 
 
 #: A record whose first sample, less the rig's stated sensor offset and over its gain, reads the record's
@@ -109,7 +141,9 @@ DEGREES_RATIO_LEAST = 20.0
 
 
 def check_start_in_degrees(meas: Measurement, channel: str, rig: Rig, field: str) -> None:
-    """Refuse an angle record that starts at its starting angle read in degrees (a 2.5 deg pendulum
+    """Refuse an angle record that starts at its starting angle with its sign turned (a sensor counting
+    the other way: fitted, a mirror image the model cannot follow), converted from degrees though it was
+    in rad (a column headed ``[deg]`` holding rad), or read in degrees (a 2.5 deg pendulum
     release written as 2.5 stays within pi, so the range check lets it pass, and the fits would take it as
     2.5 rad: a wrong diagnosis, not an error). The starting angle is the rig's ``record.initial_angle``
     when it states one, else ``field``; the first sample is read through the rig's stated
@@ -120,7 +154,17 @@ def check_start_in_degrees(meas: Measurement, channel: str, rig: Rig, field: str
     offset, gain = rig.record.get("sensor_offset") or 0.0, rig.record.get("sensor_gain") or 1.0
     first = (float(meas.channel(channel)[0]) - offset) / gain
     degrees = math.degrees(initial_angle)
-    if initial_angle == 0.0 or abs(first) < DEGREES_RATIO_LEAST * abs(initial_angle):
+    if initial_angle == 0.0:
+        return
+    if abs(first + initial_angle) <= DEGREES_MATCH * abs(initial_angle):
+        raise InputError(meas.path, f"column {channel!r}", f"starts at {first:.4g}, the rig's {where} "
+                         f"{initial_angle:.4g} rad with its sign turned: a sensor counting the other way? Turn the "
+                         f"column's sign; if the test did start there, state it as the rig's {where}")
+    if abs(first - math.radians(initial_angle)) <= DEGREES_MATCH * abs(math.radians(initial_angle)):
+        raise InputError(meas.path, f"column {channel!r}", f"starts at {first:.4g} rad, the rig's {where} "
+                         f"{initial_angle:.4g} rad converted from degrees once too often: values in rad under a "
+                         f"stated unit of deg? State the unit the values are in ({channel} [rad])")
+    if abs(first) < DEGREES_RATIO_LEAST * abs(initial_angle):
         return
     if abs(first - degrees) <= DEGREES_MATCH * abs(degrees):
         raise InputError(meas.path, f"column {channel!r}", f"starts at {first:.4g}, the rig's {where} "

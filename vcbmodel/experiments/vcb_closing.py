@@ -93,6 +93,9 @@ VCB_CLOSING = Experiment(
     sample_rate=12000.0, noise_sigma=5e-5, default_duration=P.BREAKER_T_END, max_duration=1.0,
     # the follower moves a few centimetres at most: a value above 0.5 is millimetres
     min_duration=2e-3, max_magnitude=0.5, unit_hint=": is it in millimetres? follower_displacement must be in m",
+    # a vacuum interrupter's contact gap is 6-20 mm and the drive travels as far or more: a closing
+    # whose follower spans less than 1 mm is metres under a stated unit of mm (or no closing at all)
+    min_span=1e-3, small_hint=": metres under a stated unit of mm? State the unit the values are in",
     channel_hint=("the drive's travel (an analyser's travel transducer on the operating rod or main shaft): "
                   "name that column 'follower_displacement', not a pole's travel (a pole stops at its touch "
                   "while the drive goes on through the wipe: a record of the poles alone cannot be fitted); "

@@ -8,6 +8,7 @@ header (``Record Length,10000``) is kept as comments, its ``Sample Interval`` ch
 with one line naming the file and the line or column; writing is the inverse (SI)."""
 from __future__ import annotations
 
+import datetime as dt
 import math
 import re
 from collections.abc import Iterable
@@ -40,12 +41,39 @@ class Measurement:
         return replace(self, t=self.t[keep], channels={k: v[keep] for k, v in self.channels.items()})
 
 
+#: What starts a comment line: ``#``, or ``%`` as MATLAB and Octave write them.
+COMMENT = ("#", "%")
+COMMENT_BYTES = tuple(c.encode() for c in COMMENT)
+#: The byte-order marks of UTF-16 (little- and big-endian), as Excel's "Unicode text" and other Windows
+#: tools write it.
+UTF16_BOMS = (b"\xff\xfe", b"\xfe\xff")
+
+
+#: The first bytes of a spreadsheet workbook saved under a record's name: .xlsx (a zip) and .xls.
+WORKBOOKS = (b"PK\x03\x04", b"\xd0\xcf\x11\xe0")
+
+
+def _utf8(path, raw: bytes) -> bytes:
+    """A UTF-16 file with its byte-order mark (Excel's "Unicode text", tab-separated) as UTF-8 bytes;
+    a spreadsheet workbook refused as such; any other file as it is."""
+    if raw.startswith(WORKBOOKS):
+        raise InputError(path, "file", "is a spreadsheet workbook (.xlsx or .xls), not a text file: save the sheet "
+                         "as CSV")
+    if not raw.startswith(UTF16_BOMS):
+        return raw
+    try:
+        return raw.decode("utf-16").encode("utf-8")
+    except UnicodeDecodeError:
+        raise InputError(path, "file", "starts as UTF-16 text but is not UTF-16 throughout: save it as "
+                         "UTF-8") from None
+
+
 def _lines(path, raw):
     """(line number, text) of each line; comment lines may hold any bytes (free text), the others
-    are UTF-8 (a header's or units row's ``µs``, ``°``)."""
-    for i, line in enumerate(text_bytes(path, raw).splitlines(), start=1):
+    are UTF-8 (a header's or units row's ``µs``, ``°``); a UTF-16 file is read as its text."""
+    for i, line in enumerate(text_bytes(path, _utf8(path, raw)).splitlines(), start=1):
         s = line.strip()
-        if s.startswith(b"#"):
+        if s.startswith(COMMENT_BYTES):
             yield i, s.decode("utf-8", errors="replace")
             continue
         try:
@@ -63,7 +91,8 @@ NUMBER = re.compile(r"[+-]?(\d+\.?\d*|\.\d+)([eE][+-]?\d+)?|[+-]?(nan|inf|infini
 
 def _number(cell, path, line):
     if not NUMBER.fullmatch(cell):
-        why = " (underscores are not allowed in numbers)" if "_" in cell else ""
+        why = (" (underscores are not allowed in numbers)" if "_" in cell else
+               " (a thousands separator? Save the numbers without them)" if cell.count(".") > 1 else "")
         raise InputError(path, f"line {line}", f"value {cell[:30]!r} is not a number{why}")
     return float(cell)
 
@@ -78,13 +107,15 @@ SEPARATOR_LINE = re.compile(r"sep=[;,\t]?", re.IGNORECASE)  # a tab (``sep=\t``)
 
 def _dialect(header_text, separator=None):
     """(delimiter, decimal comma) from a ``sep=`` line's ``separator`` or else the header line: ``;``
-    (spreadsheets with a decimal comma), a tab, or ``,``."""
+    (spreadsheets with a decimal comma), a tab, ``,``, or None for columns separated by spaces."""
     if separator is not None:
         return separator, separator == ";"
     if ";" in header_text:
         return ";", True
     if "\t" in header_text and "," not in header_text:
         return "\t", False
+    if "," not in header_text and len(header_text.split()) > 1:
+        return None, False  # columns separated by spaces (Octave's save -ascii, a fixed-width export)
     return ",", False
 
 
@@ -93,6 +124,8 @@ def _cells(text, delimiter, decimal_comma):
     (a trailing delimiter) dropped, decimal commas read as points; the header and each row then drop
     their empty cells past the last column (a spreadsheet's padding, :func:`_within`)."""
     cells = [c.strip() for c in text.split(delimiter)]
+    if delimiter is None:  # split at spaces: a unit in brackets belongs to the name before it (t [ms])
+        cells = [c for c in " ".join(cells).replace(" [", "[").replace(" (", "(").split()]
     if len(cells) > 1 and cells[-1] == "":
         cells = cells[:-1]
     cells = [c[1:-1].strip() if len(c) >= 2 and c[0] == c[-1] == '"' else c for c in cells]
@@ -193,8 +226,10 @@ def load_measurement(path: str | Path, channel: str | None = None, known: Iterab
     bad = np.nonzero(np.diff(t) <= 0)[0]
     if bad.size:
         k = bad[0]
+        why = ("the time starts again: a scope's segments or two records joined? One record per file"
+               if t[k + 1] <= t[0] and k > 0 else "a repeated or misplaced row")
         raise InputError(path, f"line {row_lines[k + 1]}, column 't'", f"time is not strictly increasing: "
-                         f"{rows[k + 1][0]:g} after {rows[k][0]:g} on line {row_lines[k]} (a repeated or misplaced row)")
+                         f"{rows[k + 1][0]:g} after {rows[k][0]:g} on line {row_lines[k]} ({why})")
     _check_sample_interval(preamble, t, path)
     channels = {col: arr[:, j] for j, col in enumerate(header) if j > 0}
     if channel is not None and channel not in channels:
@@ -210,13 +245,13 @@ def _parse(path: str, known: Iterable[str] | None, units: dict[str, str] | None)
     with text (an oscilloscope's ``Record Length,10000``), are an instrument's preamble: kept as
     comments (``Record Length: 10000``) and in ``preamble`` ({key: (line, value)})."""
     comments, rows, header, header_line, units_row, factors, row_lines = [], [], None, 0, None, [], []
-    separator, preamble = None, {}
+    separator, preamble, clock = None, {}, {}
     dialect = (",", False)
     lines = list(_lines(path, read_bytes(path)))
     for k, (i, s) in enumerate(lines):
         if not s:
             continue
-        if s.startswith("#"):
+        if s.startswith(COMMENT):
             comments.append(s[1:].strip())
             continue
         if header is None and SEPARATOR_LINE.fullmatch(s):  # Excel's separator line, above the header
@@ -237,15 +272,16 @@ def _parse(path: str, known: Iterable[str] | None, units: dict[str, str] | None)
                 factors = _merge_units(header, factors, units_row, path, i)
                 continue
             units_row = []
-        try:
-            rows.append(_data_row(cells, header, dialect, path, i))
-        except InputError as e:
-            raise (_summary_below_the_data(e, cells, lines[k + 1:], header, dialect, path) if rows else e) from None
+        values = _data_or_end(cells, header, dialect, path, i, clock, lines[k + 1:], bool(rows))
+        if values is None:
+            break
+        rows.append(values)
         row_lines.append(i)
     if header is None and preamble:
         _time_not_first(path, preamble, 0, "")
     if header is None:
         raise InputError(path, "header", "missing (no line other than comments)")
+    _clock_comment(clock, factors, comments, path, header_line)
     return comments, header, header_line, factors, rows, row_lines, preamble
 
 
@@ -304,6 +340,29 @@ def _preamble_line(cells: list, path: str, line: int, preamble: dict, comments: 
     comments.append(f"{cells[0]}: {value}" if value else cells[0])
 
 
+def _data_or_end(cells: list, header: list, dialect: tuple, path: str, line: int, clock: dict, after: list,
+                 more: bool) -> list[float] | None:
+    """A data row's values (:func:`_data_row`), or None for a logger's end marker below the data (``more``:
+    there are rows above; ``after``: the lines below); a bad row is refused, said to be a summary line
+    where it is one."""
+    try:
+        return _data_row(cells, header, dialect, path, line, clock)
+    except InputError as e:
+        if more and _end_marker(cells, after):
+            return None
+        raise (_summary_below_the_data(e, cells, after, header, dialect, path) if more else e) from None
+
+
+#: A logger's last line, alone below the data: the end of the record.
+END_MARKERS = ("end", "eof", "[end]", "end of data")
+
+
+def _end_marker(cells: list, rest: list) -> bool:
+    """Whether ``cells`` is a logger's end marker (:data:`END_MARKERS`) with only blank or comment lines after it."""
+    return (len([c for c in cells if c]) == 1 and cells[0].lower() in END_MARKERS
+            and all(not s or s.startswith(COMMENT) for _, s in rest))
+
+
 #: The most lines below the data that a refused row and its followers may be to be called a summary
 #: (a spreadsheet's mean, max, count... under its data); more are a file whose rows are broken.
 SUMMARY_LINES = 10
@@ -313,11 +372,15 @@ def _summary_below_the_data(error: InputError, cells: list, rest: list, header: 
                             path: str) -> InputError:
     """A data row's refusal, saying so when it (``cells``) holds text and no line after it, a few at most,
     is a sample (a spreadsheet's ``Mean,0.012`` or ``6001 samples`` under the data); a last row of
-    numbers (a NaN sample, a line cut short) is a broken sample, refused as such."""
-    if all(NUMBER.fullmatch(c) for c in cells if c) or sum(1 for _, s in rest if s and not s.startswith("#")) > SUMMARY_LINES:
+    numbers (a NaN sample, a line cut short) is a broken sample, refused as such; a row that names the
+    time again is a second header (two records joined in one file)."""
+    if cells and _names_time(cells[0]):
+        return InputError(error.path, error.field, "a second header below the data (two records joined in one "
+                          "file?): give one record per file")
+    if all(NUMBER.fullmatch(c) for c in cells if c) or sum(1 for _, s in rest if s and not s.startswith(COMMENT)) > SUMMARY_LINES:
         return error
     for i, s in rest:
-        cells = _cells(s, *dialect) if s and not s.startswith("#") else []
+        cells = _cells(s, *dialect) if s and not s.startswith(COMMENT) else []
         if not any(cells):
             continue
         try:
@@ -356,9 +419,41 @@ def _merge_units(header: list, factors: list, units_row: list, path: str, line: 
     return [b if a is None else a for a, b in zip(factors, units_row)]
 
 
-def _data_row(cells: list, header: list, dialect: tuple, path: str, line: int) -> list[float]:
-    """One row's values: as many as the header's columns (empty cells past them are padding), each a
-    finite number."""
+#: A clock time in the time column, as loggers write it: an ISO 8601 date and time
+#: (``2026-11-27 10:00:00.000125``, or with ``T``) or a time of day (``10:00:00.001``).
+CLOCK = re.compile(r"(\d{4}-\d{2}-\d{2}[T ])?\d{2}:\d{2}:\d{2}(\.\d{1,6})?")
+
+
+def _clock_comment(clock: dict, factors: list, comments: list, path: str, line: int) -> None:
+    """Say in a comment where a time column of clock times starts; refuse one that states a unit."""
+    if clock.get("first") is None:
+        return
+    if factors[0] not in (None, 1.0):
+        raise InputError(path, f"line {line}, column 't'", "holds clock times but states a unit other than s: "
+                         "leave the unit out")
+    first = clock["first"].isoformat(sep=" ") if clock["dated"] else clock["first"].time().isoformat()
+    comments.append(f"time from the first sample's clock time, {first}")
+
+
+def _clock_seconds(cell: str, clock: dict, path: str, line: int) -> float:
+    """Seconds (exact to the microsecond) from the first row's clock time (kept in ``clock['first']``)
+    to the clock time ``cell``; a column that mixes clock times and numbers is refused."""
+    if clock.get("numbers"):
+        raise InputError(path, f"line {line}, column 't'", f"a clock time {cell!r} below numbers: one kind of time per column")
+    try:
+        when = (dt.datetime.fromisoformat(cell) if "-" in cell else
+                dt.datetime.combine(dt.date(2000, 1, 1), dt.time.fromisoformat(cell)))
+    except ValueError:
+        raise InputError(path, f"line {line}, column 't'", f"value {cell!r} is not a clock time") from None
+    clock.setdefault("first", when)
+    clock.setdefault("dated", "-" in cell)
+    return (when - clock["first"]).total_seconds()
+
+
+def _data_row(cells: list, header: list, dialect: tuple, path: str, line: int, clock: dict | None = None) -> list[float]:
+    """One row's values: as many as the header's columns, each a finite number; the time may be a clock
+    time (:data:`CLOCK`), read as seconds from the first row's (``clock`` holds it); empty cells past the
+    header's columns are padding."""
     cells = _within(cells, len(header))
     if len(cells) != len(header):
         extra = len(cells) > len(header)
@@ -369,7 +464,15 @@ def _data_row(cells: list, header: list, dialect: tuple, path: str, line: int) -
                          + (" (a decimal comma in a comma-separated file? use ';' between values)" if comma else
                             " (a value under a column the header does not name: name the column or delete the value)"
                             if extra else ""))
-    values = [_number(c, path, line) for c in cells]
+    clock = {} if clock is None else clock
+    if CLOCK.fullmatch(cells[0]):
+        values = [_clock_seconds(cells[0], clock, path, line)] + [_number(c, path, line) for c in cells[1:]]
+    elif clock.get("first") is not None:
+        raise InputError(path, f"line {line}, column 't'", f"a number {cells[0][:30]!r} below clock times: one kind "
+                         "of time per column")
+    else:
+        clock["numbers"] = True
+        values = [_number(c, path, line) for c in cells]
     for col, v in zip(header, values):
         if not math.isfinite(v):
             raise InputError(path, f"line {line}, column {col!r}", "value is not finite (NaN or inf)")
