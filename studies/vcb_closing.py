@@ -498,12 +498,20 @@ def md_sizing(rig, rows, sizing):
             f"the same product, would need about {speed_times_time / 0.030:.1f} m/s).\n"]
 
 
+def drive_side(pole: int, count: int) -> str:
+    """Where a main shaft is driven, in words: "the first pole's side", "the middle pole", "pole 3"."""
+    return ("the first pole's side" if pole == 1 else "the middle pole" if 2 * pole == count + 1
+            else "the last pole's side" if pole == count else f"pole {pole}")
+
+
 def md_main_shaft(spread_rows, spread, twist, rig):
     return ["## The main shaft's twist between the pole levers\n",
             f"The reference breaker's main shaft (rig section `breaker.main_shaft`, `MAIN_SHAFT_SECTION` in "
-            f"`parameters.py`, sized there with this table): {1e3 * P.MAIN_SHAFT['diameter']:.0f} mm solid steel, pole "
+            f"`parameters.py`, sized there with this table): {1e3 * P.MAIN_SHAFT['diameter']:.0f} mm "
+            + ("solid" if P.MAIN_SHAFT["bore"] == 0 else f"hollow ({1e3 * P.MAIN_SHAFT['bore']:g} mm bore)") + " steel, pole "
             f"levers {1e3 * P.MAIN_SHAFT['pole_pitch']:.0f} mm apart and {1e3 * P.MAIN_SHAFT['lever_arm']:.0f} mm long, "
-            "driven at the first pole's side. Each pole lever turns on its own, tied to its neighbours by the shaft's "
+            f"driven at {drive_side(P.MAIN_SHAFT['drive_pole'], rig.breaker.poles.count)}. "
+            "Each pole lever turns on its own, tied to its neighbours by the shaft's "
             "torsional stiffness and damping; the drive pole's lever turns with the roller's follower. The closing to "
             f"the cam's rest on the holding latch ({1e3 * P.BREAKER_REST_T_END:.0f} ms), full model, the same breaker "
             "with the shaft rigid, driven at the middle pole, and as thin as first estimated (equal springs, cam, poles "

@@ -176,3 +176,5 @@ def test_the_closing_page_says_what_the_elastic_shaft_does_only_where_the_runs_s
         return s.static_check_sentence(static, spread)
     assert "add to the quasi-static twist" in twist(0.2e-3, 0.3e-3)
     assert "add to" not in twist(0.2e-3, 0.1e-3) and "less than the quasi-static twist" in twist(0.2e-3, 0.1e-3)
+    assert s.drive_side(1, 3) == "the first pole's side" and s.drive_side(2, 3) == "the middle pole"
+    assert s.drive_side(3, 3) == "the last pole's side" and s.drive_side(2, 4) == "pole 2"
