@@ -245,11 +245,42 @@ def main():
     truth = P.REFERENCE_PENDULUM_TRUTH
     h = experiment_of("pendulum").step(prig)
     law = model_spec(prig, HYBRID, truth).friction_law(prig.shaft_radius, h)
-    t_end = 6.0
     res = {"machine": {"python": platform.python_version(), "processor": platform.processor() or platform.machine()},
-           "pendulum_6s": {"step_s": h}}
-    pend = res["pendulum_6s"]
+           "pendulum_6s": {}}  # its place in the JSON before the sections' seconds
     lap = Laps(res)
+    res["pendulum_6s"] = pendulum_costs(prig, law, truth, h, repeat)
+    lap("pendulum")
+    res["cam_drop_35ms"] = cam_drop_costs(crig, repeat)
+    lap("cam_drop")
+    write_rig(P.REFERENCE_BREAKER, tmp / "b.rig.json")
+    brig = load_rig(tmp / "b.rig.json")
+    res["vcb_closing_45ms"] = closing_costs(brig, repeat)
+    lap("closing")
+
+    res["issue18_targets"] = speed_targets(prig, crig, brig, law, h, 3 if args.quick else 7)
+    print(res["issue18_targets"], flush=True)
+    lap("speed_targets")
+    res["identification"] = identification_cost(tmp, truth, args.quick)
+    print(res["identification"], flush=True)
+    lap("identification")
+    if not args.quick:
+        two_records_and_diagnoses(res, tmp, truth)
+        lap("two_record_identification_and_diagnoses")
+    res["memory"] = memory_growth(prig, law, h, args.quick)
+    lap("memory")
+    res["sweep_scaling"] = sweep_scaling(args.quick)
+    lap("sweep_scaling")
+    res["issue18_targets"]["tolerance_study_10000_closings_2_cores"] = tolerance_study_target(res["sweep_scaling"])
+    write_json(out / "benchmark.json", res)
+    (out / "benchmark.md").write_text(speed_table(res["issue18_targets"]) + scaling_table(res["sweep_scaling"]))
+    print(res)
+
+
+def pendulum_costs(prig, law, truth, h, repeat) -> dict:
+    """A 6 s pendulum through Exudyn without friction (the floor), with the friction connector's symbolic and
+    Python user functions, and through the scipy reference: seconds, and the connector over the floor."""
+    t_end = 6.0
+    pend = {"step_s": h}
     for name, uf in (("floor_no_friction", "none"), ("symbolic_user_function", "symbolic"), ("python_user_function", "python")):
         pend[name + "_s"] = median_time(lambda: build_pendulum(prig, law, uf).solve(t_end, h, 1e-3), repeat)
     pend["scipy_reference_dop853_s"] = median_time(
@@ -258,9 +289,13 @@ def main():
     pend["target_compiled_over_floor"] = 2.0
     pend["target_met"] = pend["compiled_over_floor"] <= 2.0
     print(pend, flush=True)
-    lap("pendulum")
+    return pend
 
-    cam = res["cam_drop_35ms"] = {}
+
+def cam_drop_costs(crig, repeat) -> dict:
+    """A 35 ms cam drop with each spring model (massless, lumped-1..3, ANCF of 4, 8, 16 elements, and the
+    spring studies' rigid-tie truth): seconds against their targets."""
+    cam = {}
     models = ["massless", "lumped-1", "lumped-2", "lumped-3"]
     for m in models:
         eff = ("coulomb_friction", "stribeck") + (("spring_mass",) if m != "massless" else ())
@@ -277,60 +312,57 @@ def main():
     cam["ancf_8_rigid_ties_s"] = median_time(lambda: simulate_rigid_ties(
         crig, eff, sample_times=output_times(crig, 0.035)), 1)
     print(cam, flush=True)
-    lap("cam_drop")
+    return cam
 
-    write_rig(P.REFERENCE_BREAKER, tmp / "b.rig.json")
-    brig = load_rig(tmp / "b.rig.json")
-    closing = res["vcb_closing_45ms"] = {}
+
+def closing_costs(brig, repeat) -> dict:
+    """The reference closing (45 ms) with a massless, lumped-2 and ANCF spring: seconds against the target."""
+    closing = {}
     for m in ("massless", "lumped-2", "ancf"):
         eff = tuple(e for e in brig.model.effects if e != "spring_mass") + (("spring_mass",) if m != "massless" else ())
         closing[m.replace("-", "") + "_s"] = median_time(lambda: simulate(brig, eff, spring_model=m), repeat)
     closing["target_lumped2_s"] = 10.0
     closing["lumped2_target_met"] = closing["lumped2_s"] <= 10.0
     print(closing, flush=True)
-    lap("closing")
+    return closing
 
-    res["issue18_targets"] = speed_targets(prig, crig, brig, law, h, 3 if args.quick else 7)
-    print(res["issue18_targets"], flush=True)
-    lap("speed_targets")
-    res["identification"] = identification_cost(tmp, truth, args.quick)
-    print(res["identification"], flush=True)
-    lap("identification")
-    if not args.quick:
-        pairs = []
-        for i, rd in enumerate((P.REFERENCE_PENDULUM, P.REFERENCE_PENDULUM_15)):
-            write_rig(rd, tmp / f"id{i}.rig.json")
-            r = load_rig(tmp / f"id{i}.rig.json")
-            pairs.append((r, synthetic_measurement(r, HYBRID, truth, seed=20 + i)))
-        t0 = time.perf_counter()
-        identify(pairs, "hybrid", verbose=False)
-        res["hybrid_identification_two_measurements_s"] = time.perf_counter() - t0
-        res["hybrid_identification_target_s"] = 60.0
-        res["diagnosis_s"] = diagnosis_times(tmp)
-        print(res["diagnosis_s"], flush=True)
-        lap("two_record_identification_and_diagnoses")
-        d = res["diagnosis_s"]
-        res["issue18_targets"]["one_diagnosis_realism_median"] = {"now": d["median_s"], "target": 4.0, "unit": "s",
-                                                                  "met": d["median_s"] <= 4.0}
-        res["issue18_targets"]["one_diagnosis_realism_max"] = {"now": d["max_s"], "target": 15.0, "unit": "s",
-                                                               "met": d["max_s"] <= 15.0}
 
-    # memory: repeated build + solve with symbolic user functions (exudyn-notes: leaks without SC.Reset)
+def two_records_and_diagnoses(res, tmp, truth) -> None:
+    """The full run's part: a hybrid identification on two pendulum records (10 and 15 degrees) and the nine
+    diagnoses (:func:`diagnosis_times`), into ``res`` with the diagnosis targets in ``res["issue18_targets"]``."""
+    pairs = []
+    for i, rd in enumerate((P.REFERENCE_PENDULUM, P.REFERENCE_PENDULUM_15)):
+        write_rig(rd, tmp / f"id{i}.rig.json")
+        r = load_rig(tmp / f"id{i}.rig.json")
+        pairs.append((r, synthetic_measurement(r, HYBRID, truth, seed=20 + i)))
+    t0 = time.perf_counter()
+    identify(pairs, "hybrid", verbose=False)
+    res["hybrid_identification_two_measurements_s"] = time.perf_counter() - t0
+    res["hybrid_identification_target_s"] = 60.0
+    res["diagnosis_s"] = diagnosis_times(tmp)
+    print(res["diagnosis_s"], flush=True)
+    d = res["diagnosis_s"]
+    res["issue18_targets"]["one_diagnosis_realism_median"] = {"now": d["median_s"], "target": 4.0, "unit": "s",
+                                                              "met": d["median_s"] <= 4.0}
+    res["issue18_targets"]["one_diagnosis_realism_max"] = {"now": d["max_s"], "target": 15.0, "unit": "s",
+                                                           "met": d["max_s"] <= 15.0}
+
+
+def memory_growth(prig, law, h, quick) -> dict:
+    """Resident memory over repeated build + solve with symbolic user functions (exudyn-notes: leaks without
+    SC.Reset): the peak and the growth over 10 (quick) or 100 builds (MB)."""
+    builds = 10 if quick else 100
     before = rss_mb()
-    for _ in range(10 if args.quick else 100):
+    for _ in range(builds):
         build_pendulum(prig, law, "symbolic").solve(0.5, h, 1e-3)
-    res["memory"] = {"peak_rss_mb": rss_mb(), "rss_growth_over_builds_mb": rss_mb() - before,
-                     "builds": 10 if args.quick else 100}
-    lap("memory")
-    res["sweep_scaling"] = sweep_scaling(args.quick)
-    lap("sweep_scaling")
-    minutes = res["sweep_scaling"]["estimate_10000_runs"]["2_cores_min"]
-    res["issue18_targets"]["tolerance_study_10000_closings_2_cores"] = {
-        "now": minutes, "target": 30.0, "unit": "min", "met": minutes <= 30.0,
-        "how": "estimated from one closing's time and the local workers' utilisation measured in this run (sweep_scaling)"}
-    write_json(out / "benchmark.json", res)
-    (out / "benchmark.md").write_text(speed_table(res["issue18_targets"]) + scaling_table(res["sweep_scaling"]))
-    print(res)
+    return {"peak_rss_mb": rss_mb(), "rss_growth_over_builds_mb": rss_mb() - before, "builds": builds}
+
+
+def tolerance_study_target(scaling) -> dict:
+    """The 10 000-closing tolerance study on 2 cores (minutes, estimated from the scaling part) against 30 min."""
+    minutes = scaling["estimate_10000_runs"]["2_cores_min"]
+    return {"now": minutes, "target": 30.0, "unit": "min", "met": minutes <= 30.0,
+            "how": "estimated from one closing's time and the local workers' utilisation measured in this run (sweep_scaling)"}
 
 
 def identification_cost(tmp, truth, quick):
@@ -595,17 +627,7 @@ def sweep_scaling(quick, per_worker=None, rounds=None, after_round=None):
     one worker: T1 / Tw on the same work per worker. Dask against local at equal workers: T_dask / T_local.
     Utilisation: the workers' time in runs over workers x wall (what the executor leaves idle)."""
     data = copy.deepcopy(P.REFERENCE_BREAKER)
-    parts = {"load_s": [], "run_s": []}
-    for _ in range(2 if quick else 5):
-        t0 = time.perf_counter()
-        rig = rig_from_data(copy.deepcopy(data))
-        parts["load_s"].append(time.perf_counter() - t0)
-        t0 = time.perf_counter()
-        figures_of_merit(rig)
-        parts["run_s"].append(time.perf_counter() - t0)
-    one = {k: statistics.median(v) for k, v in parts.items()}
-    one["simulated_with"] = simulate(rig, backend="fast", t_end=1e-3).info["backend"]
-
+    one = one_run_parts(data, 2 if quick else 5)
     cores = default_workers()
     per_worker = per_worker or (16 if quick else SCALING_PER_WORKER)
     rounds = rounds or (2 if quick else 3)
@@ -650,6 +672,22 @@ def sweep_scaling(quick, per_worker=None, rounds=None, after_round=None):
             if c.procs:
                 c.__exit__(None, None, None)
     return scaling_result(one, cores, per_worker, rounds, measured, times, check, load_before, idle)
+
+
+def one_run_parts(data, repeat) -> dict:
+    """One closing's parts in this process, the medians of ``repeat``: loading the rig from its JSON
+    (``load_s``) and running it to its figures of merit (``run_s``), and the backend that ran it."""
+    parts = {"load_s": [], "run_s": []}
+    for _ in range(repeat):
+        t0 = time.perf_counter()
+        rig = rig_from_data(copy.deepcopy(data))
+        parts["load_s"].append(time.perf_counter() - t0)
+        t0 = time.perf_counter()
+        figures_of_merit(rig)
+        parts["run_s"].append(time.perf_counter() - t0)
+    one = {k: statistics.median(v) for k, v in parts.items()}
+    one["simulated_with"] = simulate(rig, backend="fast", t_end=1e-3).info["backend"]
+    return one
 
 
 def scaling_result(one, cores, per_worker, rounds, measured, times, check, load_before, idle) -> dict:

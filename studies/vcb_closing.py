@@ -16,6 +16,7 @@ closing as a breaker analyser draws it, its report in the .md), vcb_closing.{md,
 results/synthetic/vcb_closing.{csv,rig.json}.
 """
 import copy
+import math
 from pathlib import Path
 
 import numpy as np
@@ -33,9 +34,12 @@ from vcbmodel.experiments.simulation import model_spec, simulate
 from vcbmodel.experiments.summaries import closing_report
 from vcbmodel.laws.breaker import BreakerLaws, massless_pull, pressure_angle_curve
 from vcbmodel.laws.coil import spring_check
+from vcbmodel.laws.contact import LINE_EXPONENT, johnson_line_approach, palmgren_line_stiffness
+from vcbmodel.laws.friction import band_width
 from vcbmodel.laws.mechanics import cam_pin, main_shaft_twist
 from vcbmodel.records.measurement import write_measurement
 from vcbmodel.reference.breaker import solve_closing
+from vcbmodel.reference.breaker_closing import Closing
 
 FRICTION = ("coulomb_friction", "stribeck")
 #: m/s: the closing speeds of 12 kV vacuum breakers (parameters.py, the note on REFERENCE_LIMITS' closing
@@ -160,6 +164,20 @@ def contact_choices(base, t_end):
     return rows, out
 
 
+def passive_stick_band(rig) -> list[float]:
+    """The passive stuck state's stick band (rad/s, :func:`vcbmodel.laws.friction.band_width` at the rig's step)
+    while the latch lets the cam go: the smallest and largest over the latch's release, with the shaft's
+    reaction and the cam's inertia of the independent solve's rest state (:class:`Closing`)."""
+    spec = model_spec(rig)
+    law = spec.friction_law(rig.shaft_radius, P.BREAKER_STEP)
+    closing = Closing(rig, spec)
+    phi, z, _, levers = closing.rest()
+    y = closing.initial_vector(phi, z, levers)
+    bands = [band_width(law, math.hypot(*closing.cam_applied(t, y)[1]), closing.IA)
+             for t in np.linspace(0.0, rig.breaker.latch_release_time, 21)]
+    return [float(min(bands)), float(max(bands))]
+
+
 def independent_agreement(rig, t_end):
     """The Exudyn model against the independent solve (vcbmodel/reference/breaker.py): literal and
     passive stick band, and what the model's first-order penetration costs."""
@@ -176,6 +194,7 @@ def independent_agreement(rig, t_end):
                                                               - np.array(ref["touch_speeds"])))),
             **{f"max_{k}_difference": float(np.max(np.abs(a.channels[k][::10] - ref[k])))
                for k in ("follower_displacement", "cam_angle", "pole_1_travel", "cam_roller_force")}}
+    out["passive_stick_band_rad_s"] = passive_stick_band(rig)
     first = solve_closing(rig, spec, t, distance="first_order")
     out["first_order_penetration_cost"] = {
         "follower_displacement_m": float(np.max(np.abs(first["follower_displacement"] - ref["follower_displacement"]))),
@@ -348,25 +367,50 @@ def pole_spread_rows(rig_dict, t_end):
     return rows, out
 
 
-def pole_spread_sentence(spread):
-    """What the elastic main shaft does to the pole spread, in one sentence from the study's numbers."""
+def gap_text(poles) -> str:
+    """The poles' gaps as the rig gives them: '11 mm + 0 / +0.3 / -0.3 mm'."""
+    return (f"{1e3 * poles.contact_gap:g} mm + "
+            + " / ".join("0" if o == 0 else f"{1e3 * o:+g}" for o in poles.gap_offsets) + " mm")
+
+
+def gap_tolerance_text(poles) -> str:
+    """The largest offset of a pole's gap from the nominal: '+-0.3 mm'."""
+    return f"+-{1e3 * max(abs(o) for o in poles.gap_offsets):g} mm"
+
+
+def far_poles_text(rigid, ref, drive_pole) -> str:
+    """What the elastic shaft does to the poles away from the drive (1-based ``drive_pole``), said only where the
+    runs show it: their bounce against the rigid shaft's, and the weakest pole's closed push-rod force."""
+    far = [i for i in range(len(ref["closed_rod_forces_N"])) if i != drive_pole - 1]
+    bounce = lambda run: run["figures_of_merit"]["per_pole"]["bounce_duration_s"]  # noqa: E731
+    longer = [i for i in far if bounce(ref)[i] > bounce(rigid)[i]]
+    ring = ("the far levers ring at the shaft's torsional modes and lengthen their poles' bounce (the last column)"
+            if longer else "the far levers ring at the shaft's torsional modes without lengthening their poles' "
+            "bounce (the last column)")
+    weakest = int(np.argmin(ref["closed_rod_forces_N"]))
+    kept, stiff = ref["closed_rod_forces_N"][weakest], rigid["closed_rod_forces_N"][weakest]
+    wipe = ("the far poles keep less of their wipe" if weakest in far and kept < stiff
+            else "the poles keep their wipe as on a rigid shaft" if kept >= stiff else "the drive pole keeps the least")
+    return (f"{ring}, and {wipe}: closed, the push rod of pole {weakest + 1} (its contact force) carries "
+            f"{1e-3 * kept:.2f} kN against {1e-3 * stiff:.2f} kN on a rigid shaft "
+            f"({P.REFERENCE_LIMITS['contact_force_closed']['source']}, `parameters.py`)")
+
+
+def pole_spread_sentence(spread, poles, drive_pole):
+    """What the elastic main shaft does to the pole spread, in one sentence from the study's numbers
+    (``poles``: the rig's, for the gap tolerance; ``drive_pole``: where the reference shaft is driven)."""
     (rigid_label, rigid), (ref_label, ref) = list(spread.items())[:2]
     a, b = rigid["figures_of_merit"], ref["figures_of_merit"]
     if a["pole_spread_s"] is None or b["pole_spread_s"] is None:
         return "Not every pole touched in one of the runs: see the table."
-    weakest = int(np.argmin(ref["closed_rod_forces_N"]))
     order = lambda f: "-".join(str(i + 1) for i in np.argsort(f["per_pole"]["touch_s"]))  # noqa: E731
     return (f"With the reference shaft the pole spread is {1e3 * b['pole_spread_s']:.2f} ms against "
             f"{1e3 * a['pole_spread_s']:.2f} ms for a rigid one (poles touch in the order {order(b)}, rigid "
             f"{order(a)}); the closing time moves by {1e3 * (b['closing_time_s'] - a['closing_time_s']):+.2f} ms and "
             f"the closing speed by {b['closing_speed_m_s'] - a['closing_speed_m_s']:+.3f} m/s. Under the wipe the "
             f"levers twist {1e3 * ref['travel_at_pole_m']['largest']:.2f} mm apart at the pole (the gap tolerance is "
-            "+-0.3 mm), the far levers ring at the shaft's torsional modes and lengthen their poles' bounce (the last "
-            "column), and the far poles keep less of their wipe: closed, the push rod of pole "
-            f"{weakest + 1} (its contact force) carries {1e-3 * ref['closed_rod_forces_N'][weakest]:.2f} kN against "
-            f"{1e-3 * rigid['closed_rod_forces_N'][weakest]:.2f} kN on a rigid shaft (40 kA interrupters need 3-4 kN, "
-            "`parameters.py`). A real breaker's pole spread and each pole's contact force depend on its shaft's "
-            "stiffness and where it is driven.")
+            f"{gap_tolerance_text(poles)}), {far_poles_text(rigid, ref, drive_pole)}. A real breaker's pole spread and "
+            "each pole's contact force depend on its shaft's stiffness and where it is driven.")
 
 
 def static_check_sentence(static, spread):
@@ -377,8 +421,10 @@ def static_check_sentence(static, spread):
             f"({1e3 * ref['end']:.2f} mrad) differ by {100 * abs(ref['end'] - closed) / closed:.1f} % (the formula "
             "shares the model's G J / pitch reading, not its "
             f"lever dynamics). Before the touch the model's levers twist {1e3 * ref['before']:.2f} mrad "
-            f"against the static {1e3 * before:.2f} mrad: the levers' own inertia and the shaft's torsional modes "
-            "(`laws.breaker.torsional_frequencies`) add to the quasi-static twist.")
+            f"against the static {1e3 * before:.2f} mrad"
+            + (": the levers' own inertia and the shaft's torsional modes (`laws.breaker.torsional_frequencies`) add "
+               "to the quasi-static twist." if abs(ref["before"]) > before else
+               ", less than the quasi-static twist."))
 
 
 POLE_SPREAD_HEADERS = ["main shaft", "touch times, poles 1/2/3 (ms)", "pole spread (ms)", "touch speeds (m/s)",
@@ -452,19 +498,28 @@ def md_sizing(rig, rows, sizing):
             f"the same product, would need about {speed_times_time / 0.030:.1f} m/s).\n"]
 
 
-def md_main_shaft(spread_rows, spread, twist):
+def drive_side(pole: int, count: int) -> str:
+    """Where a main shaft is driven, in words: "the first pole's side", "the middle pole", "pole 3"."""
+    return ("the first pole's side" if pole == 1 else "the middle pole" if 2 * pole == count + 1
+            else "the last pole's side" if pole == count else f"pole {pole}")
+
+
+def md_main_shaft(spread_rows, spread, twist, rig):
     return ["## The main shaft's twist between the pole levers\n",
             f"The reference breaker's main shaft (rig section `breaker.main_shaft`, `MAIN_SHAFT_SECTION` in "
-            f"`parameters.py`, sized there with this table): {1e3 * P.MAIN_SHAFT['diameter']:.0f} mm solid steel, pole "
+            f"`parameters.py`, sized there with this table): {1e3 * P.MAIN_SHAFT['diameter']:.0f} mm "
+            + ("solid" if P.MAIN_SHAFT["bore"] == 0 else f"hollow ({1e3 * P.MAIN_SHAFT['bore']:g} mm bore)") + " steel, pole "
             f"levers {1e3 * P.MAIN_SHAFT['pole_pitch']:.0f} mm apart and {1e3 * P.MAIN_SHAFT['lever_arm']:.0f} mm long, "
-            "driven at the first pole's side. Each pole lever turns on its own, tied to its neighbours by the shaft's "
+            f"driven at {drive_side(P.MAIN_SHAFT['drive_pole'], rig.breaker.poles.count)}. "
+            "Each pole lever turns on its own, tied to its neighbours by the shaft's "
             "torsional stiffness and damping; the drive pole's lever turns with the roller's follower. The closing to "
             f"the cam's rest on the holding latch ({1e3 * P.BREAKER_REST_T_END:.0f} ms), full model, the same breaker "
             "with the shaft rigid, driven at the middle pole, and as thin as first estimated (equal springs, cam, poles "
             "and total inertia of the shaft assembly). Twist: the largest angle between any two pole levers, and the "
             "travel it makes at the pole:\n",
             markdown_table(POLE_SPREAD_HEADERS, spread_rows),
-            "\nPole gaps are 11 mm + 0 / +0.3 / -0.3 mm. " + pole_spread_sentence(spread) + "\n",
+            f"\nPole gaps are {gap_text(rig.breaker.poles)}. "
+            + pole_spread_sentence(spread, rig.breaker.poles, rig.breaker.main_shaft.drive_pole) + "\n",
             "A static check of the twist (`laws.mechanics.main_shaft_twist`: each segment carries the push-rod "
             "torques of the poles beyond it, quasi-static, no lever inertia), loaded by the push-rod forces of the "
             "elastic full model:\n",
@@ -517,11 +572,29 @@ def md_opening_spring_and_rise(rows, runs):
 CONTACT_HEADERS = ["cam-roller law, damping", *FOM_HEADERS, "dashpot force max / min (kN)", "dissipated by the dashpot (J)"]
 
 
-def md_contact(choice_rows, former_rows):
+#: The roller loads (N) over which Palmgren's line law is compared with Johnson's cylinder formula
+JOHNSON_LOADS = (1e3, 3e3, 1e4, 2e4, 4e4)
+
+
+def johnson_over_palmgren(rig) -> tuple[float, float]:
+    """Johnson's approach of two steel cylinders (the roller on the cam's base circle) over Palmgren's line law's,
+    the smallest and largest over :data:`JOHNSON_LOADS`, for the rig's roller width and radii."""
+    b = rig.breaker
+    width = b.cam_roller.roller_width
+    k = palmgren_line_stiffness(width)
+    ratios = [johnson_line_approach(f, width, b.roller_radius, b.profile.base_radius) / (f / k) ** (1 / LINE_EXPONENT)
+              for f in JOHNSON_LOADS]
+    return min(ratios), max(ratios)
+
+
+def md_contact(choice_rows, former_rows, rig):
+    low, high = johnson_over_palmgren(rig)
     return ["## The cam-roller contact: law and damping\n",
             "A cylindrical roller on a cam is a line contact: Palmgren's steel law, force ~ delta^(10/9) with the "
-            "stiffness from the roller's 20 mm width (Johnson's cylinder formula is 8-13 % more compliant over "
-            "1-40 kN), instead of Hertz's point contact (delta^1.5). The contact is preloaded from the first instant "
+            f"stiffness from the roller's {1e3 * rig.breaker.cam_roller.roller_width:g} mm width (Johnson's cylinder "
+            f"formula is {100 * (low - 1):.0f}-{100 * (high - 1):.0f} % more compliant over "
+            f"{1e-3 * min(JOHNSON_LOADS):g}-{1e-3 * max(JOHNSON_LOADS):g} kN), instead of Hertz's point contact (delta^1.5). "
+            "The contact is preloaded from the first instant "
             "to the last, so it has no impact speed: Lankarani-Nikravesh damping then runs on its 0.05 m/s floor, an "
             "arbitrary dashpot; Hunt-Crossley with a fixed factor alpha (0.08-0.32 s/m for steel) is meant for "
             "persistent contacts. The reference breaker uses the line contact with Hunt-Crossley, alpha = 0.2 s/m.\n",
@@ -533,7 +606,7 @@ def md_contact(choice_rows, former_rows):
 
 
 def md_independent(agreement, t_end):
-    cost = agreement["first_order_penetration_cost"]
+    cost, band = agreement["first_order_penetration_cost"], agreement["passive_stick_band_rad_s"]
     return ["\n## Independent evidence: the model against a solve written again from the equations\n",
             "`vcbmodel/reference/breaker.py` shares no code with the model: geometry, contact and friction laws and "
             "the equations of motion are written again; the roller's penetration is the exact minimum distance to the "
@@ -551,8 +624,9 @@ def md_independent(agreement, t_end):
             "touch times; what is left is the model's fixed step: the pole travels differ during the bounces because "
             "the model takes each impact speed at the start of the step in which the contact begins (first order in "
             "the step), and the touch speeds because the figures of merit interpolate the velocity over that step. "
-            "The default passive stuck state widens the stick band with the step (2 h mu_s r F_n / I, 0.018 rad/s at "
-            "1e-5 s), which delays the breakaway by microseconds. The model's first-order penetration (the pitch "
+            "The default passive stuck state widens the stick band with the step (2 h mu_s r F_n / I, "
+            f"{band[0]:.3f}-{band[1]:.3f} rad/s at {P.BREAKER_STEP:g} s while the latch lets go), which delays the "
+            "breakaway by microseconds. The model's first-order penetration (the pitch "
             "curve's normal offset) against the exact distance costs "
             f"{1e6 * cost['follower_displacement_m']:.3f} um of follower displacement, {1e9 * cost['penetration_m']:.2f} "
             f"nm of penetration and {1e9 * cost['touch_time_s']:.1f} ns in the touch times.\n"]
@@ -700,7 +774,9 @@ def closing_figures(rig, meas, results, full_fom, out):
         ax.set_ylabel(ylabel)
         ax.set_xlabel("t (ms)")
         ax.legend(fontsize=8)
-    axes[0, 0].set_title("touch and bounce (gap 11 mm +- 0.3 mm)")
+    poles = rig.breaker.poles
+    axes[0, 0].set_title(f"touch and bounce (gap {1e3 * poles.contact_gap:g} mm +- "
+                         f"{1e3 * max(abs(o) for o in poles.gap_offsets):g} mm)")
     axes[1, 1].plot(np.degrees(thetas), pressure)
     axes[1, 1].set_xlabel("cam angle (deg)")
     axes[1, 1].set_ylabel("pressure angle (deg)")
@@ -752,9 +828,9 @@ def main():
     write_json(out / "vcb_closing.json", summary)
     md = (md_models(rows, truth_elements) + md_energy_split(split_rows, stop_rows)
           + md_sizing(rig, sizing, summary["sizing"])
-          + md_main_shaft(spread_rows, summary["pole_spread_main_shaft"], summary["main_shaft_twist"])
+          + md_main_shaft(spread_rows, summary["pole_spread_main_shaft"], summary["main_shaft_twist"], rig)
           + md_opening_spring_and_rise(rise_rows, summary["opening_spring_and_rise"])
-          + md_contact(choice_rows, former_rows) + md_independent(summary["independent_reference"], t_end)
+          + md_contact(choice_rows, former_rows, rig) + md_independent(summary["independent_reference"], t_end)
           + md_conclusion(summary) + md_analyser(report))
     (out / "vcb_closing.md").write_text("\n".join(md))
     print("\n".join(md))

@@ -124,3 +124,57 @@ def test_the_closing_page_says_a_coil_fails_only_where_its_stress_is_over_the_al
     over = s.coil_claim({"shear_stress_Pa": 2.94e9, "allowable_extension_Pa": 0.76e9})
     assert over.startswith("which no steel coil") and "2.94 GPa against the 0.76 GPa allowed" in over
     assert s.coil_claim({"shear_stress_Pa": 0.5e9, "allowable_extension_Pa": 0.76e9}).startswith("which a steel coil")
+
+
+def test_the_closing_page_takes_gaps_johnson_and_the_stick_band_from_the_rig_and_the_laws(study):
+    """vcb_closing typed the pole gaps ('11 mm + 0 / +0.3 / -0.3 mm', '+-0.3 mm'), Johnson's '8-13 %' and a
+    passive stick band '0.018 rad/s at 1e-5 s'; they come from the rig and the laws (the band is
+    laws.friction.band_width at the rest state of the independent solve)."""
+    import copy
+
+    from vcbmodel import parameters as P
+    from vcbmodel.experiments.loading import rig_from_data
+    s = study("vcb_closing")
+    rig = rig_from_data(copy.deepcopy(P.REFERENCE_BREAKER))
+    assert s.gap_text(rig.breaker.poles) == "11 mm + 0 / +0.3 / -0.3 mm"
+    assert s.gap_tolerance_text(rig.breaker.poles) == "+-0.3 mm"
+    low, high = s.johnson_over_palmgren(rig)
+    assert (round(100 * (low - 1)), round(100 * (high - 1))) == (8, 13)
+    data = copy.deepcopy(P.REFERENCE_BREAKER)
+    data["breaker"]["poles"].update(contact_gap=0.012, gap_offsets=[0.0, -0.0005, 0.0002])
+    data["breaker"]["contact"]["roller_width"] = 0.04  # a wider roller: Palmgren stiffer, Johnson's ratio other
+    other = rig_from_data(data)
+    assert s.gap_text(other.breaker.poles) == "12 mm + 0 / -0.5 / +0.2 mm"
+    assert s.gap_tolerance_text(other.breaker.poles) == "+-0.5 mm"
+    assert s.johnson_over_palmgren(other) != (low, high)
+    band = s.passive_stick_band(rig)
+    assert 0.0 < band[0] <= band[1] and band[1] > 10 * rig.friction.get("stick_velocity", P.DEFAULT_STICK_VELOCITY)
+    data = copy.deepcopy(P.REFERENCE_BREAKER)
+    data["closing_spring"]["stiffness"] *= 1.2  # more reaction on the shaft at rest: a wider band
+    assert s.passive_stick_band(rig_from_data(data))[0] > band[0]
+
+
+def test_the_closing_page_says_what_the_elastic_shaft_does_only_where_the_runs_show_it(study):
+    """The main-shaft paragraph said the far levers 'lengthen their poles' bounce' and the far poles 'keep less of
+    their wipe', and the static check that the levers' inertia 'adds to the quasi-static twist', whatever the runs
+    gave."""
+    s = study("vcb_closing")
+
+    def run(bounce, closed):
+        return {"figures_of_merit": {"per_pole": {"bounce_duration_s": bounce}}, "closed_rod_forces_N": closed}
+    rigid = run([1e-3, 1e-3, 1e-3], [3500.0, 3500.0, 3500.0])
+    worse = s.far_poles_text(rigid, run([1e-3, 1.4e-3, 1.2e-3], [3450.0, 3300.0, 3350.0]), 1)
+    assert "and lengthen their poles' bounce" in worse and "the far poles keep less of their wipe" in worse
+    assert "pole 2 (its contact force) carries 3.30 kN against 3.50 kN" in worse
+    same = s.far_poles_text(rigid, run([1e-3, 0.9e-3, 1e-3], [3500.0, 3510.0, 3520.0]), 1)
+    assert "without lengthening" in same and "keep less" not in same and "keep their wipe" in same
+
+    def twist(static_before, model_before):
+        static = {"closed (end of the run)": {"largest_twist_rad": 1e-3},
+                  "before the first touch": {"largest_twist_rad": static_before}}
+        spread = {"rigid": {}, "ref": {"largest_twist_rad": {"end": 1e-3, "before": model_before}}}
+        return s.static_check_sentence(static, spread)
+    assert "add to the quasi-static twist" in twist(0.2e-3, 0.3e-3)
+    assert "add to" not in twist(0.2e-3, 0.1e-3) and "less than the quasi-static twist" in twist(0.2e-3, 0.1e-3)
+    assert s.drive_side(1, 3) == "the first pole's side" and s.drive_side(2, 3) == "the middle pole"
+    assert s.drive_side(3, 3) == "the last pole's side" and s.drive_side(2, 4) == "pole 2"

@@ -18,6 +18,7 @@ inverse eigenvalue problem by :func:`lumped_chain`.
 """
 from __future__ import annotations
 
+import functools
 import math
 from dataclasses import dataclass, replace
 
@@ -163,26 +164,30 @@ def string_frequencies(tension: float, m0: float, length: float, count: int = 3)
     return np.arange(1, count + 1) * math.pi * math.sqrt(tension / (m0 * length))
 
 
-#: The chains :func:`chain_for` solved in this process, by their inputs (a closing's setup, step limits and
-#: energy audit ask for the same spring's chain five times; its least-squares solve was a seventh of a
-#: tolerance study's processor time). At most :data:`CHAINS_KEPT`; their arrays are read-only.
-_CHAINS: dict = {}
+#: How many chains :func:`chain_for` keeps per process (least recently used dropped first): a closing's
+#: setup, step limits and energy audit ask for the same spring's chain five times, and its least-squares
+#: solve was a seventh of a tolerance study's processor time; a sweep that draws a new spring every run
+#: keeps at most this many (a few kB each).
 CHAINS_KEPT = 256
+
+
+@functools.lru_cache(maxsize=CHAINS_KEPT)
+def _kept_chain(n: int, k0: float, m0: float, free_length: float, convention: str) -> LumpedChain:
+    """:func:`lumped_chain` of these values, solved once per process: the key is the values themselves
+    (the spring's numbers as ``float``, so equal inputs of other number types share one chain of float arrays),
+    and the chain is computed from the key alone; its arrays are read-only, so no caller can change the
+    chain another one holds. ``functools.lru_cache``: bounded and safe to call from several threads."""
+    chain = lumped_chain(n, k0, m0, free_length, convention)
+    for a in (chain.masses, chain.stiffnesses, chain.free_lengths):
+        a.flags.writeable = False
+    return chain
 
 
 def chain_for(spring, spring_model) -> LumpedChain | None:
     """The lumped chain of ``spring`` (k0, m0, free length) for a spring model (``kind``,
-    ``masses``, ``convention``); None for massless and ANCF springs. The same inputs give the same
-    chain object (read-only arrays), solved once per process (:data:`_CHAINS`)."""
+    ``masses``, ``convention``); None for massless and ANCF springs. The same values give the same
+    chain object (read-only arrays), solved once per process (:func:`_kept_chain`)."""
     if spring_model.kind != "lumped":
         return None
-    key = (spring_model.masses, spring.stiffness, spring.mass, spring.free_length, spring_model.convention)
-    chain = _CHAINS.get(key)
-    if chain is None:
-        chain = lumped_chain(*key)
-        for a in (chain.masses, chain.stiffnesses, chain.free_lengths):
-            a.flags.writeable = False
-        if len(_CHAINS) >= CHAINS_KEPT:
-            _CHAINS.pop(next(iter(_CHAINS)))
-        _CHAINS[key] = chain
-    return chain
+    return _kept_chain(spring_model.masses, float(spring.stiffness), float(spring.mass),
+                       float(spring.free_length), str(spring_model.convention))

@@ -14,9 +14,11 @@ Three kinds of check, each naming the rig file and the field:
 """
 from __future__ import annotations
 
+import functools
 import math
 import pickle
 from collections.abc import Iterator
+from types import SimpleNamespace
 from typing import TYPE_CHECKING
 
 import numpy as np
@@ -85,31 +87,40 @@ def travel_curve(b: Breaker, cam: Cam, thetas: np.ndarray) -> np.ndarray:
     return np.array(out)
 
 
-#: Reachable travels computed in this process, by the geometry they depend on (:func:`reachable_travel`):
-#: a sweep loads one breaker per run, the geometry the same in all (a tolerance study draws springs, masses,
-#: friction and gaps), and the kinematics over a turn were a fifth of its processor time. At most
-#: :data:`TRAVELS_KEPT`.
-_TRAVELS: dict = {}
+#: How many reachable travels :func:`reachable_travel` keeps per process (least recently used dropped
+#: first): a sweep loads one breaker per run, the geometry the same in all (a tolerance study draws
+#: springs, masses, friction and gaps), and the kinematics over a turn were a fifth of its processor time.
 TRAVELS_KEPT = 64
+
+
+@functools.lru_cache(maxsize=TRAVELS_KEPT)
+def _kept_travel(geometry: bytes) -> float:
+    """The reachable travel (m) of a pickled geometry (:func:`reachable_travel`), computed from the key
+    alone (unpickled here), so a kept value is always the one its key gives. ``functools.lru_cache``:
+    bounded and safe to call from several threads."""
+    follower, profile, roller_radius, pivot, initial_angle = pickle.loads(geometry)
+    return _travel_over_turn(SimpleNamespace(follower=follower, profile=profile, roller_radius=roller_radius),
+                             pivot, initial_angle)
+
+
+def _travel_over_turn(b, pivot: tuple, initial_angle: float) -> float:
+    """The largest travel (m) over a turn from ``initial_angle`` of a breaker's follower, profile and roller
+    (``b``: anything with those three) on a cam turning about ``pivot``."""
+    cam = SimpleNamespace(pivot=pivot, initial_angle=initial_angle)
+    return float(np.max(travel_curve(b, cam, initial_angle + np.linspace(0.0, TWO_PI, 361))))
 
 
 def reachable_travel(b: Breaker, cam: Cam) -> float:
     """The largest travel (m) of the poles over a turn of the cam from its start (:func:`travel_curve`), once
-    per geometry and process: what it depends on (the follower, the cam profile, the roller radius, the cam's
-    pivot and initial angle) pickled is the key of :data:`_TRAVELS`."""
+    per geometry and process: everything it depends on (the follower, the cam profile, the roller radius, the
+    cam's pivot and initial angle), pickled, is the key of :func:`_kept_travel`. A field changed in place
+    changes the key; a geometry that does not pickle is computed each time."""
+    parts = (b.follower, b.profile, b.roller_radius, tuple(cam.pivot), cam.initial_angle)
     try:
-        key = pickle.dumps((b.follower, b.profile, b.roller_radius, tuple(cam.pivot), cam.initial_angle),
-                           protocol=pickle.HIGHEST_PROTOCOL)
+        key = pickle.dumps(parts, protocol=pickle.HIGHEST_PROTOCOL)
     except (pickle.PicklingError, TypeError, AttributeError):
-        key = None  # a geometry that does not pickle: computed each time
-    travel = _TRAVELS.get(key) if key is not None else None
-    if travel is None:
-        travel = float(np.max(travel_curve(b, cam, cam.initial_angle + np.linspace(0.0, TWO_PI, 361))))
-        if key is not None:
-            if len(_TRAVELS) >= TRAVELS_KEPT:
-                _TRAVELS.pop(next(iter(_TRAVELS)))
-            _TRAVELS[key] = travel
-    return travel
+        return _travel_over_turn(b, tuple(cam.pivot), cam.initial_angle)
+    return _kept_travel(key)
 
 
 def check_reachable(rd: Reader, b: Breaker, cam: Cam, profile_field: str) -> None:

@@ -226,11 +226,7 @@ def sweep(rig: str | Path | dict | Rig, vary: Iterable[str | tuple[str, str] | V
         raise InputError("backend", "backend", f"must be fast or exudyn, got {backend!r}")
     p = plan(rig, vary, runs=runs, samples=samples, seed=seed, sampling=sampling, evaluate=evaluate,
              columns=columns, label=label, backend=backend)
-    if workers is not None and (isinstance(workers, bool) or int(workers) != workers or workers < 1):
-        raise InputError("--workers", "workers", f"must be a whole number >= 1, got {workers}")
-    check_table_path(output, p.rig_path, p.data)
-    if output and not (resume or force) and os.path.isfile(output) and os.path.getsize(output) > 0:
-        raise InputError(output, "output", "exists already: give --force to replace it (or --resume to continue it)")
+    _check_where(p, workers, output, resume, force)
     with table_lock(output):
         has_rows = resume and output and os.path.exists(output) and os.path.getsize(output) > 0
         stated = _stated(p, t_end, evaluate)
@@ -244,6 +240,16 @@ def sweep(rig: str | Path | dict | Rig, vary: Iterable[str | tuple[str, str] | V
         finally:
             if own_client:
                 client.close()
+
+
+def _check_where(p: SweepPlan, workers: int | None, output: str | None, resume: bool, force: bool) -> None:
+    """Refuse (InputError) a worker count that is not a whole number >= 1, an output that is an input of the
+    rig (:func:`.table.check_table_path`), and an existing output without ``force`` or ``resume``."""
+    if workers is not None and (isinstance(workers, bool) or int(workers) != workers or workers < 1):
+        raise InputError("--workers", "workers", f"must be a whole number >= 1, got {workers}")
+    check_table_path(output, p.rig_path, p.data)
+    if output and not (resume or force) and os.path.isfile(output) and os.path.getsize(output) > 0:
+        raise InputError(output, "output", "exists already: give --force to replace it (or --resume to continue it)")
 
 
 def _stated(p: SweepPlan, t_end: float | None, evaluate: Callable | None) -> float | None:
@@ -307,33 +313,9 @@ def _execute(p, finished, client, workers, output, stream, evaluate, durations, 
     rows = {run: typed_row(r, p.paths, p.columns) for run, r in finished.items()}
     f, sinks = _open_outputs(p, finished, output, stream, stated)
     runner = _runner(p, todo, client, n_workers, evaluate, t_end)
-    values_of = p.table.to_numpy(dtype=float)
-    bar = Progress(len(todo), p.name, verbose)
-    every = max(1, len(todo) // 100)
-    # the statuses this experiment's runs can end in besides ok and failed (a closing: not_closed)
-    missing = [status for _, status in experiment_of(p.experiment).missing_means]
-    seconds, counts = [], {"failed": 0, **dict.fromkeys(missing, 0)}
     t0 = time.perf_counter()
     try:
-        for run, values, status, secs in runner:
-            line = [str(run), *(value_text(v) for v in values_of[run - 1]),
-                    *(cell_text(values.get(c)) for c in p.columns), status]
-            for w, s in sinks:
-                w.writerow(line)
-                s.flush()
-            rows[run] = typed_row(dict(zip(p.header, line)), p.paths, p.columns)
-            seconds.append(secs)
-            counts["failed"] += status.startswith("failed")
-            for name in missing:
-                counts[name] += status == name
-            # at most about 100 progress lines, and every run that is not ok
-            bar.verbose = verbose and (status != "ok" or (bar.done + 1) % every == 0 or bar.done + 1 == len(todo))
-            bar.step(f"run {run} {status}")
-    except KeyboardInterrupt:
-        if verbose:
-            progress(f"{p.name}: stopped after {bar.done} of {len(todo)} runs"
-                     + (f"; their rows are in {output}: the same command with --resume runs the rest" if output else ""))
-        raise
+        seconds, counts = _write_rows(p, runner, todo, sinks, rows, output, verbose)
     finally:
         runner.close()
         if f:
@@ -350,7 +332,39 @@ def _execute(p, finished, client, workers, output, stream, evaluate, durations, 
                      "not_closed": counts.get("not_closed", 0), "column_units": p.column_units, "simulated_with": p.backend})
     if verbose:
         ok = len(todo) - sum(counts.values())
-        apart = "".join(f"{counts[name]} {name.replace('_', ' ')}, " for name in missing)
+        apart = "".join(f"{counts[name]} {name.replace('_', ' ')}, " for name in counts if name != "failed")
         progress(f"{p.name}: {ok} ok, {apart}{counts['failed']} failed in {wall:.1f} s"
                  + (f"; table in {output}" if output else ""))
     return df
+
+
+def _write_rows(p, runner, todo, sinks, rows, output, verbose) -> tuple[list[float], dict[str, int]]:
+    """Each finished run's row to the sinks (flushed) and into ``rows`` ({run: typed row}); a progress line
+    for about every hundredth run and every run that is not ok. Returns the runs' seconds and the count of
+    each status besides ok (``failed`` first, then the experiment's own: a closing's ``not_closed``)."""
+    values_of = p.table.to_numpy(dtype=float)
+    bar = Progress(len(todo), p.name, verbose)
+    every = max(1, len(todo) // 100)
+    # the statuses this experiment's runs can end in besides ok and failed (a closing: not_closed)
+    missing = [status for _, status in experiment_of(p.experiment).missing_means]
+    seconds, counts = [], {"failed": 0, **dict.fromkeys(missing, 0)}
+    try:
+        for run, values, status, secs in runner:
+            line = [str(run), *(value_text(v) for v in values_of[run - 1]),
+                    *(cell_text(values.get(c)) for c in p.columns), status]
+            for w, s in sinks:
+                w.writerow(line)
+                s.flush()
+            rows[run] = typed_row(dict(zip(p.header, line)), p.paths, p.columns)
+            seconds.append(secs)
+            counts["failed"] += status.startswith("failed")
+            for name in missing:
+                counts[name] += status == name
+            bar.verbose = verbose and (status != "ok" or (bar.done + 1) % every == 0 or bar.done + 1 == len(todo))
+            bar.step(f"run {run} {status}")
+    except KeyboardInterrupt:
+        if verbose:
+            progress(f"{p.name}: stopped after {bar.done} of {len(todo)} runs"
+                     + (f"; their rows are in {output}: the same command with --resume runs the rest" if output else ""))
+        raise
+    return seconds, counts
