@@ -339,7 +339,7 @@ def alternative_parameters(rig, base: FitResult, alt: Alternative) -> tuple[dict
         and params["stribeck_velocity"].vary
     if curve:  # the curve's starts, each with the form's own scan values (a free exponent's) besides
         own = starts
-        starts = [{**c, **o} for c in _curve_starts(rig, base, params) for o in [{}] + own]
+        starts = [{**c, **o} for c in _curve_starts(rig, base, params) for o in own or [{}]]
     if "stribeck" in alt.added and params.get("mu_s") is not None and params["mu_s"].vary:
         # a new fall: mu_s as multiples of mu_k (with each of the curve's starts)
         starts = [{**start, "mu_s": f * mu_k} for start in (starts or [{}]) for f in MU_S_STARTS]
