@@ -342,3 +342,8 @@ def test_a_square_root_stribeck_fall_is_not_explained_with_wrong_numbers(tmp_pat
             assert abs(q[name]["estimate"] - value) <= 3 * q[name]["stderr"], (name, value, q[name])
     for name in ("mu_k", "mu_s"):
         assert q[name]["low"] <= truth[name] <= q[name]["high"], (name, truth[name], q[name])
+    # identify on the same record: its residual is at the noise, but the records prefer a model form that
+    # moves the law's values, and the warning says so (before, no warning with mu_k 11-228 errors off)
+    r = identify([(rig_, meas)], verbose=False)
+    assert r.rival_form is not None and r.warning and "fits the record better than the hybrid law" in r.warning
+    assert r.to_json()["rival_form"]["form"] == r.rival_form["form"]
