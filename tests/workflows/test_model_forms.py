@@ -289,3 +289,61 @@ def test_identify_reports_the_forms_in_text_and_json(pendulum_rig, tmp_path):
     assert q["low"] <= level <= q["high"] and q["high"] - q["low"] < 0.02 * level
     assert "Model forms the record cannot tell apart" in r.report()
     assert np.isfinite(q["stderr"])
+
+
+def test_a_fall_with_a_free_exponent_is_tried_and_its_exponent_is_not_averaged_over_forms(pendulum_rig):
+    """A Stribeck fall slower than Tustin's (exp(-(w/w_s)^0.5): its tail reaches through a swing's speeds) is
+    in none of the other forms; fitted without it, held-out pendulums of that truth got forms' intervals 4-55
+    errors from the truth, one explained. The power form is tried beside Tustin's and the Gaussian; its
+    exponent, like w_s, means something else in each form and is reported per form, never averaged."""
+    alts, _ = alternatives(("coulomb_friction", "viscous_friction"), "pendulum")
+    power = next(a for a in alts if a.form == "power")
+    assert power.effects == ("coulomb_friction", "viscous_friction", "stribeck", "power_stribeck_friction")
+    fits = [form("selected (hybrid)", 0.0, 0.6, ("coulomb_friction", "viscous_friction"), mu_k=(0.12, 0.001),
+                 viscous=(0.6, 0.01)),
+            form("power", 1.0, 0.4, ("coulomb_friction", "viscous_friction", "stribeck", "power_stribeck_friction"),
+                 mu_k=(0.11, 0.001), mu_s=(0.2, 0.01), viscous=(0.65, 0.01), stribeck_velocity=(0.1, 0.01),
+                 stribeck_exponent=(0.5, 0.05))]
+    quantities, specific = quantities_over(pendulum_rig, fits, {})
+    assert "stribeck_exponent" not in quantities and specific["power"]["stribeck_exponent"] == 0.5
+    assert quantities["mu_k"].low <= 0.11 - Z95 * 0.001 and quantities["mu_k"].high >= 0.12 + Z95 * 0.001
+
+
+@pytest.mark.slow
+def test_a_square_root_stribeck_fall_is_not_explained_with_wrong_numbers(tmp_path):
+    """A held-out pendulum whose Stribeck fall has exponent 0.5 (the independent truth, 6 s, 0.5 mrad white
+    noise; the draws of the audit's validation seed 103, a seed not used to design the power form), started from
+    Coulomb friction alone. Without the power form the diagnosis said "explained" with the forms' mu_k and
+    viscous 17 and 55 stated errors from the truth. Now: an explained verdict carries no form value more than 3
+    stated errors from the truth, and the forms' interval holds the truth's kinetic level and level at rest."""
+    import copy
+    import json
+
+    from vcbmodel import parameters as P
+    from vcbmodel.records.measurement import Measurement, write_measurement
+    from vcbmodel.reference.truth_friction import truth_pendulum
+    values = {"mu_k": 0.11563, "viscous": 0.55608, "mu_s": 0.21324, "stribeck_velocity": 0.13575,
+              "stribeck_exponent": 0.5}
+    rig = copy.deepcopy(P.REFERENCE_PENDULUM)
+    rig["pendulum"]["initial_angle"] = math.radians(9.546)
+    rig["model"]["effects"] = ["coulomb_friction"]
+    (tmp_path / "sqrt.rig.json").write_text(json.dumps(rig))
+    t = np.arange(0.0, 6.0 + 5e-4, 1e-3)
+    theta = truth_pendulum("power", rig["pendulum"], rig["gravity"], rig["shaft"]["radius"], values, t)["theta"]
+    noisy = theta + np.random.default_rng(103).normal(0.0, 5e-4, t.size)
+    write_measurement(Measurement("", t, {"pendulum_angle": noisy}, ("SYNTHETIC: square-root Stribeck fall",)),
+                      tmp_path / "sqrt.csv")
+    rig_, meas = load_pair(tmp_path / "sqrt.csv")
+    j = diagnose(rig_, meas, verbose=False).to_json()
+    q = j["model_forms"]["quantities"]
+    truth = {"mu_k": values["mu_k"], "mu_s": values["mu_s"], "viscous": values["viscous"]}
+    if j["explained"]:
+        for name, value in truth.items():
+            assert abs(q[name]["estimate"] - value) <= 3 * q[name]["stderr"], (name, value, q[name])
+    for name in ("mu_k", "mu_s"):
+        assert q[name]["low"] <= truth[name] <= q[name]["high"], (name, truth[name], q[name])
+    # identify on the same record: its residual is at the noise, but the records prefer a model form that
+    # moves the law's values, and the warning says so (before, no warning with mu_k 11-228 errors off)
+    r = identify([(rig_, meas)], verbose=False)
+    assert r.rival_form is not None and r.warning and "fits the record better than the hybrid law" in r.warning
+    assert r.to_json()["rival_form"]["form"] == r.rival_form["form"]

@@ -35,6 +35,8 @@ from ..records.signals import first_peak_amplitude
 from ..rig.spring_model import SpringModel
 from .fit import Dataset, FitResult, SimulationPool, fit, make_parameters, staged_fit
 from .release import release_parameter, release_setup, released_pairs, was_cut
+from .diagnosis.judge import rival_form
+from .diagnosis.options import DEFAULT_OPTIONS
 from .held_out import HeldOut, held_out_validation
 from .model_forms import MU_S_STARTS, ModelForms, fit_forms
 
@@ -134,11 +136,25 @@ class IdentifyResult:
         return float(self.fit.rms / self.fit.sigma) if self.fit.sigma > 0 else float("inf")
 
     @property
+    def rival_form(self) -> dict | None:
+        """A plausible model form the records prefer to the law by more than the diagnosis's
+        ``rival_form_margin`` (BIC) that moves a fitted value beyond ``rival_form_errors`` of its stated
+        errors (the diagnosis's rule, :func:`.diagnosis.judge.rival_form`), or None: the law's values then
+        belong to a model the records reject, however white the residual."""
+        if self.forms is None:
+            return None
+        return rival_form(self.datasets[0].rig, self.fit, self.forms, DEFAULT_OPTIONS)
+
+    @property
     def warning(self) -> str | None:
         """Why the fitted values should not be trusted as they stand, or None."""
         r = self.residual_to_noise
         implausible = "; ".join(f.message for f in self.forms.findings) if self.forms is not None else ""
         parts = [f"implausible values: {implausible}"] if implausible else []
+        rival = self.rival_form
+        if rival:
+            parts.append(rival["message"].replace("the final model", f"the {self.law} law")
+                         + "; read the model forms' intervals")
         if self.held_out is not None and not self.held_out.consistent:
             c = self.held_out.consistency
             parts.append(f"the records disagree on the values (likelihood ratio {c['statistic']:.1f} for {c['dof']} "
@@ -175,6 +191,7 @@ class IdentifyResult:
                 "measurements": [d.measurement.path for d in self.datasets],
                 "model_forms": self.forms.to_json() if self.forms is not None else None,
                 "implausible": [f.to_json() for f in self.forms.findings] if self.forms is not None else [],
+                "rival_form": self.rival_form,
                 "held_out": self.held_out.to_json() if self.held_out is not None else None}
 
     def report(self) -> str:

@@ -103,6 +103,12 @@ MAX_ITERATIONS = 15
 #: Seconds the forms' fits may take together in a diagnosis (each fit starts from the selected
 #: model's values and rarely needs more than a few seconds on the compiled path).
 FORMS_BUDGET_S = 120.0
+#: Forms whose fall between mu_s and mu_k is a curve of their own (they need ``stribeck``; their
+#: viscous term is not shifted by the Stribeck velocity): fitted from :func:`_curve_starts`.
+CURVE_FORMS = tuple(f.name for f in FORMS.values() if f.effect and "stribeck" in f.needs)
+#: Values whose meaning differs between forms (the fall's speed scale and shape): reported per form
+#: (``form_specific``), never averaged over forms.
+SHAPE_VALUES = ("stribeck_velocity", "stribeck_exponent")
 #: Why forms of the literature are not fitted (:mod:`vcbmodel.laws.friction_forms`).
 NOT_CARRIED = {"dahl": "its bristle state (micrometres, relaxing at about 1e5-1e6 per second) is too stiff for "
                        "the fixed-step RK4 of the compiled path and of Exudyn; once sliding Dahl's friction is the "
@@ -329,10 +335,11 @@ def alternative_parameters(rig, base: FitResult, alt: Alternative) -> tuple[dict
     mu_k = params["mu_k"].value if "mu_k" in params else 0.1
     if alt.form is not None:
         starts = [_level_neutral(fp.name, v, mu_k, base) for fp in FORMS[alt.form].parameters for v in fp.scan]
-    curve = alt.form in ("tustin", "gaussian") and params.get("stribeck_velocity") is not None \
+    curve = alt.form in CURVE_FORMS and params.get("stribeck_velocity") is not None \
         and params["stribeck_velocity"].vary
-    if curve:
-        starts = _curve_starts(rig, base, params)
+    if curve:  # the curve's starts, each with the form's own scan values (a free exponent's) besides
+        own = starts
+        starts = [{**c, **o} for c in _curve_starts(rig, base, params) for o in own or [{}]]
     if "stribeck" in alt.added and params.get("mu_s") is not None and params["mu_s"].vary:
         # a new fall: mu_s as multiples of mu_k (with each of the curve's starts)
         starts = [{**start, "mu_s": f * mu_k} for start in (starts or [{}]) for f in MU_S_STARTS]
@@ -578,13 +585,13 @@ def form_values(rig, f: FitResult) -> tuple[dict, dict]:
     p = {k: v for k, v in f.parameters.items() if v.kind == "model"}
     out = {}
     for name, q in p.items():
-        if name in ("stribeck_velocity", "stick_velocity"):
+        if name in SHAPE_VALUES or name == "stick_velocity":
             continue
         se = q.stderr if q.vary else 0.0
         out[name] = (float(q.value), math.inf if se is None or not math.isfinite(se) else float(se))
     F = _static_load(rig)
     shifted = {"stribeck", "viscous_friction"} <= set(f.effects) and not any(
-        FORMS[n].effect in f.effects for n in ("tustin", "gaussian"))
+        FORMS[n].effect in f.effects for n in CURVE_FORMS)
     if "mu_k" in out and shifted and F:
         v, se = out["mu_k"]
         out["mu_k"] = (v - p["viscous"].value * p["stribeck_velocity"].value / (rig.shaft_radius * F), se)
@@ -595,7 +602,7 @@ def form_values(rig, f: FitResult) -> tuple[dict, dict]:
                            out["mu_s"][1] if holds else out["mu_k"][1])
         else:
             out["mu_s"] = (float(p["mu_k"].value), out["mu_k"][1])
-    specific = {"stribeck_velocity": float(p["stribeck_velocity"].value)} if "stribeck_velocity" in p else {}
+    specific = {name: float(p[name].value) for name in SHAPE_VALUES if name in p}
     return out, specific
 
 

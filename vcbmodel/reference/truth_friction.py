@@ -9,6 +9,9 @@ make agreement nearly certain; these truths make records whose friction is not i
                     Helouvry, Dupont & Canudas de Wit, Automatica 30, 1994):
                     T_f = [mu_k + (mu_s - mu_k) exp(-|w|/w_s)] r F_n sign(w) + C_v w,
                     with exact sticking (stuck while |T_c| <= mu_s r F_n).
+``power``           a Stribeck fall with an exponent d (Armstrong-Helouvry et al. 1994, eq. 5):
+                    T_f = [mu_k + (mu_s - mu_k) exp(-(|w|/w_s)^d)] r F_n sign(w) + C_v w,
+                    sticking as Tustin's (d = 1 is Tustin's curve).
 ``lugre``           the LuGre bristle model (Canudas de Wit, Olsson, Astrom & Lischinsky, IEEE
                     TAC 40, 1995), per unit normal force, with the slip speed v = r w (m/s):
                     dz/dt = v - sigma0 |v| z / g(w), g(w) = mu_k + (mu_s - mu_k) exp(-(w/w_s)^2),
@@ -51,8 +54,11 @@ from .independent_hybrid import Hybrid
 from .independent_lagrange import CamMechanism, PendulumMechanism
 
 KINDS = ("tustin", "lugre", "dahl", "position_torque")
+#: Truths beside :data:`KINDS` (which the realism study draws, seed for seed): not drawn there.
+FURTHER_KINDS = ("power",)
 #: The values each truth needs (besides the mechanism).
 NEEDS = {"tustin": ("mu_s", "mu_k", "stribeck_velocity", "viscous"),
+         "power": ("mu_s", "mu_k", "stribeck_velocity", "viscous", "stribeck_exponent"),
          "lugre": ("mu_s", "mu_k", "stribeck_velocity", "viscous", "sigma0", "sigma1"),
          "dahl": ("mu_k", "viscous", "sigma0"),
          "position_torque": ("mu_s", "mu_k", "viscous", "amplitude", "wavenumber", "phase")}
@@ -69,6 +75,12 @@ def tustin_coefficient(w: float, mu_s: float, mu_k: float, decay_velocity: float
     """Tustin's friction coefficient (-) at shaft speed ``w`` (rad/s): mu_k + (mu_s - mu_k)
     exp(-|w| / w_s), ``decay_velocity`` w_s in rad/s."""
     return mu_k + (mu_s - mu_k) * math.exp(-abs(w) / decay_velocity)
+
+
+def power_coefficient(w: float, mu_s: float, mu_k: float, decay_velocity: float, exponent: float) -> float:
+    """The generalised Stribeck coefficient (-) at shaft speed ``w`` (rad/s): mu_k + (mu_s - mu_k)
+    exp(-(|w| / w_s)^d), ``decay_velocity`` w_s in rad/s, ``exponent`` d (-)."""
+    return mu_k + (mu_s - mu_k) * math.exp(-((abs(w) / decay_velocity) ** exponent))
 
 
 def lugre_level(w: float, mu_s: float, mu_k: float, stribeck_velocity: float) -> float:
@@ -104,14 +116,16 @@ def position_potential(theta: float, amplitude: float, wavenumber: float, phase:
 # ----------------------------------------------------------------------------------------------
 class TustinLaw:
     """Tustin's law on journal radius ``r`` (m) in the form :class:`.independent_hybrid.Hybrid`
-    integrates: one smooth slip regime, T_f = k F_n + v, sticking while |T_c| <= mu_s r F_n."""
+    integrates: one smooth slip regime, T_f = k F_n + v, sticking while |T_c| <= mu_s r F_n; with a
+    ``stribeck_exponent`` d among ``values``, the generalised curve (:func:`power_coefficient`)."""
 
-    kinds = ("tustin",)
+    kinds = ("tustin", "power")
     bounds = (0.0, math.inf)
 
     def __init__(self, values: Mapping[str, float], radius: float):
         self.mu_s, self.mu_k = float(values["mu_s"]), float(values["mu_k"])
         self.ws, self.cv, self.r = float(values["stribeck_velocity"]), float(values["viscous"]), float(radius)
+        self.d = float(values.get("stribeck_exponent", 1.0))
 
     def regime_of(self, speed: float) -> int:
         if not math.isfinite(speed):
@@ -120,7 +134,7 @@ class TustinLaw:
 
     def split(self, regime: int, w: float, s: float) -> tuple[float, float]:
         """(k in m, v in N m): T_f = k F_n + v at shaft speed w, direction s."""
-        return tustin_coefficient(w, self.mu_s, self.mu_k, self.ws) * self.r * s, self.cv * w
+        return power_coefficient(w, self.mu_s, self.mu_k, self.ws, self.d) * self.r * s, self.cv * w
 
     def holds(self, torque: float, fn0: float) -> bool:
         return abs(torque) <= self.mu_s * self.r * fn0
@@ -210,8 +224,8 @@ def _bristle_run(mech, bristles, radius: float, viscous: float, q0, qd0, t_eval:
 
 
 def _check(kind: str, values: Mapping[str, float], t_eval: ArrayLike) -> np.ndarray:
-    if kind not in KINDS:
-        raise ValueError(f"unknown friction truth {kind!r} (known: {', '.join(KINDS)})")
+    if kind not in KINDS + FURTHER_KINDS:
+        raise ValueError(f"unknown friction truth {kind!r} (known: {', '.join(KINDS + FURTHER_KINDS)})")
     missing = [k for k in NEEDS[kind] if k not in values]
     if missing:
         raise ValueError(f"{kind} friction truth needs {', '.join(missing)}")
@@ -225,7 +239,7 @@ def _check(kind: str, values: Mapping[str, float], t_eval: ArrayLike) -> np.ndar
 
 
 def _solve(kind: str, mech, radius: float, values: Mapping[str, float], q0, qd0, t: np.ndarray) -> dict[str, np.ndarray]:
-    if kind == "tustin":
+    if kind in ("tustin", "power"):
         return _sticking_run(mech, TustinLaw(values, radius), q0, qd0, t)
     if kind == "position_torque":
         law = FrictionLaw({k: float(values[k]) for k in ("mu_s", "mu_k", "viscous")}, radius)

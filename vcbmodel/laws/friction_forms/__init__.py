@@ -7,7 +7,8 @@ test, ``tests/laws/test_friction_form_<name>.py``; ``tests/laws/test_friction_fo
 registered form against the Exudyn model and for a test of its own). A model switches a form on by
 listing its ``effect`` name (:data:`vcbmodel.model.effects.MACHINERY`).
 
-Registered: ``hybrid`` (the spec's law), ``tustin`` (exponential Stribeck), ``gaussian`` (the LuGre
+Registered: ``hybrid`` (the spec's law), ``tustin`` (exponential Stribeck), ``power`` (a Stribeck fall with a
+free exponent), ``gaussian`` (the LuGre
 model's steady state), ``drifting`` (levels drifting linearly in time).
 
 Not a form here: Dahl's model and LuGre's bristle dynamics. Their state, the bristles' deflection z
