@@ -125,6 +125,9 @@ def evidence_text(ctx, baseline, final, missing, window, signature, verdict: Ver
                  + "; ".join(f["message"] for f in verdict.implausible) + ").")
     if verdict.rival_form:
         text += " Not explained: " + verdict.rival_form["message"] + "."
+    if verdict.implausible_forms:
+        text += (" Not explained: over the model forms the record cannot tell apart, a value is not a physical "
+                 "rig's (" + "; ".join(f["message"] for f in verdict.implausible_forms) + ").")
     return text + _unresolved_text(verdict) + artefact_sentences(verdict, ctx.record.unit)
 
 

@@ -7,7 +7,8 @@ the noise that witnesses the fit did not shape show) and every held-out record o
 predicted at its own noise (:mod:`.held_out`); otherwise it says what is left (window, size,
 signature). Selections the evidence does not settle are reported as ties. Once the report step has
 fitted the model forms, a plausible form the record prefers by more than the margin that moves a
-stated value makes the record not explained (:func:`judge_forms`). The starting model
+stated value, or a value the forms determine outside its plausible range, makes the record not
+explained (:func:`judge_forms`). The starting model
 keeps its own best alignment of the record: the gap is each model at its own best."""
 from __future__ import annotations
 
@@ -19,7 +20,7 @@ from ..fit import FitAborted, FitResult
 from ..fit.dataset import time_scale_name
 from ..model_forms import form_values
 from ..noise import excess
-from ..plausibility import implausible
+from ..plausibility import findings_of, implausible
 from .artefacts import found_named
 from .at_noise import judge_noise
 from .fits import fit_record, parameters
@@ -233,13 +234,26 @@ def unresolved_forms(rig, final: FitResult, forms, errors: float) -> list[dict]:
     return out
 
 
+def implausible_forms(rig, forms) -> list[dict]:
+    """The quantities the record determines over the model forms (``forms``: the forms within the
+    evidence margin, weighed) whose estimate lies outside its plausible range
+    (:func:`..plausibility.findings_of`), as JSON: the reading the record prefers among the forms it
+    cannot tell apart is no physical rig's, whatever the final fit's own values and errors say (its
+    wide error can hold a rival form's implausible value that the rival-form rule then lets pass)."""
+    if forms is None or not forms.quantities:
+        return []
+    return [f.to_json() for f in findings_of(rig, {}, {}, forms.quantities)]
+
+
 def judge_forms(ctx, verdict: Verdict, final: FitResult, forms) -> None:
-    """After the model forms are fitted (report step): a :func:`rival_form` makes the record not
-    explained, with the form and the values it moves in the verdict; a form the record does not
-    resolve (:func:`unresolved_forms`) is named beside the verdict."""
+    """After the model forms are fitted (report step): a :func:`rival_form` or an implausible estimate
+    over the forms (:func:`implausible_forms`) makes the record not explained, with the form and the
+    values it moves, or the value, in the verdict; a form the record does not resolve
+    (:func:`unresolved_forms`) is named beside the verdict."""
     verdict.unresolved_forms = unresolved_forms(ctx.rig, final, forms, ctx.options.rival_form_errors)
     verdict.rival_form = rival_form(ctx.rig, final, forms, ctx.options)
-    if verdict.rival_form:
+    verdict.implausible_forms = implausible_forms(ctx.rig, forms)
+    if verdict.rival_form or verdict.implausible_forms:
         verdict.explained = False
 
 

@@ -132,6 +132,9 @@ class Verdict:
     #: and moves a stated value beyond ``options.rival_form_errors`` (:func:`.judge.rival_form`):
     #: with one, the record is not explained
     rival_form: dict | None = None
+    #: the quantities the model forms determine whose estimate over the forms is outside its plausible
+    #: range (plausibility Finding JSON, :func:`.judge.implausible_forms`): with any, not explained
+    implausible_forms: list = field(default_factory=list)
     #: model forms within the evidence margin with a parameter the record does not resolve to its stated
     #: error, and the final values whose stated intervals the forms' then exceed (:func:`.judge.unresolved_forms`)
     unresolved_forms: list = field(default_factory=list)
@@ -157,6 +160,8 @@ class Verdict:
             out["implausible"] = self.implausible
         if self.rival_form:
             out["rival_form"] = self.rival_form
+        if self.implausible_forms:
+            out["implausible_forms"] = self.implausible_forms
         if self.unresolved_forms:
             out["unresolved_forms"] = self.unresolved_forms
         return out
