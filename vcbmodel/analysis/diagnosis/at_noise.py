@@ -15,6 +15,11 @@ candidates of its round, stops a fit's further starts) and the verdict ``explain
    what mildly correlated noise leaves, the judgement says the noise level is unconfirmed
    (``noise_confirmed`` None): the residual passes only as strongly correlated noise, which a
    slow model error can pass for too.
+4. Where it passes only as correlated noise (no witness of the whole level holds, and it stands
+   above ``level_factor`` times the high-frequency level), it must hold no function of the motion
+   (:mod:`.motion`: regressed on smooth functions of the model's reading and rate, the noise
+   model's BIC must not drop by more than ``bic_margin``): a sensor's noise does not know where the
+   mechanism is; a model error does.
 
 So a judgement has three outcomes: at the noise with the level confirmed (``settled``: a witness of
 the whole level holds, or the residual is within ``level_factor`` of the record's high-frequency
@@ -36,6 +41,7 @@ import numpy as np
 
 from ..noise import NoiseModel, consistency, fit_noise
 from .artefacts import Found, ResidualView, set_aside
+from .motion import motion_structure
 from .options import DEFAULT_OPTIONS, DiagnosisOptions
 from .witnesses import (high_frequency_witness, judge_against_witnesses, pre_trigger_witness,
                         rounded_high_frequency_level, stated_witness)
@@ -118,6 +124,17 @@ def gather_witnesses(stated_noise: float | None, t: np.ndarray, y: np.ndarray, r
     return out
 
 
+def rests_on_correlation(evidence: dict, level_factor: float) -> bool:
+    """Whether a residual passes the witnesses only as correlated noise: no witness of the whole
+    level holds, and it stands above ``level_factor`` times the record's high-frequency level (what
+    white noise at that level leaves). Then :func:`.motion.motion_structure` must find no function of
+    the motion in it."""
+    checks = evidence["checks"]
+    if any(c["holds"] is True and c["bounds_whole_level"] for c in checks):
+        return False
+    return any(c["witness"] == "high_frequency" and c["rms_ratio"] > level_factor for c in checks)
+
+
 def judge_residual(view: ResidualView, others: Sequence[np.ndarray], witnesses: list, release: float | None = None,
                    lags: int = 20, options: DiagnosisOptions = DEFAULT_OPTIONS, unit: str = "") -> NoiseJudgement:
     """The judgement on a residual: the measured channel's in ``view`` (its artefacts set aside
@@ -133,6 +150,11 @@ def judge_residual(view: ResidualView, others: Sequence[np.ndarray], witnesses: 
     tests["rms_over_high_frequency_noise"] = rms / hf if hf > 0 else float("nan")
     evidence = judge_against_witnesses(first, witnesses, noise.lag1, view.t, release, options)
     at_noise = bool(tests["consistent"]) and evidence["holds"] is not False
+    if at_noise and rests_on_correlation(evidence, options.level_factor):
+        structure = motion_structure(view.t, first, view.model, options.bic_margin)
+        if structure is not None:
+            tests["motion_structure"] = structure
+            at_noise = structure["holds"]
     return NoiseJudgement(at_noise, tests, noise, evidence, tuple(found), cleaned, rms, options.level_factor)
 
 
