@@ -72,3 +72,13 @@ def test_correlated_sensor_noise_and_a_small_error_under_white_noise_still_pass(
 def test_too_short_a_record_or_no_model_says_nothing():
     assert motion_structure(T[:40], np.zeros(40), _drop()[:40], 10.0) is None
     assert motion_structure(T, np.zeros(T.size), None, 10.0) is None
+
+
+def test_the_evidence_says_the_residual_is_a_function_of_the_motion():
+    from vcbmodel.analysis.diagnosis.evidence import _why_not_noise
+    x = _drop()
+    rng = np.random.default_rng(4)
+    tests = _judged(rng.normal(0, SIGMA, T.size) + _misfit(x, 0.9 * SIGMA), x).tests
+    assert tests["consistent"] and tests["motion_structure"]["holds"] is False
+    assert "function of the motion" in _why_not_noise(tests)
+    assert "not white" in _why_not_noise({**tests, "consistent": False})

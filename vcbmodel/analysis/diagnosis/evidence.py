@@ -229,13 +229,24 @@ def _verdict_text(ctx, final, verdict: Verdict) -> str:
         text += (f" NOT explained: the final model leaves {final.rms:.3g} {unit} ({final.rms / sigma:.1f}x the noise),"
                  f" largest in t = [{left.get('window', [0, 0])[0]:.4g}, {left.get('window', [0, 0])[1]:.4g}] s, dominant "
                  f"frequency {left.get('dominant_frequency_hz', float('nan')):.3g} Hz; "
-                 + ("it passes for the noise model fitted to it, but not for the noise the record shows "
-                    "independently (below)" if tests.get("consistent") else
-                    f"whitened residual not white (Ljung-Box p {tests.get('ljung_box_p', float('nan')):.2g}, "
-                    f"periodogram p {tests.get('periodogram_p', float('nan')):.2g})")
+                 + _why_not_noise(tests)
                  + ". Something no registered effect describes is missing, or the rig or record is not what its "
                  "files say.")
     return text
+
+
+def _why_not_noise(tests: dict) -> str:
+    """Why a residual is not at the noise, from the judgement's ``tests``: not white once whitened, a
+    function of the motion (:mod:`.motion`), or beyond what the independent witnesses show."""
+    if not tests.get("consistent"):
+        return (f"whitened residual not white (Ljung-Box p {tests.get('ljung_box_p', float('nan')):.2g}, "
+                f"periodogram p {tests.get('periodogram_p', float('nan')):.2g})")
+    motion = tests.get("motion_structure") or {}
+    if motion.get("holds") is False:
+        return (f"it passes only as correlated noise, but it is a function of the motion: smooth functions of the "
+                f"model's reading and rate take {100 * (1 - motion['rms_left_over_rms']**2):.0f} % of its variance "
+                f"(delta BIC {motion['delta_bic']:.0f}, margin {motion['margin']:g}), which a sensor's noise does not")
+    return "it passes for the noise model fitted to it, but not for the noise the record shows independently (below)"
 
 
 def artefact_sentences(verdict: Verdict, unit: str) -> str:
