@@ -4,12 +4,10 @@ columns for the alignment parameters of :mod:`..nuisance`)."""
 from __future__ import annotations
 
 import math
-import threading
 from typing import Callable
 
 import numpy as np
-from scipy.interpolate import CubicSpline, PPoly
-from scipy.linalg.lapack import dgtsv
+from scipy.interpolate import CubicSpline
 
 from ...rig.paths import loaded_with
 from .arithmetic import quiet_trial
@@ -20,88 +18,19 @@ from .parameters import DIFF_STEP, FAILED
 from .pool import SimJob, fit_step, run_job, user_function_for
 
 
-class GridSpline:
-    """scipy's not-a-knot :class:`~scipy.interpolate.CubicSpline` through values on one grid ``x``
-    (strictly increasing, at least 4 points), with what depends on the grid alone computed once: every
-    simulation of a fit lands on the same grid. Its arithmetic is scipy's (1.10-1.17: the same
-    expressions, the same tridiagonal LAPACK solve ``gtsv`` that ``solve_banded`` calls), so its
-    coefficients are CubicSpline's to the bit (tests/workflows/test_fit_objective_spline.py); it skips the
-    input checks a known grid does not need (values that are not finite still raise, as there). 0.12 ms
-    of processor time for 6000 samples against CubicSpline's 0.20 ms."""
-
-    def __init__(self, x: np.ndarray):
-        self.x = np.ascontiguousarray(x, dtype=np.float64)
-        dx = np.diff(self.x)
-        self.dx, self.dxr = dx, dx.reshape(-1, 1)
-        # the banded system's rows, as CubicSpline fills them (the not-a-knot ends)
-        du, d, dl = np.zeros(len(x)), np.zeros(len(x)), np.zeros(len(x))
-        d[1:-1] = 2 * (dx[:-1] + dx[1:])
-        du[2:], dl[:-2] = dx[:-1], dx[1:]
-        d[0], du[1] = dx[1], self.x[2] - self.x[0]
-        d[-1], dl[-2] = dx[-2], self.x[-1] - self.x[-3]
-        self.du, self.d, self.dl = du[1:], d, dl[:-1]
-        self.ends = (self.x[2] - self.x[0], self.x[-1] - self.x[-3])
-
-    def __call__(self, y: np.ndarray) -> PPoly:
-        """The spline through ``y`` (one value per grid point)."""
-        y = np.asarray(y, dtype=np.float64)
-        if not np.all(np.isfinite(y)):
-            raise ValueError("`y` must contain only finite values.")
-        dxr, yc = self.dxr, y.reshape(-1, 1)
-        slope = np.diff(yc, axis=0) / dxr
-        b = np.empty((len(y), 1))
-        b[1:-1] = 3 * (dxr[1:] * slope[:-1] + dxr[:-1] * slope[1:])
-        d0, d1 = self.ends
-        b[0] = ((dxr[0] + 2 * d0) * dxr[1] * slope[0] + dxr[0] ** 2 * slope[1]) / d0
-        b[-1] = (dxr[-1] ** 2 * slope[-2] + (2 * d1 + dxr[-1]) * dxr[-2] * slope[-1]) / d1
-        *_, s, info = dgtsv(self.dl.copy(), self.d.copy(), self.du.copy(), b, 1, 1, 1, 1)
-        if info != 0:
-            return CubicSpline(self.x, y)  # as scipy would (it raises for a singular system)
-        s = s.reshape(-1)
-        dx = self.dx
-        slope = np.diff(y) / dx
-        t = (s[:-1] + s[1:] - 2 * slope) / dx
-        return PPoly.construct_fast(np.stack((t / dx, (slope - s[:-1]) / dx - t, s[:-1], y[:-1])), self.x,
-                                    extrapolate=True)
-
-
-#: The grids' parts of :class:`GridSpline` kept (a fit simulates on one grid; a diagnosis on a few).
-GRIDS_KEPT = 8
-_grids: dict = {}
-_grids_lock = threading.Lock()
-
-
-def spline_on_grid(x: np.ndarray, y: np.ndarray):
-    """The not-a-knot cubic spline through (``x``, ``y``): :class:`GridSpline` with the grid's part kept
-    per grid, or scipy's CubicSpline for a grid it does not cover (under 4 points, not increasing)."""
-    if len(x) < 4:
-        return CubicSpline(x, y)
-    key = (len(x), float(x[0]), float(x[-1]))
-    grid = _grids.get(key)
-    if grid is None or not np.array_equal(grid.x, x):
-        if not np.all(np.diff(x) > 0) or not np.all(np.isfinite(x)):
-            return CubicSpline(x, y)
-        grid = GridSpline(x)
-        with _grids_lock:
-            if len(_grids) >= GRIDS_KEPT:
-                _grids.clear()
-            _grids[key] = grid
-    return grid(y)
-
-
 class Curves:
     """A simulation's channels on its grid (``data``: {'t': times (s), channel: samples}), as
-    splines for shifted evaluation (not-a-knot cubic, :func:`spline_on_grid`)."""
+    splines for shifted evaluation."""
 
     def __init__(self, data: dict):
         self.t = data["t"]
         self.data = data
         self._splines = {}
 
-    def spline(self, ch: str) -> PPoly:
+    def spline(self, ch: str) -> CubicSpline:
         s = self._splines.get(ch)
         if s is None:
-            s = self._splines[ch] = spline_on_grid(self.t, self.data[ch])
+            s = self._splines[ch] = CubicSpline(self.t, self.data[ch])
         return s
 
 
