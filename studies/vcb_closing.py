@@ -743,9 +743,10 @@ def opening_spring_and_rise(t_end):
     return rows, out
 
 
-def closing_figures(rig, meas, results, full_fom, out):
+def closing_figures(rig, meas, results, full_fom, pressure_curve, out):
     """The Fig. 12 stand-in (every model against the synthetic measurement) and the full model's detail
-    (poles, forces, pressure angle)."""
+    (poles, forces, and the pressure angle ``pressure_curve``: :func:`pressure_angles`' cam angles and
+    angles)."""
     y_meas = meas.channels["follower_displacement"]
     fig, (ax1, ax2) = plt.subplots(2, 1, figsize=(8, 7), sharex=True, gridspec_kw={"height_ratios": [2, 1]})
     ax1.plot(1e3 * meas.t, 1e3 * y_meas, ".", ms=2, color="0.55", label="SYNTHETIC measurement (camera stand-in)")
@@ -759,7 +760,7 @@ def closing_figures(rig, meas, results, full_fom, out):
     ax2.set_ylabel("model - measurement (mm)")
     save(fig, out / "vcb_closing_fig12.png")
 
-    thetas, pressure = pressure_angles(rig)
+    thetas, pressure = pressure_curve
     fig, axes = plt.subplots(2, 2, figsize=(10, 7))
     ch, t = results[FULL].channels, 1e3 * results[FULL].t
     touch = 1e3 * full_fom["first_touch_s"]
@@ -818,7 +819,7 @@ def main():
     former_rows, summary["contact_choices_former_breaker"] = contact_choices(former_breaker(1200.0), t_end)
     summary["independent_reference"] = independent_agreement(rig, t_end)
 
-    closing_figures(rig, meas, results, full_fom, out)
+    closing_figures(rig, meas, results, full_fom, (thetas, pressure), out)
     report = closing_report(full, rig)
     save(closing_figure(full, rig, f"{rig.name}: full model (lumped-2)", report), out / "vcb_closing_analyser.png",
          tight=False)
