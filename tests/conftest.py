@@ -7,6 +7,8 @@ import pytest
 
 from vcbmodel import parameters as P
 from vcbmodel.experiments.loading import load_rig
+from vcbmodel.experiments.simulation import simulate
+from vcbmodel.reference.truth_friction import truth_pendulum
 
 ROOT = Path(__file__).resolve().parents[1]
 #: The seven example records with their answers (a copy of the shared examples, so a clone tests them)
@@ -27,6 +29,18 @@ def pendulum_rig(tmp_path):
 @pytest.fixture
 def cam_rig(tmp_path):
     return load_rig(write_rig(tmp_path, P.REFERENCE_CAM, "cam"))
+
+
+def offsets_from_independent_pendulum(rig, kind, values, effect_sets, duration=6.0, step=1e-3):
+    """The largest |model - truth| angle (rad) of the pendulum ``rig`` simulated with each of
+    ``effect_sets`` against the independent truth's own solve of friction ``kind`` (truth_friction.py),
+    both with ``values``, over ``duration`` s sampled every ``step`` s."""
+    p = rig.pendulum
+    t = np.arange(0.0, duration + step / 2, step)
+    truth = truth_pendulum(kind, {"mass": p.mass, "inertia": p.inertia, "com_distance": p.com_distance,
+                                  "initial_angle": p.initial_angle}, rig.gravity, rig.shaft_radius, values, t)["theta"]
+    return [float(np.max(np.abs(simulate(rig, effects, values, sample_times=t).measured - truth)))
+            for effects in effect_sets]
 
 
 def examples_available():

@@ -1,12 +1,12 @@
 """The Stribeck fall with a free exponent against the independent truth's coefficient and pendulum
 (vcbmodel/reference/truth_friction.py: scipy, event-driven sticking, no import from the laws)."""
-import numpy as np
 import pytest
 
-from vcbmodel.experiments.simulation import simulate
+from conftest import offsets_from_independent_pendulum
+
 from vcbmodel.laws.friction import NumericOps
 from vcbmodel.laws.friction_forms import FormLaw
-from vcbmodel.reference.truth_friction import power_coefficient, truth_pendulum, tustin_coefficient
+from vcbmodel.reference.truth_friction import power_coefficient, tustin_coefficient
 
 VALUES = {"mu_s": 0.25, "mu_k": 0.13, "stribeck_velocity": 0.08, "viscous": 0.6, "stribeck_exponent": 0.5}
 
@@ -29,14 +29,8 @@ def test_a_square_root_fall_follows_the_independent_pendulum(pendulum_rig):
     """The model with the form (d = 0.5: a fall whose tail reaches through the swing's speeds) against
     the truth's own solve: within 0.1 mrad over 6 s; Tustin's curve with the same values is more than
     10 times further off."""
-    p = pendulum_rig.pendulum
-    t = np.arange(0.0, 6.0 + 5e-4, 1e-3)
-    truth = truth_pendulum("power", {"mass": p.mass, "inertia": p.inertia, "com_distance": p.com_distance,
-                                     "initial_angle": p.initial_angle}, pendulum_rig.gravity,
-                           pendulum_rig.shaft_radius, VALUES, t)["theta"]
     effects = ("coulomb_friction", "stribeck", "viscous_friction")
-    form = simulate(pendulum_rig, effects + ("power_stribeck_friction",), VALUES, sample_times=t).measured
-    tustin = simulate(pendulum_rig, effects + ("tustin_friction",), VALUES, sample_times=t).measured
-    off, tustin_off = np.max(np.abs(form - truth)), np.max(np.abs(tustin - truth))
+    off, tustin_off = offsets_from_independent_pendulum(
+        pendulum_rig, "power", VALUES, [effects + ("power_stribeck_friction",), effects + ("tustin_friction",)])
     assert off < 1e-4
     assert tustin_off > 10 * off

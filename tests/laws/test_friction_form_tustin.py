@@ -2,13 +2,13 @@
 (vcbmodel/reference/truth_friction.py: scipy, event-driven sticking, no import from the laws)."""
 import math
 
-import numpy as np
 import pytest
 
-from vcbmodel.experiments.simulation import simulate
+from conftest import offsets_from_independent_pendulum
+
 from vcbmodel.laws.friction import NumericOps
 from vcbmodel.laws.friction_forms import FormLaw
-from vcbmodel.reference.truth_friction import truth_pendulum, tustin_coefficient
+from vcbmodel.reference.truth_friction import tustin_coefficient
 
 VALUES = {"mu_s": 0.25, "mu_k": 0.13, "stribeck_velocity": 0.12, "viscous": 0.6}
 
@@ -25,15 +25,9 @@ def test_a_tustin_model_follows_the_independent_tustin_pendulum(pendulum_rig):
     """The model with the form against the truth's own solve: within 0.1 mrad over 6 s (the stick
     band and the reaction's coupling differ in detail); the hybrid law with the same values is
     more than 20 times further off."""
-    p = pendulum_rig.pendulum
-    t = np.arange(0.0, 6.0 + 5e-4, 1e-3)
-    truth = truth_pendulum("tustin", {"mass": p.mass, "inertia": p.inertia, "com_distance": p.com_distance,
-                                      "initial_angle": p.initial_angle}, pendulum_rig.gravity,
-                           pendulum_rig.shaft_radius, VALUES, t)["theta"]
     effects = ("coulomb_friction", "stribeck", "viscous_friction")
-    form = simulate(pendulum_rig, effects + ("tustin_friction",), VALUES, sample_times=t).measured
-    hybrid = simulate(pendulum_rig, effects, VALUES, sample_times=t).measured
-    off, hybrid_off = np.max(np.abs(form - truth)), np.max(np.abs(hybrid - truth))
+    off, hybrid_off = offsets_from_independent_pendulum(
+        pendulum_rig, "tustin", VALUES, [effects + ("tustin_friction",), effects])
     assert off < 1e-4
     assert hybrid_off > 20 * off
     assert math.isfinite(off)
