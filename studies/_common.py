@@ -24,7 +24,20 @@ def parse_args(description, flags=None):
 
 
 def write_json(path, data):
-    Path(path).write_text(json.dumps(data, indent=2, default=float) + "\n")
+    """``data`` as indented JSON; a file name inside the JSON's own folder is written relative to it (the
+    results read the same on every machine, wherever the repository lies)."""
+    folder = str(Path(path).resolve().parent) + os.sep
+    Path(path).write_text(json.dumps(_relative(data, folder), indent=2, default=float) + "\n")
+
+
+def _relative(data, folder: str):
+    if isinstance(data, str):
+        return data[len(folder):] if data.startswith(folder) else data
+    if isinstance(data, dict):
+        return {k: _relative(v, folder) for k, v in data.items()}
+    if isinstance(data, (list, tuple)):
+        return [_relative(v, folder) for v in data]
+    return data
 
 
 def markdown_table(headers, rows):
