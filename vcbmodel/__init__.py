@@ -10,4 +10,4 @@ values, results) -> ``builders`` (Exudyn), ``compiled`` (the laws traced to C), 
 record per experiment kind, the simulation chain) -> ``analysis`` (fits, diagnosis) -> ``app``
 (command line, figures). ``errors`` and ``parameters`` sit below them all.
 """
-__version__ = "0.9.0"
+__version__ = "0.9.1"
