@@ -248,8 +248,11 @@ def test_a_single_pole_has_no_pole_spread_to_print_or_limit(tmp_path, capsys):
 def test_a_run_too_short_to_touch_shows_no_closed_contact_force(tmp_path, capsys):
     """A 20 ms run (no pole has touched) printed a closed contact force of 0.000 kN per pole and failed
     the limit on it: 'the breaker fails' (status 1) for a run the notes call not a complete closing,
-    while its closing time read 'no value'. A pole not yet touched has no closed force to judge."""
-    data, _ = breaker({"contact_force_closed": {"min": 3, "unit": "kN"}, "closing_time": {"max": 80, "unit": "ms"}})
+    while its closing time read 'no value'. A pole not yet touched has no closed force to judge, and no
+    bounce (it read a bounce duration of 0 ms, passing its limit), and the verdict counts as judged only
+    the limits the run gives a value (it read '3 of 3 judged: all pass' with no value for any)."""
+    data, _ = breaker({"contact_force_closed": {"min": 3, "unit": "kN"}, "closing_time": {"max": 80, "unit": "ms"},
+                       "bounce_duration": {"max": 2, "unit": "ms"}})
     rig = write_rig(tmp_path, data, "short")
     assert main(["simulate", str(rig), "--backend", "fast", "--t-end", "0.02", "-o", str(tmp_path / "s.csv"),
                  "--json", "-q"]) == 0
@@ -259,6 +262,10 @@ def test_a_run_too_short_to_touch_shows_no_closed_contact_force(tmp_path, capsys
     assert all(f["value"] is None and f["pass"] is None for f in force) and len(force) == 3
     assert body["fails"] is False and err == ""
     assert any("not a complete closing" in n for n in body["notes"])
+    assert all(p["bounce_duration"]["value"] is None and p["bounce_duration"]["pass"] is None for p in body["poles"])
+    report = summaries.closing_report(simulate(load_rig(rig), backend="fast", t_end=0.02), load_rig(rig))
+    assert report.verdict().startswith("limits (breaker.limits): 0 of 3 judged: no value in this run for ")
+    assert "all pass" not in report.verdict()
 
 
 def test_a_cam_at_rest_before_any_pole_touches_fails_the_closing(tmp_path):

@@ -144,13 +144,15 @@ class Report:
         checks = self.checks()
         failed = [self._failure(row, c, brief) for row, c in checks if c.result.startswith("FAIL")]
         unseen = [row.what for row, c in checks if c.result == "no value"]
-        judged = len({c.limit.figure for _, c in checks})
+        # a limit is judged where the run gives its figure a value (a FAIL on one pole judges it too)
+        judged = len({c.limit.figure for _, c in checks if c.result != "no value"})
         head = f"limits (breaker.limits): {judged} of {len(self.limits)} judged"
         if failed:
             return f"{head}: FAIL: {'; '.join(failed)}{latching}"
         if not checks:  # none of the rig's limits bounds a figure of this run (an opening's, in a closing)
             return head + latching
-        return f"{head}: all pass" + (f"; no value for {', '.join(unseen)}" if unseen else "") + latching
+        parts = (["all pass"] if judged else []) + ([f"no value in this run for {', '.join(unseen)}"] if unseen else [])
+        return f"{head}: {'; '.join(parts)}{latching}"
 
 
     def _failure(self, row: Row, check: Check, brief: bool = False) -> str:

@@ -251,12 +251,16 @@ def pole_rows(fom: dict, extra: list[dict], rig: Rig) -> list[Row]:
     """The per-pole table's rows: :data:`POLE_ROWS`, then any other per-pole figure of the evaluation."""
     per_pole = {**fom["per_pole"], **{k: [e[k] for e in extra] for k in extra[0]}} if extra else dict(fom["per_pole"])
     zone = rig.breaker.speed_zone
+    untouched = [t is None for t in fom["per_pole"]["touch_s"]]
     rows = []
     for key, (source, what) in POLE_ROWS.items():
         if source in per_pole:
             if key == "closing_speed_m_s":
                 what = f"closing speed, {1e3 * zone[0]:g}-{1e3 * zone[1]:g} mm before touch"
-            rows.append(Row(key, what, list(per_pole[source]), unit_of_name(key)))
+            values = list(per_pole[source])
+            if key in ("bounce_count", "bounce_duration_s"):  # a pole not touched has no bounce yet: no value
+                values = [None if u else v for u, v in zip(untouched, values)]
+            rows.append(Row(key, what, values, unit_of_name(key)))
     listed = {source for source, _ in POLE_ROWS.values()}
     for key, values in per_pole.items():
         if key not in listed and isinstance(values, (list, tuple)):
