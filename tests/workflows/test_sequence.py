@@ -140,3 +140,14 @@ def test_sequence_plot_is_written_and_never_replaces_a_file_without_force(tmp_pa
     assert len(err) == 1 and "--force" in err[0] and out.read_bytes() == b"mine"
     assert main(["simulate", str(CYCLE), "--sequence", "O", "--plot", str(CYCLE), "--force", "-q"]) == 2
     assert "input" in capsys.readouterr().err
+
+
+def test_a_closing_not_every_pole_touched_has_no_bounce_to_judge():
+    """A closing whose run ends before every pole touches has no closing time, and no bounce figure
+    either (it read the touched poles' bounce, or 0 ms for none, and passed a bounce limit)."""
+    from vcbmodel.experiments.sequence import SEQUENCE_LIMITED
+    cut = {"closing_time_s": None, "bounce_duration_s": 0.0, "bounce_count": 0}
+    whole = {"closing_time_s": 0.05, "bounce_duration_s": 1.2e-3, "bounce_count": 2}
+    for limit, key in (("bounce_duration", "bounce_duration_s"), ("bounce_count", "bounce_count")):
+        values = SEQUENCE_LIMITED[limit][1]
+        assert values(cut) == [None] and values(whole) == [whole[key]]

@@ -180,6 +180,12 @@ def _opening(f: dict, key: str):
     return (f.get("opening") or {}).get(key)
 
 
+def _all_touched(f: dict, key: str):
+    """A bounce figure of the closing ``f``: None (no value) unless every pole touched (a pole that has not
+    has no bounce yet, not none), as its closing time."""
+    return f[key] if f["closing_time_s"] is not None else None
+
+
 #: The figures a sequence judges against the rig's ``breaker.limits``: {limit: (the part of an operation
 #: it bounds, ``closing`` or ``opening``, the run's values (SI) it bounds, every one of which must hold:
 #: each pole's closing or opening speed)}. A closing's contact force at the end of its run is not judged
@@ -189,8 +195,8 @@ SEQUENCE_LIMITED = {
     "closing_time_from_coil": ("closing", lambda f: [_coil(f, "closing")]),
     "pole_spread": ("closing", lambda f: [f["pole_spread_s"]]),
     "closing_speed": ("closing", lambda f: [f["zone_speed_min_m_s"], f["zone_speed_max_m_s"]]),
-    "bounce_duration": ("closing", lambda f: [f["bounce_duration_s"]]),
-    "bounce_count": ("closing", lambda f: [f["bounce_count"]]),
+    "bounce_duration": ("closing", lambda f: [_all_touched(f, "bounce_duration_s")]),
+    "bounce_count": ("closing", lambda f: [_all_touched(f, "bounce_count")]),
     "kinetic_margin": ("closing", lambda f: [f["kinetic_margin_J"]]),
     "opening_time": ("opening", lambda f: [_opening(f, "opening_time_s")]),
     "opening_time_from_coil": ("opening", lambda f: [_coil(f, "opening")]),
