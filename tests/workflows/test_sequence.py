@@ -9,7 +9,7 @@ import pytest
 from vcbmodel.app.cli import main
 from vcbmodel.compiled import compiler_works
 from vcbmodel.experiments.loading import load_rig
-from vcbmodel.experiments.sequence import parse_sequence, run_sequence
+from vcbmodel.experiments.sequence import SEQUENCE_LIMITED, parse_sequence, run_sequence
 
 CYCLE = Path(__file__).resolve().parents[2] / "results" / "synthetic" / "vcb_cycle.rig.json"
 
@@ -145,7 +145,6 @@ def test_sequence_plot_is_written_and_never_replaces_a_file_without_force(tmp_pa
 def test_a_closing_not_every_pole_touched_has_no_bounce_to_judge():
     """A closing whose run ends before every pole touches has no closing time, and no bounce figure
     either (it read the touched poles' bounce, or 0 ms for none, and passed a bounce limit)."""
-    from vcbmodel.experiments.sequence import SEQUENCE_LIMITED
     cut = {"closing_time_s": None, "bounce_duration_s": 0.0, "bounce_count": 0}
     whole = {"closing_time_s": 0.05, "bounce_duration_s": 1.2e-3, "bounce_count": 2}
     for limit, key in (("bounce_duration", "bounce_duration_s"), ("bounce_count", "bounce_count")):
