@@ -272,7 +272,7 @@ def _parse(path: str, known: Iterable[str] | None, units: dict[str, str] | None)
                 factors = _merge_units(header, factors, units_row, path, i)
                 continue
             units_row = []
-        values = _data_or_end(cells, header, dialect, path, i, clock, lines[k + 1:], bool(rows))
+        values = _data_or_end(cells, header, dialect, path, i, clock, lines, k + 1, bool(rows))
         if values is None:
             break
         rows.append(values)
@@ -340,14 +340,16 @@ def _preamble_line(cells: list, path: str, line: int, preamble: dict, comments: 
     comments.append(f"{cells[0]}: {value}" if value else cells[0])
 
 
-def _data_or_end(cells: list, header: list, dialect: tuple, path: str, line: int, clock: dict, after: list,
-                 more: bool) -> list[float] | None:
+def _data_or_end(cells: list, header: list, dialect: tuple, path: str, line: int, clock: dict, lines: list,
+                 below: int, more: bool) -> list[float] | None:
     """A data row's values (:func:`_data_row`), or None for a logger's end marker below the data (``more``:
-    there are rows above; ``after``: the lines below); a bad row is refused, said to be a summary line
+    there are rows above; ``lines[below:]``: the lines below, read only for a row that is not data: a
+    copy for every row made a 10^6-row file take hours); a bad row is refused, said to be a summary line
     where it is one."""
     try:
         return _data_row(cells, header, dialect, path, line, clock)
     except InputError as e:
+        after = lines[below:]
         if more and _end_marker(cells, after):
             return None
         raise (_summary_below_the_data(e, cells, after, header, dialect, path) if more else e) from None
