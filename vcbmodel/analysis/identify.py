@@ -22,7 +22,7 @@ from __future__ import annotations
 
 import logging
 from collections.abc import Sequence
-from dataclasses import dataclass, replace
+from dataclasses import dataclass
 from typing import TYPE_CHECKING
 
 import numpy as np
@@ -35,6 +35,7 @@ from ..records.signals import first_peak_amplitude
 from ..rig.spring_model import SpringModel
 from .fit import Dataset, FitResult, SimulationPool, fit, make_parameters, staged_fit
 from .release import release_parameter, release_setup, released_pairs, was_cut
+from .thinning import usual_rate
 from .diagnosis.judge import rival_form
 from .diagnosis.options import DEFAULT_OPTIONS
 from .held_out import HeldOut, held_out_validation
@@ -69,33 +70,12 @@ LAWS = {
 #: The residual may stand this far above the record's own noise before identify warns that the law
 #: does not describe the record (a white residual of n samples at the noise is within a few percent).
 WARN_RATIO = 1.5
-#: A record sampled more than this many times faster than its experiment's usual sensor is block-
-#: averaged down to about that rate before the fit (the swing's frequencies are far below either).
-DENSE_FACTOR = 2.0
 #: Shares of the swing's decay put in Coulomb friction by the further starts spread along the
 #: Coulomb-viscous valley (``experiments.pendulum.decay_split_guesses``): a fit from the record's
 #: own regression stopped with viscous 0 at 7-9 times the noise on Tustin and LuGre records whose
 #: better optimum (viscous about 0.55 N m s/rad) lies at 1-2.7 times it; three shares span the
 #: valley between "mostly Coulomb" and "mostly viscous" without the all-viscous end's far start.
 DECAY_SPLITS = (0.8, 0.6, 0.4)
-
-
-def usual_rate(pair: tuple[Rig, Measurement]) -> tuple[Rig, Measurement]:
-    """A (rig, measurement) pair thinned to about its experiment's usual sample rate when it is
-    much denser: every k-th sample is kept, times unchanged. A pendulum swings at about 1 Hz, so
-    the usual 1 kHz resolves it many times over; the fit of a full million-sample record (100 s at
-    10 kHz) ran into its step and budget limits and returned wrong values with no warning. Centred
-    means of k samples instead of single samples were tried and rejected: the lower noise (0.15 for
-    0.5 mrad) sent the staged fit to a wrong optimum (mu_k 0.137 for 0.12) on a 20 s, 10 kHz record."""
-    rig, meas = pair
-    usual = experiment_of(rig.experiment).sample_rate
-    rate = (meas.t.size - 1) / float(meas.t[-1] - meas.t[0])
-    k = int(rate // usual)
-    if rate <= DENSE_FACTOR * usual or k < 2:
-        return pair
-    log.info("identify: %s: %.0f samples/s; every %d-th sample is fitted (%.0f samples/s)", meas.path, rate, k, rate / k)
-    return rig, replace(meas, t=meas.t[::k], channels={name: v[::k] for name, v in meas.channels.items()},
-                        comments=meas.comments + (f"vcbmodel: every {k}-th sample fitted",))
 
 
 def starts_at_release(meas: Measurement) -> None:
@@ -242,7 +222,7 @@ def identify(pairs: Sequence[tuple[Rig, Measurement]], law: str = "hybrid", verb
     """
     spec = LAWS[law]
     pairs = released_pairs(pairs)  # each record from its release, found
-    pairs = [usual_rate(pair) for pair in pairs]
+    pairs = [usual_rate(pair, "identify") for pair in pairs]
     # a record cut at a release found in it: its release refitted, as the diagnosis fits it
     datasets = [Dataset(rig, meas, setup=release_setup(meas) if was_cut(meas) else None) for rig, meas in pairs]
     rig0, meas0 = pairs[0]

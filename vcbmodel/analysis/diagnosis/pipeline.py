@@ -22,6 +22,7 @@ from threadpoolctl import threadpool_limits
 
 from ...experiments.base import check_samples
 from ..fit import SimulationPool
+from ..thinning import usual_rate
 from .align import align
 from .context import Budget, Context
 from .discover import discover
@@ -72,6 +73,9 @@ def diagnose(rig: object, measurement: object, processes: int = 2, verbose: bool
     verdict ``explained`` requires each at its noise."""
     for _, record in ((rig, measurement), *held_out):  # a record built in Python, not read: checked here
         check_samples(record.t, record.path)
+    # a record far denser than its experiment's usual sensor is fitted at about that rate, as identify does
+    rig, measurement = usual_rate((rig, measurement), "diagnose")
+    held_out = tuple(usual_rate(pair, "diagnose") for pair in held_out)
     if time_budget is not None:
         options = options.with_(time_budget=time_budget)
     started = time.monotonic()
