@@ -13,7 +13,7 @@ from vcbmodel import parameters as P
 from vcbmodel.compiled import compiler_works
 from vcbmodel.compiled.equations import prepare_closing
 from vcbmodel.experiments.closing_evaluation import figures_of_merit
-from vcbmodel.experiments.cycle_evaluation import cam_kinetic
+from vcbmodel.experiments.cycle_evaluation import cam_kinetic, kinetic_margin
 from vcbmodel.experiments.loading import load_rig
 from vcbmodel.experiments.sequence import commands_for, run_sequence, with_commands
 from vcbmodel.experiments.simulation import model_spec, simulate
@@ -256,3 +256,19 @@ def test_the_closing_reference_solve_refuses_the_cycle_parts(cycle):
     """The scipy closing reference knows none of them: refused, not solved without them."""
     with pytest.raises(ValueError, match="breaker.making_current"):
         simulate(cycle, backend="reference", t_end=0.01)
+
+
+@needs_compiler
+def test_a_co_closing_is_judged_up_to_its_trip(cycle):
+    """A CO's trip lets the trip-free link collapse, freeing the cam of the roller's load: the cam's
+    reaching its latch counts only before the trip (the reference's CO: the latch 253 deg reached before
+    the trip at 55.3 ms, margin about 78 J); reached only after it, the closing's own latching is not
+    shown (not judged, None), never passed."""
+    rig = with_commands(cycle, commands_for(cycle, "CO"))
+    r = simulate(rig, backend="compiled", t_end=0.1)
+    f = figures_of_merit(r, rig)
+    assert f["latched"] and f["latched_s"] < f["opening"]["trip_s"] and f["kinetic_margin_J"] > 50.0
+    tripped_early = kinetic_margin(r, rig, f["first_touch_s"], f["latched_s"] - 1e-3)
+    assert tripped_early["latched"] is None and tripped_early["kinetic_margin_J"] is None
+    assert tripped_early["latch_short_deg"] == 0.0 and tripped_early["kinetic_at_touch_J"] == f["kinetic_at_touch_J"]
+    assert kinetic_margin(r, rig, f["first_touch_s"], f["latched_s"] + 1e-3)["kinetic_margin_J"] == f["kinetic_margin_J"]

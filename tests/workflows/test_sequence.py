@@ -9,7 +9,8 @@ import pytest
 from vcbmodel.app.cli import main
 from vcbmodel.compiled import compiler_works
 from vcbmodel.experiments.loading import load_rig
-from vcbmodel.experiments.sequence import SEQUENCE_LIMITED, parse_sequence, run_sequence
+from vcbmodel.experiments.sequence import (SEQUENCE_LIMITED, parse_sequence, run_sequence, sequence_failures,
+                                           sequence_lines)
 
 CYCLE = Path(__file__).resolve().parents[2] / "results" / "synthetic" / "vcb_cycle.rig.json"
 
@@ -150,3 +151,19 @@ def test_a_closing_not_every_pole_touched_has_no_bounce_to_judge():
     for limit, key in (("bounce_duration", "bounce_duration_s"), ("bounce_count", "bounce_count")):
         values = SEQUENCE_LIMITED[limit][1]
         assert values(cut) == [None] and values(whole) == [whole[key]]
+
+
+def test_a_closing_whose_latching_is_not_judged_is_never_passed_with_the_limits():
+    """A CO whose cam has neither latched nor stopped short (``latched`` None) passes its limits, but the
+    verdict line says its latching is not judged (it read 'all pass'), and its margin reads 'not judged',
+    not 'not latched'."""
+    co = {"op": "CO", "command_s": 0.0, "release_delay_s": None, "backend": "compiled", "closing_time_from_coil_s": None,
+          "closing_time_from_coil_range_s": None, "closing_time_from_latch_s": 0.067, "bounce_count": 1,
+          "bounce_duration_s": 8e-4, "kinetic_at_touch_J": 89.9, "kinetic_margin_J": None, "latched": None,
+          "limits": [{"limit": "closing_time", "text": "<= 80 ms", "values_si": [0.067], "pass": True}]}
+    report = {"sequence": "CO", "operations": [co], "notes": []}
+    lines = sequence_lines(report)
+    assert lines[-1] == "limits (breaker.limits), the operations: all pass; latching not judged: CO at 0 s"
+    assert any(line.endswith("kinetic margin not judged") for line in lines)
+    assert sequence_lines({**report, "operations": [{**co, "latched": False}]})[-1].endswith("all pass")
+    assert sequence_failures({**report, "operations": [{**co, "latched": False}]})

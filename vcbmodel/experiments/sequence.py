@@ -287,8 +287,22 @@ def _operation_notes(entry: dict, summary: dict, following: Step | None) -> list
     if op != "O" and f["latched"] is False:
         notes.append(f"{op} at {entry['command_s']:g} s: the cam does not reach its holding latch "
                      f"({f['latch_short_deg']:.3g} deg short): the closing fails")
+    if op != "O" and f["latched"] is None:
+        notes.append(f"{op} at {entry['command_s']:g} s: whether the closing latches is not judged: {unjudged_latch(f)}")
     check_rest(entry, following)
     return notes
+
+
+def unjudged_latch(f: dict) -> str:
+    """Why a closing's latching is not judged (``f``: its figures, ``latched`` None; the rule:
+    :mod:`.cycle_evaluation`'s docstring)."""
+    if f["kinetic_at_touch_J"] is None:
+        return "no pole touches in its run, or the rig has no holding latch or end stop"
+    if f["latch_short_deg"] == 0.0:
+        return ("the cam reaches its holding latch only after the trip has freed it from the linkage: the "
+                "closing itself might have stopped short")
+    return (f"its run ends with the cam {f['latch_short_deg']:.3g} deg short of its holding latch, "
+            "still turning, neither back nor at rest")
 
 
 def check_rest(entry: dict, following: Step | None) -> None:
@@ -345,7 +359,8 @@ def sequence_lines(report: dict) -> list[str]:
             if speed is not None:
                 lines.append(f"  closing speed {speed:.3g} m/s (the poles' mean over the zone)")
             lines.append(f"  bounce {e['bounce_count']} ({ms(e['bounce_duration_s'])}); kinetic margin "
-                         + ("not latched" if margin is None else f"{margin:.1f} J of {e['kinetic_at_touch_J']:.1f} J at touch"))
+                         + ({False: "not latched", None: "not judged"}[e["latched"]] if margin is None
+                            else f"{margin:.1f} J of {e['kinetic_at_touch_J']:.1f} J at touch"))
         if "opening_time_from_pawl_s" in e:
             rng = e["opening_time_from_coil_range_s"]
             speed = e["opening_speed_m_s"]
@@ -384,11 +399,14 @@ def failing_values(c: dict) -> str:
 
 def sequence_verdict(report: dict) -> list[str]:
     """One line: the operations' limits all pass, or which operation fails which (none without limits
-    judged)."""
+    judged); a closing whose latching is not judged is said there, never passed with the limits."""
     if not any(e.get("limits") for e in report["operations"]):
         return []
     failed = _limit_failures(report)
-    return ["limits (breaker.limits), the operations: " + (f"FAIL: {'; '.join(failed)}" if failed else "all pass")]
+    unjudged = [f"{e['op']} at {e['command_s']:g} s" for e in report["operations"]
+                if "latched" in e and e["latched"] is None]
+    return ["limits (breaker.limits), the operations: " + (f"FAIL: {'; '.join(failed)}" if failed else "all pass")
+            + (f"; latching not judged: {', '.join(unjudged)}" if unjudged else "")]
 
 
 def _limit_failures(report: dict) -> list[str]:
