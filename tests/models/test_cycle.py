@@ -272,3 +272,18 @@ def test_a_co_closing_is_judged_up_to_its_trip(cycle):
     assert tripped_early["latched"] is None and tripped_early["kinetic_margin_J"] is None
     assert tripped_early["latch_short_deg"] == 0.0 and tripped_early["kinetic_at_touch_J"] == f["kinetic_at_touch_J"]
     assert kinetic_margin(r, rig, f["first_touch_s"], f["latched_s"] + 1e-3)["kinetic_margin_J"] == f["kinetic_margin_J"]
+
+
+@needs_compiler
+def test_a_co_whose_freed_cam_latches_fails_if_its_closing_would_not(tmp_path):
+    """Closing springs at 15500 N/m: the CO's trip frees the cam 16.8 ms after the touch and the freed
+    cam then reaches its latch (it read latched, a 1.7 J margin, and passed); the same closing without
+    the trip stops 2.6 deg short of the latch and turns back: the CO's closing fails. At the reference
+    24230 N/m the cam latches before the trip and the CO is judged on its own run."""
+    d = copy.deepcopy(P.REFERENCE_CYCLE_BREAKER)
+    d["closing_spring"]["stiffness"] = 15500.0
+    weak = rig_of(tmp_path, d, "weak15500")
+    (co,) = run_sequence(weak, "CO", backend="compiled")["operations"]
+    assert co["latched"] is False and co["latching_without_trip"] and co["kinetic_margin_J"] is None
+    c = figures_of_merit(simulate(with_commands(weak, commands_for(weak, "C")), backend="compiled", t_end=0.1), weak)
+    assert c["latched"] is False and 1.0 < c["latch_short_deg"] < 5.0

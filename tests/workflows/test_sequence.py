@@ -167,3 +167,23 @@ def test_a_closing_whose_latching_is_not_judged_is_never_passed_with_the_limits(
     assert any(line.endswith("kinetic margin not judged") for line in lines)
     assert sequence_lines({**report, "operations": [{**co, "latched": False}]})[-1].endswith("all pass")
     assert sequence_failures({**report, "operations": [{**co, "latched": False}]})
+
+
+@pytest.mark.skipif(not compiler_works(), reason="no working C compiler")
+def test_a_weak_cos_closing_fails_on_the_closing_it_would_have_made(tmp_path, capsys):
+    """Closing springs at 9500 N/m (the rig's 24230) and no closing-speed limit: the CO's trip comes
+    16.8 ms after the touch with the cam at 203 deg, still on its way to its 248 deg holding latch; the
+    run ended with the freed cam creeping at 1.6 rad/s 37.4 deg short, and the CO passed with exit 0. The
+    same closing without the trip stops 42.7 deg short and turns back: the closing fails (exit 1)."""
+    data = json.loads(CYCLE.read_text())
+    data["closing_spring"]["stiffness"] = 9500.0
+    data["breaker"]["limits"].pop("closing_speed")
+    rig = tmp_path / "weak.rig.json"
+    rig.write_text(json.dumps(data))
+    assert main(["simulate", str(rig), "--sequence", "CO", "--json", "--backend", "compiled", "-q"]) == 1
+    report = json.loads(capsys.readouterr().out)
+    (co,) = report["operations"]
+    assert report["fails"] and co["latched"] is False and co["latching_without_trip"] and co["kinetic_margin_J"] is None
+    assert all(c["pass"] for c in co["limits"])  # the limits pass: the latch fails it
+    assert any("without the trip" in n for n in report["notes"])
+    assert any("42.7 deg short): the closing fails" in n for n in report["notes"])
