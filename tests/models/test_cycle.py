@@ -284,6 +284,6 @@ def test_a_co_whose_freed_cam_latches_fails_if_its_closing_would_not(tmp_path):
     d["closing_spring"]["stiffness"] = 15500.0
     weak = rig_of(tmp_path, d, "weak15500")
     (co,) = run_sequence(weak, "CO", backend="compiled")["operations"]
-    assert co["latched"] is False and co["latching_without_trip"] and co["kinetic_margin_J"] is None
+    assert co["latched"] is False and co["latching_run_s"] == 0.1 and co["kinetic_margin_J"] is None
     c = figures_of_merit(simulate(with_commands(weak, commands_for(weak, "C")), backend="compiled", t_end=0.1), weak)
     assert c["latched"] is False and 1.0 < c["latch_short_deg"] < 5.0
