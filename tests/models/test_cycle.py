@@ -231,6 +231,7 @@ def test_o_then_co_chains_from_rest(cycle):
     assert lo < co["closing_time_from_coil_s"] < hi
     assert o["open_settled_s"] is not None and o["opening_rebound_m"] < 5e-4 and 0.5 < o["opening_speed_m_s"] < 5.0
     assert co["latched"] and co["kinetic_margin_J"] > 50.0
+    assert co["latching_run_s"] is None and not any("judged on the same closing" in n for n in report["notes"])
     r = simulate(with_commands(cycle, commands_for(cycle, "O")), backend="compiled", t_end=0.05)
     assert abs(r.channels["f_travel"][-1]) < 2e-5
     assert report["dead_times_s"][0] == pytest.approx(0.3 + co["release_delay_s"] + co["first_touch_from_latch_s"]

@@ -143,7 +143,8 @@ def run_operation(rig: Rig, step: Step, backend: str = "exudyn", **options) -> t
     op_rig = with_commands(rig, commands_for(rig, step.op))
     result = simulate(op_rig, backend=backend, t_end=RUN_LENGTH[step.op], **options)
     fom = figures_of_merit(result, op_rig)
-    if fom["kinetic_at_touch_J"] is not None and (step.op == "CO" and fom["latched"] is not True
+    tripped = step.op == "CO" and (fom.get("opening") or {}).get("trip_s", float("inf")) < result.t[-1]
+    if fom["kinetic_at_touch_J"] is not None and (tripped and fom["latched"] is not True
                                                    or step.op == "C" and fom["latched"] is None):
         fom = fom | closing_latching(rig, backend, **options)
     release = rig.breaker.opening_release if step.op == "O" else rig.breaker.closing_release
@@ -330,10 +331,7 @@ def unjudged_latch(f: dict) -> str:
     :mod:`.cycle_evaluation`'s docstring)."""
     if f["kinetic_at_touch_J"] is None:
         return "no pole touches in its run, or the rig has no holding latch or end stop"
-    if f["latch_short_deg"] == 0.0:
-        return ("the cam reaches its holding latch only after the trip has freed it from the linkage: the "
-                "closing itself might have stopped short")
-    return (f"its run ends with the cam {f['latch_short_deg']:.3g} deg short of its holding latch, "
+    return (f"the run ends with the cam {f['latch_short_deg']:.3g} deg short of its holding latch, "
             "still turning, neither back nor at rest")
 
 
