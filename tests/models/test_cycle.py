@@ -13,7 +13,7 @@ from vcbmodel import parameters as P
 from vcbmodel.compiled import compiler_works
 from vcbmodel.compiled.equations import prepare_closing
 from vcbmodel.experiments.closing_evaluation import figures_of_merit
-from vcbmodel.experiments.cycle_evaluation import cam_kinetic
+from vcbmodel.experiments.cycle_evaluation import cam_kinetic, kinetic_margin
 from vcbmodel.experiments.loading import load_rig
 from vcbmodel.experiments.sequence import commands_for, run_sequence, with_commands
 from vcbmodel.experiments.simulation import model_spec, simulate
@@ -231,6 +231,7 @@ def test_o_then_co_chains_from_rest(cycle):
     assert lo < co["closing_time_from_coil_s"] < hi
     assert o["open_settled_s"] is not None and o["opening_rebound_m"] < 5e-4 and 0.5 < o["opening_speed_m_s"] < 5.0
     assert co["latched"] and co["kinetic_margin_J"] > 50.0
+    assert co["latching_run_s"] is None and not any("judged on the same closing" in n for n in report["notes"])
     r = simulate(with_commands(cycle, commands_for(cycle, "O")), backend="compiled", t_end=0.05)
     assert abs(r.channels["f_travel"][-1]) < 2e-5
     assert report["dead_times_s"][0] == pytest.approx(0.3 + co["release_delay_s"] + co["first_touch_from_latch_s"]
@@ -256,3 +257,34 @@ def test_the_closing_reference_solve_refuses_the_cycle_parts(cycle):
     """The scipy closing reference knows none of them: refused, not solved without them."""
     with pytest.raises(ValueError, match="breaker.making_current"):
         simulate(cycle, backend="reference", t_end=0.01)
+
+
+@needs_compiler
+def test_a_co_closing_is_judged_up_to_its_trip(cycle):
+    """A CO's trip lets the trip-free link collapse, freeing the cam of the roller's load: the cam's
+    reaching its latch counts only before the trip (the reference's CO: the latch 253 deg reached before
+    the trip at 55.3 ms, margin about 78 J); reached only after it, the closing's own latching is not
+    shown (not judged, None), never passed."""
+    rig = with_commands(cycle, commands_for(cycle, "CO"))
+    r = simulate(rig, backend="compiled", t_end=0.1)
+    f = figures_of_merit(r, rig)
+    assert f["latched"] and f["latched_s"] < f["opening"]["trip_s"] and f["kinetic_margin_J"] > 50.0
+    tripped_early = kinetic_margin(r, rig, f["first_touch_s"], f["latched_s"] - 1e-3)
+    assert tripped_early["latched"] is None and tripped_early["kinetic_margin_J"] is None
+    assert tripped_early["latch_short_deg"] == 0.0 and tripped_early["kinetic_at_touch_J"] == f["kinetic_at_touch_J"]
+    assert kinetic_margin(r, rig, f["first_touch_s"], f["latched_s"] + 1e-3)["kinetic_margin_J"] == f["kinetic_margin_J"]
+
+
+@needs_compiler
+def test_a_co_whose_freed_cam_latches_fails_if_its_closing_would_not(tmp_path):
+    """Closing springs at 15500 N/m: the CO's trip frees the cam 16.8 ms after the touch and the freed
+    cam then reaches its latch (it read latched, a 1.7 J margin, and passed); the same closing without
+    the trip stops 2.6 deg short of the latch and turns back: the CO's closing fails. At the reference
+    24230 N/m the cam latches before the trip and the CO is judged on its own run."""
+    d = copy.deepcopy(P.REFERENCE_CYCLE_BREAKER)
+    d["closing_spring"]["stiffness"] = 15500.0
+    weak = rig_of(tmp_path, d, "weak15500")
+    (co,) = run_sequence(weak, "CO", backend="compiled")["operations"]
+    assert co["latched"] is False and co["latching_run_s"] == 0.1 and co["kinetic_margin_J"] is None
+    c = figures_of_merit(simulate(with_commands(weak, commands_for(weak, "C")), backend="compiled", t_end=0.1), weak)
+    assert c["latched"] is False and 1.0 < c["latch_short_deg"] < 5.0

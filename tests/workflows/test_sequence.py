@@ -9,7 +9,8 @@ import pytest
 from vcbmodel.app.cli import main
 from vcbmodel.compiled import compiler_works
 from vcbmodel.experiments.loading import load_rig
-from vcbmodel.experiments.sequence import SEQUENCE_LIMITED, parse_sequence, run_sequence
+from vcbmodel.experiments.sequence import (SEQUENCE_LIMITED, parse_sequence, run_sequence, sequence_failures,
+                                           sequence_lines)
 
 CYCLE = Path(__file__).resolve().parents[2] / "results" / "synthetic" / "vcb_cycle.rig.json"
 
@@ -150,3 +151,55 @@ def test_a_closing_not_every_pole_touched_has_no_bounce_to_judge():
     for limit, key in (("bounce_duration", "bounce_duration_s"), ("bounce_count", "bounce_count")):
         values = SEQUENCE_LIMITED[limit][1]
         assert values(cut) == [None] and values(whole) == [whole[key]]
+
+
+def test_a_closing_whose_latching_is_not_judged_is_never_passed_with_the_limits():
+    """A CO whose cam has neither latched nor stopped short (``latched`` None) passes its limits, but the
+    verdict line says its latching is not judged (it read 'all pass'), and its margin reads 'not judged',
+    not 'not latched'."""
+    co = {"op": "CO", "command_s": 0.0, "release_delay_s": None, "backend": "compiled", "closing_time_from_coil_s": None,
+          "closing_time_from_coil_range_s": None, "closing_time_from_latch_s": 0.067, "bounce_count": 1,
+          "bounce_duration_s": 8e-4, "kinetic_at_touch_J": 89.9, "kinetic_margin_J": None, "latched": None,
+          "limits": [{"limit": "closing_time", "text": "<= 80 ms", "values_si": [0.067], "pass": True}]}
+    report = {"sequence": "CO", "operations": [co], "notes": []}
+    lines = sequence_lines(report)
+    assert lines[-1] == "limits (breaker.limits), the operations: all pass; latching not judged: CO at 0 s"
+    assert any(line.endswith("kinetic margin not judged") for line in lines)
+    assert sequence_lines({**report, "operations": [{**co, "latched": False}]})[-1].endswith("all pass")
+    assert sequence_failures({**report, "operations": [{**co, "latched": False}]})
+
+
+@pytest.mark.skipif(not compiler_works(), reason="no working C compiler")
+def test_a_weak_cos_closing_fails_on_the_closing_it_would_have_made(tmp_path, capsys):
+    """Closing springs at 9500 N/m (the rig's 24230) and no closing-speed limit: the CO's trip comes
+    16.8 ms after the touch with the cam at 203 deg, still on its way to its 248 deg holding latch; the
+    run ended with the freed cam creeping at 1.6 rad/s 37.4 deg short, and the CO passed with exit 0. The
+    same closing without the trip stops 42.7 deg short and turns back: the closing fails (exit 1)."""
+    data = json.loads(CYCLE.read_text())
+    data["closing_spring"]["stiffness"] = 9500.0
+    data["breaker"]["limits"].pop("closing_speed")
+    rig = tmp_path / "weak.rig.json"
+    rig.write_text(json.dumps(data))
+    assert main(["simulate", str(rig), "--sequence", "CO", "--json", "--backend", "compiled", "-q"]) == 1
+    report = json.loads(capsys.readouterr().out)
+    (co,) = report["operations"]
+    assert report["fails"] and co["latched"] is False and co["latching_run_s"] == 0.1 and co["kinetic_margin_J"] is None
+    assert all(c["pass"] for c in co["limits"])  # the limits pass: the latch fails it
+    assert any("its trip comes before the cam reaches its holding latch" in n for n in report["notes"])
+    assert any("42.7 deg short): the closing fails" in n for n in report["notes"])
+
+
+@pytest.mark.skipif(not compiler_works(), reason="no working C compiler")
+def test_a_weak_c_whose_run_ends_first_is_judged_on_a_longer_run(tmp_path):
+    """Closing springs at 9500 N/m: the touch comes 65.7 ms after the latch, and the C's 75 ms run ends
+    with the cam still turning 60 deg short of its latch (not judged); the same closing run for 0.1 s
+    stops 42.7 deg short, as the CO's closing does: the C fails too."""
+    data = json.loads(CYCLE.read_text())
+    data["closing_spring"]["stiffness"] = 9500.0
+    path = tmp_path / "weak.rig.json"
+    path.write_text(json.dumps(data))
+    report = run_sequence(load_rig(path), "C", backend="compiled")
+    (c,) = report["operations"]
+    assert c["latched"] is False and c["latching_run_s"] == 0.1
+    assert any("42.7 deg short): the closing fails" in n for n in report["notes"])
+    assert sequence_failures(report)[-1] == "C at 0 s: the closing fails (the cam stops short of its latch)"

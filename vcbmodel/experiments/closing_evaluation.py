@@ -482,11 +482,11 @@ def zone_extremes(zone_speeds: list) -> dict:
 
 def cycle_figures(result: SimulationResult, rig: Rig, first_touch: float | None, closing_time: float | None) -> dict:
     """The figures of the cycle (:mod:`.cycle_evaluation`): the kinetic margin after the touch (every
-    closing with a holding latch or end stop), the opening's figures when the run trips (an O, a
+    closing with a holding latch or end stop; a CO's judged up to its trip), the opening's figures when the run trips (an O, a
     CO: ``opening``), the close-open time of a CO (first touch to the last pole's parting), and the
     IEC times from the releases' coils when the rig has them."""
-    out = kinetic_margin(result, rig, first_touch)
     trip = trip_instant(result, rig, first_touch)
+    out = kinetic_margin(result, rig, first_touch, trip)
     opening = opening_figures(result, rig, trip) if trip is not None else None
     out["opening"] = opening
     opening_time = opening["opening_time_s"] if opening is not None else None

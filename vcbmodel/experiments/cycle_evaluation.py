@@ -17,6 +17,15 @@ back short of it (run back from its farthest angle by more than ``parameters.CAM
 in balance, it will not latch), None when the run ends with the cam still on its way or stopped for
 less time (a longer run tells); ``latch_short_deg``: how far short its farthest angle after the touch
 stays.
+
+**A closing tripped before it latched (a CO).** The trip lets the trip-free link collapse: the roller's
+load no longer reaches the cam, so what the cam does after the trip is not the closing's own motion.
+The closing is judged by whether it would have completed without the trip: latched (True) only when
+the cam reaches its latch angle before the trip; after it, the freed cam has gone at least as far as
+the loaded one would (the link passed the roller's load, which resists the cam on its rise, and the
+shaft's friction under it), so a freed cam that turns back or comes to rest short of its latch fails
+the closing (False), while one that reaches its latch only after the trip leaves it unjudged (None,
+``latch_short_deg`` 0: the loaded cam might have stopped short).
 """
 from __future__ import annotations
 
@@ -54,12 +63,13 @@ def latch_angle(rig: Rig) -> float | None:
     return None if part is None else part.angle
 
 
-def kinetic_margin(result: SimulationResult, rig: Rig, first_touch: float | None) -> dict:
+def kinetic_margin(result: SimulationResult, rig: Rig, first_touch: float | None, trip: float | None = None) -> dict:
     """The kinetic margin after the touch (module docstring): ``kinetic_at_touch_J``,
     ``kinetic_margin_J`` (None if not latched), ``kinetic_margin_fraction`` (of the energy at
-    touch), ``latched`` (True: the cam reached its latch angle after the touch; False: it turned back
-    short of it; None: the run ended first), ``latched_s`` and ``latch_short_deg``; all None without
-    a touch or a latch angle."""
+    touch), ``latched`` (True: the cam reached its latch angle after the touch, and before ``trip``,
+    s, when the run trips; False: it turned back or came to rest short of it; None: the run ended
+    first, or the cam reached it only after the trip), ``latched_s`` and ``latch_short_deg``; all None
+    without a touch or a latch angle."""
     target = latch_angle(rig)
     empty = {"kinetic_at_touch_J": None, "kinetic_margin_J": None, "kinetic_margin_fraction": None, "latched": None,
              "latched_s": None, "latch_short_deg": None}
@@ -76,6 +86,8 @@ def kinetic_margin(result: SimulationResult, rig: Rig, first_touch: float | None
         return empty | {"kinetic_at_touch_J": at_touch, "latched": False if stopped else None,
                         "latch_short_deg": float(np.degrees(target - np.max(theta[k0:])))}
     k1 = k0 + int(reached[0])
+    if trip is not None and t[k1] > trip:  # reached by the cam the trip had freed: the closing's own is not shown
+        return empty | {"kinetic_at_touch_J": at_touch, "latch_short_deg": 0.0}
     margin = float(min(at_touch, np.min(ke[k0:k1 + 1])))
     return {"kinetic_at_touch_J": at_touch, "kinetic_margin_J": margin,
             "kinetic_margin_fraction": margin / at_touch if at_touch > 0 else None, "latched": True,

@@ -12,6 +12,13 @@ either backend) with its commands (:class:`vcbmodel.laws.opening.Commands`) on t
 - **CO**: a C whose opening release is energised at the first pole's touch (IEC 62271-100's
   close-open: the release energised at the instant the contacts touch); the pawl lets go after the
   release's delay, the trip-free link collapses and the contacts reopen whatever the cam does.
+  Its closing is judged by whether it would have completed: when the trip comes before the cam
+  reaches its holding latch, its latching and kinetic margin are those of the same closing run
+  without the trip (a C for ``LATCHING_RUN``; up to the trip the two runs are one).
+
+A C whose run ends before its latching is judged (the cam still turning short of its latch) takes its
+latching and kinetic margin from the same closing run for ``LATCHING_RUN``; a closing still unjudged
+then says so (a note, the verdict line), never passed with the limits.
 
 Times: each run's clock starts when its latch starts to let go (t = 0); a command is given its
 release's delay earlier (:mod:`vcbmodel.laws.release`, at rated supply). The sequence's clock runs
@@ -48,6 +55,9 @@ OPERATIONS = ("O", "C", "CO")
 #: holding latch by about 66 ms (parameters.BREAKER_REST_T_END); a CO trips about 55 ms after its
 #: latch lets go (the touch and the opening release's delay) and rests open some 20 ms later
 RUN_LENGTH = {"O": 0.05, "C": P.BREAKER_REST_T_END, "CO": 0.1}
+#: The run (s) of a closing whose latching its operation's run does not show (module docstring): a CO's
+#: run length; closing springs of a third of the reference's rate (8000 N/m) stop the cam 92 ms in
+LATCHING_RUN = RUN_LENGTH["CO"]
 _UNITS = {"s": 1.0, "ms": 1e-3, "min": 60.0}
 _INTERVAL = re.compile(r"(\d+(?:\.\d*)?|\.\d+)(ms|s|min)")
 
@@ -133,9 +143,27 @@ def run_operation(rig: Rig, step: Step, backend: str = "exudyn", **options) -> t
     op_rig = with_commands(rig, commands_for(rig, step.op))
     result = simulate(op_rig, backend=backend, t_end=RUN_LENGTH[step.op], **options)
     fom = figures_of_merit(result, op_rig)
+    tripped = step.op == "CO" and (fom.get("opening") or {}).get("trip_s", float("inf")) < result.t[-1]
+    if fom["kinetic_at_touch_J"] is not None and (tripped and fom["latched"] is not True
+                                                   or step.op == "C" and fom["latched"] is None):
+        fom = fom | closing_latching(rig, backend, **options)
     release = rig.breaker.opening_release if step.op == "O" else rig.breaker.closing_release
     return {"op": step.op, "command_s": step.at, "release_delay_s": release_delay(release) if release else None,
             "run_s": float(result.t[-1]), "backend": result.info["backend"], "figures": fom}, result
+
+
+#: The kinetic-margin figures (:func:`vcbmodel.experiments.cycle_evaluation.kinetic_margin`) an operation
+#: takes from :func:`closing_latching`
+LATCHING = ("kinetic_at_touch_J", "kinetic_margin_J", "kinetic_margin_fraction", "latched", "latched_s", "latch_short_deg")
+
+
+def closing_latching(rig: Rig, backend: str, **options) -> dict:
+    """The latching of a closing its operation's run does not show (a CO tripped before its cam latched,
+    a C whose run ends first; module docstring): the :data:`LATCHING` figures of the closing without a
+    trip run for ``LATCHING_RUN``, with ``latching_run_s`` (that run's length, s)."""
+    c_rig = with_commands(rig, commands_for(rig, "C"))
+    fom = figures_of_merit(simulate(c_rig, backend=backend, t_end=LATCHING_RUN, **options), c_rig)
+    return {key: fom[key] for key in LATCHING} | {"latching_run_s": LATCHING_RUN}
 
 
 def operation_summary(entry: dict) -> dict:
@@ -155,7 +183,7 @@ def operation_summary(entry: dict) -> dict:
                     "closing_speed_m_s": f["closing_speed_m_s"],
                     "bounce_count": f["bounce_count"], "bounce_duration_s": f["bounce_duration_s"],
                     "kinetic_at_touch_J": f["kinetic_at_touch_J"], "kinetic_margin_J": f["kinetic_margin_J"],
-                    "latched": f["latched"]})
+                    "latched": f["latched"], "latching_run_s": f.get("latching_run_s")})
     if op != "C":
         out.update({"opening_time_from_coil_s": coil_open[1] if coil_open else None,
                     "opening_time_from_coil_range_s": [coil_open[0], coil_open[2]] if coil_open else None,
@@ -284,11 +312,27 @@ def _operation_notes(entry: dict, summary: dict, following: Step | None) -> list
         notes.append(f"{op} at {entry['command_s']:g} s: the contacts are still closed at the end of its run")
     if op == "C" and not summary["contacts_closed_at_end"]:
         notes.append(f"C at {entry['command_s']:g} s: the contacts are not all closed at the end of its run")
+    if f.get("latching_run_s") is not None:
+        why = ("its trip comes before the cam reaches its holding latch" if op == "CO"
+               else "its run ends before the cam reaches its holding latch or stops short of it")
+        notes.append(f"{op} at {entry['command_s']:g} s: {why}: the closing's latching and kinetic margin are judged on "
+                     f"the same closing without a trip, run for {f['latching_run_s']:g} s (a trip-free mechanism)")
     if op != "O" and f["latched"] is False:
         notes.append(f"{op} at {entry['command_s']:g} s: the cam does not reach its holding latch "
                      f"({f['latch_short_deg']:.3g} deg short): the closing fails")
+    if op != "O" and f["latched"] is None:
+        notes.append(f"{op} at {entry['command_s']:g} s: whether the closing latches is not judged: {unjudged_latch(f)}")
     check_rest(entry, following)
     return notes
+
+
+def unjudged_latch(f: dict) -> str:
+    """Why a closing's latching is not judged (``f``: its figures, ``latched`` None; the rule:
+    :mod:`.cycle_evaluation`'s docstring)."""
+    if f["kinetic_at_touch_J"] is None:
+        return "no pole touches in its run, or the rig has no holding latch or end stop"
+    return (f"the run ends with the cam {f['latch_short_deg']:.3g} deg short of its holding latch, "
+            "still turning, neither back nor at rest")
 
 
 def check_rest(entry: dict, following: Step | None) -> None:
@@ -345,7 +389,8 @@ def sequence_lines(report: dict) -> list[str]:
             if speed is not None:
                 lines.append(f"  closing speed {speed:.3g} m/s (the poles' mean over the zone)")
             lines.append(f"  bounce {e['bounce_count']} ({ms(e['bounce_duration_s'])}); kinetic margin "
-                         + ("not latched" if margin is None else f"{margin:.1f} J of {e['kinetic_at_touch_J']:.1f} J at touch"))
+                         + ({False: "not latched", None: "not judged"}[e["latched"]] if margin is None
+                            else f"{margin:.1f} J of {e['kinetic_at_touch_J']:.1f} J at touch"))
         if "opening_time_from_pawl_s" in e:
             rng = e["opening_time_from_coil_range_s"]
             speed = e["opening_speed_m_s"]
@@ -384,11 +429,14 @@ def failing_values(c: dict) -> str:
 
 def sequence_verdict(report: dict) -> list[str]:
     """One line: the operations' limits all pass, or which operation fails which (none without limits
-    judged)."""
+    judged); a closing whose latching is not judged is said there, never passed with the limits."""
     if not any(e.get("limits") for e in report["operations"]):
         return []
     failed = _limit_failures(report)
-    return ["limits (breaker.limits), the operations: " + (f"FAIL: {'; '.join(failed)}" if failed else "all pass")]
+    unjudged = [f"{e['op']} at {e['command_s']:g} s" for e in report["operations"]
+                if "latched" in e and e["latched"] is None]
+    return ["limits (breaker.limits), the operations: " + (f"FAIL: {'; '.join(failed)}" if failed else "all pass")
+            + (f"; latching not judged: {', '.join(unjudged)}" if unjudged else "")]
 
 
 def _limit_failures(report: dict) -> list[str]:
