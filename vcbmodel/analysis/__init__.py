@@ -4,7 +4,7 @@ a pipeline of named steps, one module each, in ``diagnosis/`` (entry point: ``di
 May import: ``vcbmodel.experiments`` and everything below it.
 
 Inside, each folder or module imports only from those listed before it (tests/project checks it):
-``progress``, ``noise``, ``plausibility`` (helpers) -> ``fit``, ``nuisance``, ``sweep`` (fits, a
+``progress``, ``noise``, ``plausibility``, ``thinning`` (helpers) -> ``fit``, ``nuisance``, ``sweep`` (fits, a
 record's nuisance, parameter sweeps) -> ``release``, ``discovery``, ``held_out``, ``model_forms``
 (what fits find) -> ``diagnosis``, ``identify`` (the two workflows) -> ``diagnose``, ``design``,
 ``realistic``, ``synthetic`` (entry points, design studies' evaluations, synthetic records for tests
