@@ -150,3 +150,15 @@ def test_a_closing_not_every_pole_touched_has_no_bounce_to_judge():
     for limit, key in (("bounce_duration", "bounce_duration_s"), ("bounce_count", "bounce_count")):
         values = SEQUENCE_LIMITED[limit][1]
         assert values(cut) == [None] and values(whole) == [whole[key]]
+
+
+@pytest.mark.parametrize("sequence", ["foo", "O-0.3-CO", "O-0.3s-", "C-10s-C"])
+def test_a_bad_sequence_is_one_line_before_any_progress(sequence, capsys, tmp_path, monkeypatch):
+    """A sequence the rig cannot run is refused before the progress line ``simulate NAME: sequence ...``:
+    bad input is exactly one line on stderr (docs/cli.md, exit status 2)."""
+    monkeypatch.chdir(tmp_path)
+    assert main(["simulate", str(CYCLE), "--sequence", sequence, "--plot", "seq.png"]) == 2
+    captured = capsys.readouterr()
+    err = captured.err.strip().splitlines()
+    assert len(err) == 1 and err[0].startswith("vcbmodel: bad input: --sequence"), err
+    assert captured.out == "" and list(tmp_path.iterdir()) == []

@@ -28,7 +28,7 @@ from ..errors import InputError, SimulationError
 from ..experiments import experiment_of
 from ..experiments.report import Report, lines_report, report_json, report_text
 from ..experiments.loading import load_record, load_rig, require_experiment, rig_of
-from ..experiments.sequence import run_sequence, sequence_failures, sequence_lines
+from ..experiments.sequence import check_sequence, parse_sequence, run_sequence, sequence_failures, sequence_lines
 from ..experiments.run_checks import require_motion
 from ..experiments.simulation import compiled_path_has, model_spec, output_times, simulate
 from ..model.choice import choose, parse_effects_option
@@ -250,6 +250,7 @@ def simulate_sequence(rig: Rig, args: argparse.Namespace) -> int:
         raise InputError(rig.path, "experiment", f"--sequence operates a breaker (vcb_closing), not a {rig.experiment}")
     check_output(args.plot, "--plot", inputs=protected_inputs(args.rig, rig.data), force=args.force,
                  formats=supported_image_formats())
+    check_sequence(rig, parse_sequence(args.sequence))  # bad input: one line, before any progress line
     log.info("simulate %s: sequence %s", rig.name, args.sequence)
     results = []
     report = run_sequence(rig, args.sequence, backend=args.backend, results=results)
