@@ -17,6 +17,7 @@ from vcbmodel.experiments.cycle_evaluation import cam_kinetic
 from vcbmodel.experiments.loading import load_rig
 from vcbmodel.experiments.sequence import commands_for, run_sequence, with_commands
 from vcbmodel.experiments.simulation import model_spec, simulate
+from vcbmodel.experiments.summaries import closing_report
 from vcbmodel.laws.breaker import BreakerLaws
 from vcbmodel.laws.cycle import CycleLaws
 from vcbmodel.laws.opening import Commands
@@ -194,6 +195,18 @@ def test_a_cam_at_rest_short_of_its_latch_fails_the_closing(reference):
     assert stuck["latch_short_deg"] == pytest.approx(short, rel=1e-9) and short > 1.0
     assert held(P.CAM_REST_TIME - 1e-3)[0]["latched"] is None  # stopped too briefly to tell
     assert held(P.CAM_REST_TIME + 1e-3, creep=2.0)[0]["latched"] is None  # 0.69 deg in 6 ms: still on its way
+
+
+@needs_compiler
+def test_a_run_that_ends_with_the_cam_on_its_way_says_no_latch_short(reference):
+    """The run cut at 45 ms, the cam on its way to its latch after the touch: latching is not judged, so
+    there is no 'latch short' (how far short the cam stops): it read the angle still to go, 'latch short
+    6.37 deg' beside 'latching not judged' on the template, whose cam then latches with 32.5 J to spare."""
+    r = simulate(reference, backend="compiled", t_end=0.045)
+    fom = figures_of_merit(r, reference)
+    assert fom["latched"] is None and fom["kinetic_at_touch_J"] > 0 and fom["latch_short_deg"] is None
+    rows = {row.key: row for row in closing_report(r, reference).rows if row.key}
+    assert rows["latch_short_deg"].values == [None]
 
 
 @needs_compiler
