@@ -90,7 +90,8 @@ def operation_text(entry: dict) -> str:
         margin = entry["kinetic_margin_J"]
         parts.append(f"closing {ms(entry['closing_time_from_latch_s'])} from the latch "
                      f"({ms(entry['closing_time_from_coil_s'])} from the coil), kinetic margin "
-                     + ("not latched" if margin is None else f"{margin:.1f} J"))
+                     + (f"{margin:.1f} J" if margin is not None else "not latched" if entry["latched"] is False
+                        else "- (the run ends before its latch)"))
     if "opening_time_from_pawl_s" in entry:
         speed = entry["opening_speed_m_s"]
         parts.append(f"opening {ms(entry['opening_time_from_pawl_s'])} from the pawl "
