@@ -27,7 +27,7 @@ from ..analysis.sweep import DEFAULT_SEED, SAMPLING, sweep
 from ..errors import InputError, SimulationError
 from ..experiments import experiment_of
 from ..experiments.report import Report, lines_report, report_json, report_text
-from ..experiments.loading import load_record, load_rig, require_experiment, rig_of
+from ..experiments.loading import load_record, load_rig, require_experiment, require_noise, rig_of
 from ..experiments.sequence import check_sequence, parse_sequence, run_sequence, sequence_failures, sequence_lines
 from ..experiments.run_checks import require_motion
 from ..experiments.simulation import compiled_path_has, model_spec, output_times, simulate
@@ -321,6 +321,8 @@ def cmd_identify(args: argparse.Namespace) -> int:
     check_output(args.plot, "--plot", inputs=tuple(args.measurements) + tuple(r.path for r in rigs), force=args.force,
                  formats=supported_image_formats())
     pairs = [(rig, load_record(m, rig)) for m, rig in zip(args.measurements, rigs)]
+    for rig, meas in pairs:
+        require_noise(meas, rig)
     with results_only_on_stdout():
         result = identify(pairs, law=args.law)
         if args.plot:
@@ -344,6 +346,8 @@ def cmd_diagnose(args: argparse.Namespace) -> int:
                  formats=supported_image_formats())
     meas = load_record(args.measurement, rig)  # the records once the command is known to be sound
     held_out = [(other, load_record(path, other)) for path, other in zip(args.held_out, others)]
+    for record_rig, record in ((rig, meas), *held_out):
+        require_noise(record, record_rig)
     with results_only_on_stdout():
         d = diagnose(rig, meas, processes=max(1, args.processes), held_out=held_out)
         if args.plot:
