@@ -17,7 +17,7 @@ class FakeFit:
         self.x, self.width = x, width
         self.parameters = {"x": Parameter("x", x, -5.0, 5.0, vary, stderr=stderr, stderr_naive=stderr_naive),
                            "y": Parameter("y", 1.0 + 2.0 * x, -50.0, 50.0, True)}
-        self.n_data, self.n_varied = N + 2, 2
+        self.n_data, self.n_varied, self.n_other = N + 2, 2, 0  # one channel: no other channels
 
     def chi2_with(self, noise):
         assert noise is None  # the Jacobian's white scale

@@ -179,6 +179,16 @@ def test_sweeping_a_field_the_model_does_not_read_is_refused(rig, path, effect, 
     assert not (tmp_path / "t.csv").exists()
 
 
+def test_sweeping_a_limit_is_refused(tmp_path, capsys):
+    """A sweep judges no limits (its table holds the figures): ``--vary breaker.limits.closing_time.max=60:80:3``
+    ran three identical rows, as if a sweep's table said which pass."""
+    rig = Path(__file__).resolve().parents[2] / "results" / "synthetic" / "vcb_closing.rig.json"
+    out = tmp_path / "t.csv"
+    assert main(["sweep", str(rig), "--vary", "breaker.limits.closing_time.max=60:80:3", "-o", str(out)]) == 2
+    line = one_error_line(capsys)
+    assert "breaker.limits.closing_time.max" in line and "judges no limits" in line and not out.exists()
+
+
 def test_a_closing_without_a_closing_time_is_not_closed_not_ok():
     record = experiment_of("vcb_closing")
     ok = dict.fromkeys(record.figure_columns, 1.0)

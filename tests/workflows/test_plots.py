@@ -108,22 +108,38 @@ def test_a_sweep_is_drawn_per_group_in_engineering_units():
                                                     "breaker.poles.gap_offsets.1 = 0.3 mm"]
     assert list(lines[0].get_ydata()) == pytest.approx([38.0 - 0.3, 40.1 - 0.3, 42.2 - 0.3])  # ms
     assert to_rgba(lines[0].get_color()) != to_rgba(lines[1].get_color())
-    assert "1 run(s) that did not finish left out" in fig._suptitle.get_text()
+    assert fig._suptitle.get_text().endswith("; left out: 1 run not closed (no pole touched in its run)")
     matplotlib.pyplot.close(fig)
+
+
+def test_the_title_counts_the_runs_left_out_by_status():
+    """A ``not_closed`` run finished (its breaker did not close in the run): the title said '1 run(s) that
+    did not finish left out' of it, as of a crashed run. Each status is counted as what it is."""
+    table = sweep_table()
+    table = pd.concat([table, pd.DataFrame([dict(table.iloc[1], run=8, status="failed: the run created energy"),
+                                            dict(table.iloc[2], run=9, status="failed: solver")])])
+    fig = sweep_figure(table, "friction.mu_k", ["closing_time_s"], "t")
+    text = fig._suptitle.get_text()
+    assert text.endswith("; left out: 1 run not closed (no pole touched in its run), 2 runs failed"), text
+    assert "did not finish" not in text
+    matplotlib.pyplot.close(fig)
+    every = sweep_figure(sweep_table().iloc[:6], "friction.mu_k", ["closing_time_s"], "t")
+    assert "left out" not in every._suptitle.get_text()
+    matplotlib.pyplot.close(every)
 
 
 def test_a_figure_without_values_says_so_in_its_panel():
     """A pendulum sweep where every run still swings at the end (stop_time_s empty) and one where one
-    run of three has no value: the panels say how many finished runs have none."""
+    run of three has no value: the panels say how many ok runs have none."""
     table = pd.DataFrame({"run": [1, 2, 3], "friction.mu_k": [0.0, 0.02, 0.04], "first_peak_rad": [1.49, 1.48, 1.47],
                           "stop_time_s": [np.nan, np.nan, np.nan], "status": ["ok"] * 3})
     fig = sweep_figure(table, "friction.mu_k", ["stop_time_s", "first_peak_rad"], "t")
     empty, full = fig.axes
-    assert [t.get_text() for t in empty.texts] == ["no finished run has a value of stop_time_s (its cells are empty)"]
+    assert [t.get_text() for t in empty.texts] == ["no ok run has a value of stop_time_s (its cells are empty)"]
     assert not full.texts and full.get_title(loc="left") == ""
     table.loc[1:, "stop_time_s"] = [2.5, 2.1]
     fig2 = sweep_figure(table, "friction.mu_k", ["stop_time_s"], "t")
-    assert fig2.axes[0].get_title(loc="left") == "1 of 3 finished runs have no value of stop_time_s (empty cells)"
+    assert fig2.axes[0].get_title(loc="left") == "1 of 3 ok runs have no value of stop_time_s (empty cells)"
     matplotlib.pyplot.close(fig)
     matplotlib.pyplot.close(fig2)
 

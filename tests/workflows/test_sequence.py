@@ -7,10 +7,11 @@ import matplotlib
 import pytest
 
 from vcbmodel.app.cli import main
+from vcbmodel.app.sequence_plot import operation_text
 from vcbmodel.compiled import compiler_works
 from vcbmodel.experiments.loading import load_rig
-from vcbmodel.experiments.sequence import (SEQUENCE_LIMITED, parse_sequence, run_sequence, sequence_failures,
-                                           sequence_lines)
+from vcbmodel.experiments.sequence import (SEQUENCE_LIMITED, operation_summary, parse_sequence, run_sequence,
+                                           sequence_failures, sequence_lines)
 
 CYCLE = Path(__file__).resolve().parents[2] / "results" / "synthetic" / "vcb_cycle.rig.json"
 
@@ -203,3 +204,60 @@ def test_a_weak_c_whose_run_ends_first_is_judged_on_a_longer_run(tmp_path):
     assert c["latched"] is False and c["latching_run_s"] == 0.1
     assert any("42.7 deg short): the closing fails" in n for n in report["notes"])
     assert sequence_failures(report)[-1] == "C at 0 s: the closing fails (the cam stops short of its latch)"
+
+
+@pytest.mark.parametrize("sequence", ["foo", "O-0.3-CO", "O-0.3s-", "C-10s-C"])
+def test_a_bad_sequence_is_one_line_before_any_progress(sequence, capsys, tmp_path, monkeypatch):
+    """A sequence the rig cannot run is refused before the progress line ``simulate NAME: sequence ...``:
+    bad input is exactly one line on stderr (docs/cli.md, exit status 2)."""
+    monkeypatch.chdir(tmp_path)
+    assert main(["simulate", str(CYCLE), "--sequence", sequence, "--plot", "seq.png"]) == 2
+    captured = capsys.readouterr()
+    err = captured.err.strip().splitlines()
+    assert len(err) == 1 and err[0].startswith("vcbmodel: bad input: --sequence"), err
+    assert captured.out == "" and list(tmp_path.iterdir()) == []
+
+
+def _slow_closing(latched=None, touches=(None, None, None)):
+    """The figures of a C whose 75 ms run (RUN_LENGTH) ends before its slow breaker's poles touch (the
+    template with 60 active coils touches at 95 ms), or after the touch but before the latch."""
+    touched = all(x is not None for x in touches)
+    return {"op": "C", "command_s": 0.0, "release_delay_s": None, "backend": "compiled", "run_s": 0.075,
+            "figures": {"closing_time_s": 0.0487 if touched else None, "first_touch_s": touches[0],
+                        "closing_speed_m_s": 0.99 if touched else None, "bounce_count": 0, "bounce_duration_s": 0.0,
+                        "kinetic_at_touch_J": 150.0 if touched else None, "kinetic_margin_J": None,
+                        "latched": latched, "latch_short_deg": None, "contacts_reopen_s": None,
+                        "per_pole": {"touch_s": list(touches)}}}
+
+
+def test_a_closing_the_run_ends_before_shows_no_bounce_and_no_verdict_of_pass():
+    """A sequence's C runs 75 ms, which the user cannot lengthen (--t-end is refused with --sequence): on a
+    slow breaker no pole touched, yet it read 'bounce 0 (0.00 ms)' above its limits' 'no value', and the
+    verdict 'the operations: all pass' (exit 0) with no limit judged."""
+    summary = operation_summary(_slow_closing())
+    assert summary["bounce_count"] is None and summary["bounce_duration_s"] is None
+    limits = [{"limit": "bounce_duration", "text": "<= 2 ms", "values_si": [None], "pass": None},
+              {"limit": "closing_time", "text": "<= 80 ms", "values_si": [None], "pass": None}]
+    report = {"sequence": "C", "notes": [], "operations": [dict(summary, limits=limits)]}
+    text = "\n".join(sequence_lines(report))
+    assert "bounce 0" not in text and "0.00 ms" not in text
+    verdict = text.splitlines()[-1]
+    assert "all pass" not in verdict and "none judged" in verdict and "C at 0 s: bounce duration, closing time" in verdict
+    report["operations"][0]["limits"][1] = {"limit": "closing_time", "text": "<= 80 ms", "values_si": [0.07], "pass": True}
+    verdict = sequence_lines(report)[-1]
+    assert verdict.endswith("all judged pass; no value in its run for C at 0 s: bounce duration; latching not judged: "
+                            "C at 0 s"), verdict
+
+
+def test_a_closing_the_run_ends_before_its_latch_is_not_said_to_fail_latching():
+    """Touched but not yet latched when the run ends (latched None, not judged): it read 'kinetic margin
+    not latched', as a closing whose cam stops short of its latch (latched False, which fails)."""
+    on_its_way = "\n".join(sequence_lines({"sequence": "C", "notes": [], "operations": [
+        operation_summary(_slow_closing(None, (0.048, 0.0487, 0.0483)))]}))
+    assert "not latched" not in on_its_way and "kinetic margin not judged" in on_its_way
+    short = "\n".join(sequence_lines({"sequence": "C", "notes": [], "operations": [
+        operation_summary(_slow_closing(False, (0.048, 0.0487, 0.0483)))]}))
+    assert "kinetic margin: not latched" in short
+
+    title = operation_text(operation_summary(_slow_closing(None, (0.048, 0.0487, 0.0483))))
+    assert "not latched" not in title and "kinetic margin not judged" in title

@@ -27,8 +27,8 @@ from ..analysis.sweep import DEFAULT_SEED, SAMPLING, sweep
 from ..errors import InputError, SimulationError
 from ..experiments import experiment_of
 from ..experiments.report import Report, lines_report, report_json, report_text
-from ..experiments.loading import load_record, load_rig, require_experiment, rig_of
-from ..experiments.sequence import run_sequence, sequence_failures, sequence_lines
+from ..experiments.loading import load_record, load_rig, require_experiment, require_noise, rig_of
+from ..experiments.sequence import check_sequence, parse_sequence, run_sequence, sequence_failures, sequence_lines
 from ..experiments.run_checks import require_motion
 from ..experiments.simulation import compiled_path_has, model_spec, output_times, simulate
 from ..model.choice import choose, parse_effects_option
@@ -250,6 +250,7 @@ def simulate_sequence(rig: Rig, args: argparse.Namespace) -> int:
         raise InputError(rig.path, "experiment", f"--sequence operates a breaker (vcb_closing), not a {rig.experiment}")
     check_output(args.plot, "--plot", inputs=protected_inputs(args.rig, rig.data), force=args.force,
                  formats=supported_image_formats())
+    check_sequence(rig, parse_sequence(args.sequence))  # bad input: one line, before any progress line
     log.info("simulate %s: sequence %s", rig.name, args.sequence)
     results = []
     report = run_sequence(rig, args.sequence, backend=args.backend, results=results)
@@ -320,6 +321,8 @@ def cmd_identify(args: argparse.Namespace) -> int:
     check_output(args.plot, "--plot", inputs=tuple(args.measurements) + tuple(r.path for r in rigs), force=args.force,
                  formats=supported_image_formats())
     pairs = [(rig, load_record(m, rig)) for m, rig in zip(args.measurements, rigs)]
+    for rig, meas in pairs:
+        require_noise(meas, rig)
     with results_only_on_stdout():
         result = identify(pairs, law=args.law)
         if args.plot:
@@ -343,6 +346,8 @@ def cmd_diagnose(args: argparse.Namespace) -> int:
                  formats=supported_image_formats())
     meas = load_record(args.measurement, rig)  # the records once the command is known to be sound
     held_out = [(other, load_record(path, other)) for path, other in zip(args.held_out, others)]
+    for record_rig, record in ((rig, meas), *held_out):
+        require_noise(record, record_rig)
     with results_only_on_stdout():
         d = diagnose(rig, meas, processes=max(1, args.processes), held_out=held_out)
         if args.plot:

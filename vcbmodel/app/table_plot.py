@@ -102,8 +102,8 @@ def varied_columns(table: pd.DataFrame) -> list[str]:
 def sweep_figure(table: pd.DataFrame, x: str, ys: Sequence[str], title: str) -> Figure:
     """One panel per figure ``ys`` against the varied field ``x``: on a grid, a line per combination of
     the other varied fields (at most MAX_GROUPS); otherwise (random draws) points coloured by the first
-    other varied field, with its colour bar. Runs that failed (``status`` not ``ok``) are left out and
-    counted in the title."""
+    other varied field, with its colour bar. Runs whose ``status`` is not ``ok`` (not closed, failed) are left
+    out and counted in the title by status."""
     ok = table[table["status"] == "ok"] if "status" in table.columns else table
     others = [c for c in varied_columns(table) if c != x]
     groups = list(ok.groupby(others)) if others else [((), ok)]
@@ -130,22 +130,33 @@ def sweep_figure(table: pd.DataFrame, x: str, ys: Sequence[str], title: str) -> 
         ax.grid(alpha=0.3)
         missing_values(ax, ok, y)
     axes[-1, 0].set_xlabel(x_label)
-    left_out = len(table) - len(ok)
-    fig.suptitle(fitted_title(fig, title + (f"; {left_out} run(s) that did not finish left out" if left_out else ""), 9),
-                 fontsize=9)
+    fig.suptitle(fitted_title(fig, title + left_out_text(table, len(ok)), 9), fontsize=9)
     fig.tight_layout()
     return fig
 
 
+def left_out_text(table: pd.DataFrame, drawn: int) -> str:
+    """The title's account of the runs not drawn, by their status: a ``not_closed`` run finished (its
+    breaker did not close in the simulated time: a result, counted out of limits by a tolerance study),
+    a ``failed: reason`` run did not; empty when every run is drawn."""
+    if drawn == len(table):
+        return ""
+    status = table["status"].astype(str)
+    counts = [(int((status == "not_closed").sum()), "not closed (no pole touched in its run)"),
+              (int(status.str.startswith("failed").sum()), "failed")]
+    counts.append((len(table) - drawn - counts[0][0] - counts[1][0], "of another status"))
+    return "; left out: " + ", ".join(f"{n} run{'s' if n > 1 else ''} {what}" for n, what in counts if n)
+
+
 def missing_values(ax, ok: pd.DataFrame, y: str) -> None:
-    """Say in ``ax`` how many finished runs have no value of ``y`` (an empty cell: a pendulum still
+    """Say in ``ax`` how many drawn (``ok``) runs have no value of ``y`` (an empty cell: a pendulum still
     swinging at the end has no stop time), so an empty or sparse panel is not read as a plotting fault."""
     missing = int(ok[y].isna().sum())
     if missing == len(ok) and missing:
-        ax.text(0.5, 0.5, f"no finished run has a value of {y} (its cells are empty)", ha="center", va="center",
+        ax.text(0.5, 0.5, f"no ok run has a value of {y} (its cells are empty)", ha="center", va="center",
                 transform=ax.transAxes, fontsize=9)
     elif missing:
-        ax.set_title(f"{missing} of {len(ok)} finished runs have no value of {y} (empty cells)", fontsize=8, loc="left")
+        ax.set_title(f"{missing} of {len(ok)} ok runs have no value of {y} (empty cells)", fontsize=8, loc="left")
 
 
 def plot_sweep(path: str, x: str, ys: Sequence[str], output: str) -> None:

@@ -16,7 +16,7 @@ back short of it (run back from its farthest angle by more than ``parameters.CAM
 (its angle within that 0.1 deg over the run's last ``parameters.CAM_REST_TIME``: held by friction or
 in balance, it will not latch), None when the run ends with the cam still on its way or stopped for
 less time (a longer run tells); ``latch_short_deg``: how far short its farthest angle after the touch
-stays.
+stays, for a closing that fails (``latched`` False; 0 when latched, None when not judged).
 
 **A closing tripped before it latched (a CO).** The trip lets the trip-free link collapse: the roller's
 load no longer reaches the cam, so what the cam does after the trip is not the closing's own motion.
@@ -25,7 +25,7 @@ the cam reaches its latch angle before the trip; after it, the freed cam has gon
 the loaded one would (the link passed the roller's load, which resists the cam on its rise, and the
 shaft's friction under it), so a freed cam that turns back or comes to rest short of its latch fails
 the closing (False), while one that reaches its latch only after the trip leaves it unjudged (None,
-``latch_short_deg`` 0: the loaded cam might have stopped short).
+``latch_short_deg`` None: the loaded cam might have stopped short).
 """
 from __future__ import annotations
 
@@ -83,11 +83,12 @@ def kinetic_margin(result: SimulationResult, rig: Rig, first_touch: float | None
     if not reached.size:
         # short of its latch: a failure once the cam has turned back or come to rest, else the run ended first
         stopped = turned_back_angle(theta[k0:]) > P.CAM_TURN_BACK_ANGLE or at_rest(t[k0:], theta[k0:])
-        return empty | {"kinetic_at_touch_J": at_touch, "latched": False if stopped else None,
-                        "latch_short_deg": float(np.degrees(target - np.max(theta[k0:])))}
+        # how far short it stops: a cam still on its way has not stopped short (None, as latching is unjudged)
+        short = float(np.degrees(target - np.max(theta[k0:]))) if stopped else None
+        return empty | {"kinetic_at_touch_J": at_touch, "latched": False if stopped else None, "latch_short_deg": short}
     k1 = k0 + int(reached[0])
     if trip is not None and t[k1] > trip:  # reached by the cam the trip had freed: the closing's own is not shown
-        return empty | {"kinetic_at_touch_J": at_touch, "latch_short_deg": 0.0}
+        return empty | {"kinetic_at_touch_J": at_touch, "latch_short_deg": None}
     margin = float(min(at_touch, np.min(ke[k0:k1 + 1])))
     return {"kinetic_at_touch_J": at_touch, "kinetic_margin_J": margin,
             "kinetic_margin_fraction": margin / at_touch if at_touch > 0 else None, "latched": True,

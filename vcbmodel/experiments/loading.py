@@ -21,6 +21,7 @@ from ..model.values import rig_values
 from ..records.analyser import analyser_channels, check_contacts, simulated_channels
 from ..records.integrity import check_held_values, runs_backwards, unwrap_turns
 from ..records.measurement import load_measurement, sibling_rig_path
+from ..records.signals import noise_estimate_floored
 from ..rig.data import Rig
 from ..rig.paths import loaded_value
 from ..rig.plausibility import check_rig, plausibility, step_limits
@@ -105,6 +106,20 @@ def load_record(measurement_path: str | Path, rig: Rig) -> Measurement:
     check_travel_signs(meas)
     check_held_values(meas.t, meas.channel(record.measured_channel), meas.path, record.measured_channel)
     return meas
+
+
+def require_noise(meas: Measurement, rig: Rig) -> None:
+    """Refuse (InputError naming the file and the channel) a record whose measured channel shows no noise
+    at all: its third differences mostly exactly zero on no sensor's step, as a noise-free simulation
+    written to 9 digits (``vcbmodel simulate``'s output: a pendulum at rest for half of it). A fit weighs
+    its residual by the record's noise: with none it divides by zero (the fit failed with 'bad input:
+    simulate: values.mu_k: ... got nan', or 'the fitted model's simulation failed')."""
+    channel = EXPERIMENTS[rig.experiment].measured_channel
+    if noise_estimate_floored(meas.channel(channel)) > 0.0:
+        return
+    raise InputError(meas.path, channel, "shows no noise at all (a noise-free record, such as vcbmodel simulate "
+                     "writes): a fit weighs its residual by the record's noise; add the sensor's noise to it, as "
+                     "results/synthetic's records add it to their truth")
 
 
 def check_travel_signs(meas: Measurement) -> None:

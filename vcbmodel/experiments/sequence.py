@@ -181,7 +181,8 @@ def operation_summary(entry: dict) -> dict:
                     "closing_time_from_coil_range_s": [coil_close[0], coil_close[2]] if coil_close else None,
                     "closing_time_from_latch_s": f["closing_time_s"], "first_touch_from_latch_s": f["first_touch_s"],
                     "closing_speed_m_s": f["closing_speed_m_s"],
-                    "bounce_count": f["bounce_count"], "bounce_duration_s": f["bounce_duration_s"],
+                    "bounce_count": _all_touched(f, "bounce_count"),
+                    "bounce_duration_s": _all_touched(f, "bounce_duration_s"),
                     "kinetic_at_touch_J": f["kinetic_at_touch_J"], "kinetic_margin_J": f["kinetic_margin_J"],
                     "latched": f["latched"], "latching_run_s": f.get("latching_run_s")})
     if op != "C":
@@ -331,6 +332,8 @@ def unjudged_latch(f: dict) -> str:
     :mod:`.cycle_evaluation`'s docstring)."""
     if f["kinetic_at_touch_J"] is None:
         return "no pole touches in its run, or the rig has no holding latch or end stop"
+    if f["latch_short_deg"] is None:
+        return "the run ends with the cam on its way to its holding latch, still turning, neither back nor at rest"
     return (f"the run ends with the cam {f['latch_short_deg']:.3g} deg short of its holding latch, "
             "still turning, neither back nor at rest")
 
@@ -385,12 +388,10 @@ def sequence_lines(report: dict) -> list[str]:
             lines.append(f"  closing time from the coil {ms(e['closing_time_from_coil_s'])}"
                          + (f" ({ms(rng[0])} to {ms(rng[1])})" if rng else "")
                          + f"; from the latch {ms(e['closing_time_from_latch_s'])}")
-            margin, speed = e["kinetic_margin_J"], e.get("closing_speed_m_s")
+            speed = e.get("closing_speed_m_s")
             if speed is not None:
                 lines.append(f"  closing speed {speed:.3g} m/s (the poles' mean over the zone)")
-            lines.append(f"  bounce {e['bounce_count']} ({ms(e['bounce_duration_s'])}); kinetic margin "
-                         + ({False: "not latched", None: "not judged"}[e["latched"]] if margin is None
-                            else f"{margin:.1f} J of {e['kinetic_at_touch_J']:.1f} J at touch"))
+            lines.append(f"  {bounce_text(e)}; kinetic margin{margin_text(e)}")
         if "opening_time_from_pawl_s" in e:
             rng = e["opening_time_from_coil_range_s"]
             speed = e["opening_speed_m_s"]
@@ -403,6 +404,24 @@ def sequence_lines(report: dict) -> list[str]:
             lines.append(f"  close-open time {ms(e['close_open_time_s'])}")
         lines += limit_lines(e)
     return lines + [f"note: {n}" for n in report["notes"]] + sequence_verdict(report)
+
+
+def bounce_text(e: dict) -> str:
+    """A closing's bounce as the sequence's text says it: count and duration, or no value when not every
+    pole touched in its run (a pole that has not touched has no bounce yet, not none)."""
+    if e["bounce_count"] is None:
+        return "bounce - (not every pole touched in its run)"
+    return f"bounce {e['bounce_count']} ({1e3 * e['bounce_duration_s']:.2f} ms)"
+
+
+def margin_text(e: dict) -> str:
+    """A closing's kinetic margin: its value; ``not latched`` for a cam that stops short of its latch (the
+    closing fails); ``not judged`` when no run shows it (the note says why)."""
+    if e["kinetic_margin_J"] is not None:
+        return f" {e['kinetic_margin_J']:.1f} J of {e['kinetic_at_touch_J']:.1f} J at touch"
+    if e["latched"] is False:
+        return ": not latched"
+    return " not judged"  # why: the operation's note (unjudged_latch)
 
 
 def limit_lines(e: dict) -> list[str]:
@@ -435,8 +454,18 @@ def sequence_verdict(report: dict) -> list[str]:
     failed = _limit_failures(report)
     unjudged = [f"{e['op']} at {e['command_s']:g} s" for e in report["operations"]
                 if "latched" in e and e["latched"] is None]
-    return ["limits (breaker.limits), the operations: " + (f"FAIL: {'; '.join(failed)}" if failed else "all pass")
-            + (f"; latching not judged: {', '.join(unjudged)}" if unjudged else "")]
+    latching = f"; latching not judged: {', '.join(unjudged)}" if unjudged else ""
+    unseen = [f"{e['op']} at {e['command_s']:g} s: " + ", ".join(c["limit"].replace("_", " ") for c in e["limits"]
+                                                                   if c["pass"] is None)
+              for e in report["operations"] if any(c["pass"] is None for c in e.get("limits", []))]
+    judged = any(c["pass"] is not None for e in report["operations"] for c in e.get("limits", []))
+    head = "limits (breaker.limits), the operations: "
+    if failed:
+        return [head + f"FAIL: {'; '.join(failed)}{latching}"]
+    if not unseen:
+        return [head + "all pass" + latching]
+    return [head + ("all judged pass" if judged else "none judged") + f"; no value in its run for {'; '.join(unseen)}"
+            + latching]
 
 
 def _limit_failures(report: dict) -> list[str]:

@@ -86,7 +86,7 @@ def scale_factor(fit: FitResult, name: str) -> float | None:
     p = fit.parameters[name]
     if not (p.vary and p.stderr and p.stderr_naive) or not (math.isfinite(p.stderr) and math.isfinite(p.stderr_naive)):
         return None
-    s2 = white_chi2(fit) / max(1, fit.n_data - fit.n_varied)
+    s2 = white_chi2(fit) / max(1, fit.n_data + fit.n_other - fit.n_varied)  # the covariance's s^2: every fitted sample
     return p.stderr_naive**2 / (s2 * p.stderr**2) if s2 > 0 else None
 
 

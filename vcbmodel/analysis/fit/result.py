@@ -96,8 +96,15 @@ class FitResult:
         return self.chi2_with(self.noise)
 
     @property
+    def n_other(self) -> int:
+        """Samples of the other fitted channels (a closing record's pole travels and contacts)."""
+        return int(sum(np.size(r) for r in self.extra_residuals.values()))
+
+    @property
     def reduced_chi2(self) -> float:
-        return self.chi2 / max(1, self.n_data - self.n_varied)
+        """chi^2 per degree of freedom: over every sample chi^2 sums, the other channels' too (the
+        residual variance the stated errors' white-noise part uses, :mod:`.covariance`)."""
+        return self.chi2 / max(1, self.n_data + self.n_other - self.n_varied)
 
     @property
     def rms(self) -> float:
@@ -130,7 +137,8 @@ class FitResult:
         lines = [f"[[Fit]] effects: {', '.join(self.effects) or '(none)'}; spring model: {self.spring_model.label}",
                  f"    simulated with: {self.backend}",
                  f"    method {self.method}, {self.nfev} simulations, {'converged' if self.success else 'stopped: ' + self.message}",
-                 f"    data points {self.n_data}, varied {self.n_varied}, noise sigma {self.sigma:.3g} {self.unit}",
+                 f"    data points {self.n_data}" + (f" (and {self.n_other} of the other channels)" if self.n_other else "")
+                 + f", varied {self.n_varied}, noise sigma {self.sigma:.3g} {self.unit}",
                  f"    rms {self.rms:.4g} {self.unit}, max |error| {self.max_error:.4g} {self.unit}, reduced chi2 {self.reduced_chi2:.3f}",
                  f"    AIC {self.aic:.1f}, BIC {self.bic:.1f}", "[[Parameters]]"]
         if self.covariance is not None:
