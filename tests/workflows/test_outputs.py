@@ -189,6 +189,17 @@ def test_sweeping_a_limit_is_refused(tmp_path, capsys):
     assert "breaker.limits.closing_time.max" in line and "judges no limits" in line and not out.exists()
 
 
+def test_sweeping_a_coils_release_is_refused(tmp_path, capsys):
+    """A sweep's closings start at the latch release and its table has no time from the coil: ``--vary
+    breaker.closing_release.voltage=100:240:3`` ran three identical rows."""
+    rig = Path(__file__).resolve().parents[2] / "results" / "synthetic" / "vcb_cycle.rig.json"
+    out = tmp_path / "t.csv"
+    for path in ("breaker.closing_release.voltage=100:240:3", "breaker.opening_release.resistance=20:40:3"):
+        assert main(["sweep", str(rig), "--vary", path, "-o", str(out)]) == 2
+        line = one_error_line(capsys)
+        assert path.split("=")[0] in line and "time from the coil" in line and not out.exists()
+
+
 def test_a_closing_without_a_closing_time_is_not_closed_not_ok():
     record = experiment_of("vcb_closing")
     ok = dict.fromkeys(record.figure_columns, 1.0)
