@@ -22,7 +22,7 @@ import numpy as np
 import matplotlib.pyplot as plt
 
 from ..experiments.closing_evaluation import figures_of_merit
-from ..experiments.sequence import commands_for, with_commands
+from ..experiments.sequence import commands_for, margin_text, with_commands
 from ..laws.breaker import pole_gaps
 from .closing_plot import MECHANISM, ZONE, bounce_closeup, contact_bars, pole_colour, speed_panel, travel_panel
 from .plots import fitted_title, save
@@ -87,11 +87,9 @@ def operation_text(entry: dict) -> str:
 
     parts = []
     if "closing_time_from_latch_s" in entry:
-        margin = entry["kinetic_margin_J"]
         parts.append(f"closing {ms(entry['closing_time_from_latch_s'])} from the latch "
-                     f"({ms(entry['closing_time_from_coil_s'])} from the coil), kinetic margin "
-                     + (("not latched" if entry["latched"] is False else "not judged") if margin is None
-                        else f"{margin:.1f} J"))
+                     f"({ms(entry['closing_time_from_coil_s'])} from the coil), kinetic margin"
+                     + margin_text(entry, brief=True))
     if "opening_time_from_pawl_s" in entry:
         speed = entry["opening_speed_m_s"]
         parts.append(f"opening {ms(entry['opening_time_from_pawl_s'])} from the pawl "

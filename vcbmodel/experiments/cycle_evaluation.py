@@ -88,7 +88,7 @@ def kinetic_margin(result: SimulationResult, rig: Rig, first_touch: float | None
         return empty | {"kinetic_at_touch_J": at_touch, "latched": False if stopped else None, "latch_short_deg": short}
     k1 = k0 + int(reached[0])
     if trip is not None and t[k1] > trip:  # reached by the cam the trip had freed: the closing's own is not shown
-        return empty | {"kinetic_at_touch_J": at_touch, "latch_short_deg": None}
+        return empty | {"kinetic_at_touch_J": at_touch}
     margin = float(min(at_touch, np.min(ke[k0:k1 + 1])))
     return {"kinetic_at_touch_J": at_touch, "kinetic_margin_J": margin,
             "kinetic_margin_fraction": margin / at_touch if at_touch > 0 else None, "latched": True,

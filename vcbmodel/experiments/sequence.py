@@ -332,10 +332,7 @@ def unjudged_latch(f: dict) -> str:
     :mod:`.cycle_evaluation`'s docstring)."""
     if f["kinetic_at_touch_J"] is None:
         return "no pole touches in its run, or the rig has no holding latch or end stop"
-    if f["latch_short_deg"] is None:
-        return "the run ends with the cam on its way to its holding latch, still turning, neither back nor at rest"
-    return (f"the run ends with the cam {f['latch_short_deg']:.3g} deg short of its holding latch, "
-            "still turning, neither back nor at rest")
+    return "the run ends with the cam on its way to its holding latch, still turning, neither back nor at rest"
 
 
 def check_rest(entry: dict, following: Step | None) -> None:
@@ -414,14 +411,15 @@ def bounce_text(e: dict) -> str:
     return f"bounce {e['bounce_count']} ({1e3 * e['bounce_duration_s']:.2f} ms)"
 
 
-def margin_text(e: dict) -> str:
-    """A closing's kinetic margin: its value; ``not latched`` for a cam that stops short of its latch (the
-    closing fails); ``not judged`` when no run shows it (the note says why)."""
+def margin_text(e: dict, brief: bool = False) -> str:
+    """A closing's kinetic margin after the words ``kinetic margin``: its value (``brief``: without the
+    energy at touch, as the figure's title says it); ``not latched`` for a cam that stops short of its latch
+    (the closing fails); ``not judged`` when no run shows it (the note says why: :func:`unjudged_latch`)."""
     if e["kinetic_margin_J"] is not None:
-        return f" {e['kinetic_margin_J']:.1f} J of {e['kinetic_at_touch_J']:.1f} J at touch"
+        return f" {e['kinetic_margin_J']:.1f} J" + ("" if brief else f" of {e['kinetic_at_touch_J']:.1f} J at touch")
     if e["latched"] is False:
-        return ": not latched"
-    return " not judged"  # why: the operation's note (unjudged_latch)
+        return " not latched" if brief else ": not latched"
+    return " not judged"
 
 
 def limit_lines(e: dict) -> list[str]:

@@ -57,6 +57,16 @@ def check_paths(data: dict, paths: Iterable[str], rig_path: str, experiment: str
         if isinstance(value, bool) or not isinstance(value, (int, float)):
             raise InputError(rig_path, path, f"is not a number ({type(value).__name__}): only numeric fields can be varied")
 
+#: Rig sections no run of a sweep reads, with why (every run would give the same row): {prefixes: message}
+NOT_READ_BY_A_SWEEP = {
+    ("breaker.limits.",): "a sweep judges no limits (its table holds the figures, docs/cli.md): every run would give "
+                          "the same row; judge the table's figures against the limit",
+    ("breaker.closing_release.", "breaker.opening_release."):
+        "a sweep's closings start at the latch release and its table has no time from the coil: every run would give "
+        "the same row; see the coil's effect with simulate (closing time from the coil) or simulate --sequence",
+}
+
+
 def check_used(paths: Iterable[str], effects: Sequence[str], rig_path: str, experiment: str) -> None:
     """Refuse a path that the model does not read (a field of an effect the model leaves out:
     ``friction.mu_s`` without ``stribeck``, ``closing_spring.mass`` on a massless spring), or a limit
@@ -64,13 +74,9 @@ def check_used(paths: Iterable[str], effects: Sequence[str], rig_path: str, expe
     ``breaker.opening_release.*``: a sweep's closings start at the latch release, and its table has no time
     from the coil): every run would give the same row."""
     for path in paths:
-        if path.startswith("breaker.limits."):
-            raise InputError(rig_path, path, "a sweep judges no limits (its table holds the figures, docs/cli.md): "
-                             "every run would give the same row; judge the table's figures against the limit")
-        if path.startswith(("breaker.closing_release.", "breaker.opening_release.")):
-            raise InputError(rig_path, path, "a sweep's closings start at the latch release and its table has no time "
-                             "from the coil: every run would give the same row; see the coil's effect with simulate "
-                             "(closing time from the coil) or simulate --sequence")
+        for sections, why in NOT_READ_BY_A_SWEEP.items():
+            if path.startswith(sections):
+                raise InputError(rig_path, path, why)
         owner = effect_reading(path)
         if owner is not None and owner not in effects:
             raise InputError(rig_path, path, f"is not used by this rig's model (effect {owner!r} is off; the model "
